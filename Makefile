@@ -1,0 +1,37 @@
+# tricot — the two commands a new user needs are `make demo` and `make test`.
+BUILD ?= build
+JOBS  ?= 2
+CMAKE_FLAGS ?=
+
+.PHONY: all deps configure build test test-fast bench demo clean
+
+all: build
+
+deps:
+	@scripts/install-deps
+
+$(BUILD)/build.ninja:
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+
+configure: deps $(BUILD)/build.ninja
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+# All tests, slow ones included (CI runs this).
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# Unit tests only, for the edit–compile–test loop.
+test-fast: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -L unit
+
+bench: configure
+	cmake --build $(BUILD) -j $(JOBS) --target benchmarks
+	@for b in $(BUILD)/bench/*_benchmark; do echo "== $$b"; $$b --benchmark_counters_tabular=true || exit 1; done
+
+demo: build
+	$(BUILD)/tricot demo -o out/demo
+
+clean:
+	rm -rf $(BUILD)

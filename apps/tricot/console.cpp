@@ -1,0 +1,79 @@
+#include "console.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace tricot::cli {
+
+std::string format_duration(double s) {
+  if (s < 1) return fmt::format("{:.0f} ms", s * 1e3);
+  if (s < 60) return fmt::format("{:.1f} s", s);
+  if (s < 3600) return fmt::format("{} min {:02d} s", int(s) / 60, int(s) % 60);
+  return fmt::format("{} h {:02d} min", int(s) / 3600, (int(s) % 3600) / 60);
+}
+
+Console::Console(bool verbose, bool quiet)
+    : verbose_(verbose), quiet_(quiet), tty_(isatty(fileno(stderr)) != 0) {}
+
+Console::~Console() { clear_line(); }
+
+Reporter Console::reporter() {
+  return Reporter{[this](const Progress& p) { on_progress(p); }, [this](const std::string& l) { on_log(l); }};
+}
+
+void Console::clear_line() {
+  if (line_open_) {
+    std::fputs("\n", stderr);
+    line_open_ = false;
+  }
+}
+
+void Console::print(const std::string& line) {
+  std::lock_guard lock(mutex_);
+  clear_line();
+  std::fputs((line + "\n").c_str(), stdout);
+  std::fflush(stdout);
+}
+
+void Console::on_log(const std::string& line) {
+  if (!verbose_) return;
+  std::lock_guard lock(mutex_);
+  clear_line();
+  std::fputs((line + "\n").c_str(), stderr);
+}
+
+void Console::on_progress(const Progress& p) {
+  if (quiet_) return;
+  std::lock_guard lock(mutex_);
+  const auto now = std::chrono::steady_clock::now();
+  if (p.stage != stage_) {
+    clear_line();
+    stage_ = p.stage;
+    stage_start_ = now;
+    last_print_ = now - std::chrono::hours(1);
+  }
+  const bool done = p.total > 0 && p.done >= p.total;
+  const auto since = std::chrono::duration<double>(now - last_print_).count();
+  if (!done && since < (tty_ ? 0.1 : 5.0)) return;
+  last_print_ = now;
+  const double elapsed = std::chrono::duration<double>(now - stage_start_).count();
+  std::string line = fmt::format("{}: {}", p.stage, p.done);
+  if (p.total > 0) {
+    line += fmt::format("/{} ({:.0f} %)", p.total, 100.0 * double(p.done) / double(p.total));
+    if (p.done > 0 && !done) line += ", ETA " + format_duration(elapsed * double(p.total - p.done) / double(p.done));
+  }
+  line += ", " + format_duration(elapsed);
+  if (!p.detail.empty()) line += " — " + p.detail;
+  if (tty_) {
+    std::fputs(("\r\033[K" + line).c_str(), stderr);
+    line_open_ = true;
+    if (done) clear_line();
+  } else {
+    std::fputs((line + "\n").c_str(), stderr);
+  }
+  std::fflush(stderr);
+}
+
+}  // namespace tricot::cli

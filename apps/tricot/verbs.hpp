@@ -1,0 +1,25 @@
+// The `tricot` program: one file per verb (DESIGN.md "Verbs"). Each add_VERB() adds its subcommand,
+// options and help to the app and returns the function main() runs when that verb is chosen. The
+// function returns an ExitCode; input errors are thrown as tricot::InputError and reported by main().
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+#include "tricot/core/error.hpp"
+#include "tricot/io/config.hpp"
+
+namespace tricot::cli {
+
+using Runner = std::function<ExitCode()>;
+
+Runner add_simulate(CLI::App& app);
+Runner add_identify(CLI::App& app);
+Runner add_dic(CLI::App& app);
+Runner add_synth(CLI::App& app);
+Runner add_demo(CLI::App& app);
+
+/// Adds `--print-config` to a verb: prints the verb's fully commented default config and exits 0.
+void add_print_config(CLI::App* verb, std::function<io::SectionSpec()> schema);
+
+}  // namespace tricot::cli

@@ -1,0 +1,57 @@
+// The material law: "the one place you would change" (STYLE.md, deal.II step-44). Every law of the
+// paper is linear in its coefficients (THEORY §5), so a law can also return ∂P/∂c_k, the basis
+// stresses that make exact sensitivities cheap (THEORY §7).
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tricot/core/types.hpp"
+
+namespace tricot::fem {
+
+/// The state a law sees at one quadrature point.
+struct LawInput {
+  Mat2 F = Mat2::Identity();  ///< in-plane deformation gradient ∂x/∂X
+  /// Material axes in the reference configuration, as columns: Q.col(0) = course a_C, Q.col(1) =
+  /// wale a_W (orthonormal). Identity for isotropic laws and for a test loaded along course = x.
+  Mat2 Q = Mat2::Identity();
+};
+
+/// What a law returns. Forces are per unit reference length (N/mm): the membrane stress times the
+/// reference thickness, because a knit's thickness has no meaning (THEORY, units).
+struct LawOutput {
+  Mat2 P = Mat2::Zero();  ///< first Piola–Kirchhoff membrane force [N/mm]
+  Mat4 A = Mat4::Zero();  ///< consistent tangent ∂P/∂F, A(2i+j, 2k+l) = ∂P_ij/∂F_kl
+  double lambda3 = 1.0;   ///< out-of-plane stretch from plane stress (σ33 = 0)
+  std::vector<Mat2> dP_dc;  ///< ∂P/∂c_k for every coefficient k (only when asked)
+};
+
+/// What to compute besides P.
+struct LawRequest {
+  bool tangent = true;
+  bool sensitivities = false;
+};
+
+/// A constitutive law in plane stress. Implementations are immutable once built except through
+/// set_coefficients(); evaluate() is const and thread-safe.
+class Law {
+ public:
+  virtual ~Law() = default;
+  virtual std::string name() const = 0;
+  /// Names of the identifiable coefficients, in the order of coefficients().
+  virtual std::vector<std::string> coefficient_names() const = 0;
+  virtual Eigen::VectorXd coefficients() const = 0;
+  virtual void set_coefficients(const Eigen::VectorXd& c) = 0;
+  /// P(F; c) = P0(F) + Σ_k c_k B_k(F) (THEORY §5). When true, dP_dc = B_k exactly.
+  virtual bool linear_in_coefficients() const = 0;
+  virtual void evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const = 0;
+  virtual std::unique_ptr<Law> clone() const = 0;
+
+  /// Cauchy membrane force per unit current length, σ·t = P Fᵀ / det F (in plane).
+  static Mat2 cauchy(const Mat2& F, const Mat2& P) { return P * F.transpose() / F.determinant(); }
+};
+
+}  // namespace tricot::fem

@@ -1,0 +1,143 @@
+#include "tricot/io/files.hpp"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "tricot/core/error.hpp"
+
+namespace tricot::io {
+
+namespace fs = std::filesystem;
+
+void write_atomic(const fs::path& path, const std::string& content) {
+  std::error_code ec;
+  if (path.has_parent_path()) {
+    fs::create_directories(path.parent_path(), ec);
+    if (ec) throw FileError({path.parent_path().string(), 0, ""}, "cannot create folder: " + ec.message());
+  }
+  static thread_local std::mt19937_64 rng{std::random_device{}()};
+  const fs::path tmp = path.string() + fmt::format(".tmp{:08x}", static_cast<unsigned>(rng()));
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw FileError({path.string(), 0, ""}, std::string("cannot write: ") + std::strerror(errno));
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    out.flush();
+    if (!out) {
+      out.close();
+      fs::remove(tmp, ec);
+      throw FileError({path.string(), 0, ""}, "write failed (disk full?)");
+    }
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw FileError({path.string(), 0, ""}, "cannot move the finished file into place: " + ec.message());
+  }
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError({path.string(), 0, ""}, "cannot open the file");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return buf.str();
+}
+
+std::size_t Table::column(const std::string& name, const std::string& file) const {
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (columns[i] == name) return i;
+  std::string have;
+  for (const auto& c : columns) have += (have.empty() ? "" : ",") + c;
+  throw InputError({file, 1, name}, "missing column", "columns " + have);
+}
+
+std::vector<double> Table::values(const std::string& name, const std::string& file) const {
+  const std::size_t c = column(name, file);
+  std::vector<double> v;
+  v.reserve(rows.size());
+  for (const auto& r : rows) v.push_back(r[c]);
+  return v;
+}
+
+std::string to_csv(const Table& t) {
+  std::string s;
+  for (std::size_t i = 0; i < t.columns.size(); ++i) s += (i ? "," : "") + t.columns[i];
+  s += "\n";
+  for (const auto& r : t.rows) {
+    for (std::size_t i = 0; i < r.size(); ++i) s += (i ? "," : "") + fmt::format("{:.17g}", r[i]);
+    s += "\n";
+  }
+  return s;
+}
+
+namespace {
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  std::istringstream in(line);
+  while (std::getline(in, cell, ',')) {
+    const auto b = cell.find_first_not_of(" \t\r");
+    const auto e = cell.find_last_not_of(" \t\r");
+    cells.push_back(b == std::string::npos ? "" : cell.substr(b, e - b + 1));
+  }
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+}  // namespace
+
+Table read_csv(const fs::path& path) {
+  const std::string text = read_text(path);
+  const std::string file = path.string();
+  Table t;
+  std::istringstream in(text);
+  int line_no = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos || line[0] == '#') continue;
+    auto cells = split(line);
+    if (t.columns.empty()) {
+      t.columns = cells;
+      continue;
+    }
+    if (cells.size() != t.columns.size())
+      throw InputError({file, line_no, ""}, "wrong number of cells", std::to_string(cells.size()),
+                       std::to_string(t.columns.size()) + " as in the header");
+    std::vector<double> row(cells.size());
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const char* b = cells[i].c_str();
+      char* e = nullptr;
+      row[i] = std::strtod(b, &e);
+      if (cells[i].empty() || *e != '\0' || !std::isfinite(row[i]))
+        throw InputError({file, line_no, t.columns[i]}, "not a finite number", "\"" + cells[i] + "\"",
+                         "a finite number");
+    }
+    t.rows.push_back(std::move(row));
+  }
+  if (t.columns.empty()) throw InputError({file, 0, ""}, "empty file: no header row");
+  return t;
+}
+
+bool run_gnuplot(const std::string& script, std::string* why) {
+  FILE* p = popen("gnuplot 2>&1", "w");
+  if (!p) {
+    if (why) *why = "cannot start gnuplot";
+    return false;
+  }
+  fwrite(script.data(), 1, script.size(), p);
+  const int rc = pclose(p);
+  if (rc != 0) {
+    if (why) *why = "gnuplot failed (is gnuplot-nox installed?)";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace tricot::io

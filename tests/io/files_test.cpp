@@ -1,0 +1,49 @@
+#include "tricot/io/files.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "tricot/core/error.hpp"
+#include "testing/paths.hpp"
+
+using namespace tricot;
+using namespace tricot::io;
+
+TEST(Csv, RoundTripsDoublesExactly) {
+  const auto dir = test::scratch_dir("csv_roundtrip");
+  Table t{{"step", "force"}, {{1, 0.1}, {2, 1.0 / 3.0}}};
+  write_atomic(dir / "a.csv", to_csv(t));
+  Table r = read_csv(dir / "a.csv");
+  EXPECT_EQ(r.columns, t.columns);
+  EXPECT_EQ(r.rows, t.rows);
+  EXPECT_EQ(r.values("force", "a.csv")[1], 1.0 / 3.0);
+}
+
+TEST(Csv, NanCellNamesFileLineAndColumn) {
+  const auto dir = test::scratch_dir("csv_nan");
+  std::ofstream(dir / "b.csv") << "step,force\n1,0.5\n2,nan\n";
+  try {
+    read_csv(dir / "b.csv");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "b.csv").string() + ":3: force: not a finite number (got \"nan\", expected a finite number)");
+  }
+}
+
+TEST(Csv, RaggedRowIsAnError) {
+  const auto dir = test::scratch_dir("csv_ragged");
+  std::ofstream(dir / "c.csv") << "a,b\n1,2\n3\n";
+  EXPECT_THROW(read_csv(dir / "c.csv"), InputError);
+}
+
+TEST(Csv, MissingFileIsAFileError) { EXPECT_THROW(read_csv("/nonexistent.csv"), FileError); }
+
+TEST(WriteAtomic, LeavesNoTemporaryBehind) {
+  const auto dir = test::scratch_dir("atomic");
+  write_atomic(dir / "sub" / "x.txt", "hello");
+  EXPECT_EQ(read_text(dir / "sub" / "x.txt"), "hello");
+  int n = 0;
+  for ([[maybe_unused]] auto& e : std::filesystem::directory_iterator(dir / "sub")) ++n;
+  EXPECT_EQ(n, 1);
+}
