@@ -102,3 +102,9 @@ TEST(Config, OverridesReplaceValuesAndCountAsGiven) {
 TEST(Config, MissingFileIsAFileError) {
   EXPECT_THROW(read_config(schema(), "/nonexistent/case.toml"), FileError);
 }
+
+TEST(ClosestName, FindsTyposAndTranspositionsButNotStrangers) {
+  EXPECT_EQ(closest_name("widht", {"width", "height"}), "width");
+  EXPECT_EQ(closest_name("hieght", {"width", "height"}), "height");
+  EXPECT_EQ(closest_name("zzzzzz", {"width", "height"}), "");
+}
