@@ -1,0 +1,50 @@
+// Correlating one image pair at many points: FFT-CC seeds, then reliability-guided propagation (the
+// highest-ZNCC point hands its shape to its neighbours first, Pan 2009, doi:10.1364/AO.48.001535, as in
+// Ncorr), IC-GN at every point, OpenMP over points (THEORY.md §10).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tricot/core/progress.hpp"
+#include "tricot/dic/icgn.hpp"
+
+namespace tricot::dic {
+
+/// Everything one pair correlation needs besides the images and the points.
+struct DicOptions {
+  IcgnOptions icgn;            ///< subset size, shape order, iterations, tolerance, ZNCC and texture thresholds
+  int step = 10;               ///< px between grid points, 1–1000
+  int search_radius = 50;      ///< px, 1–10000: seed search window half-width (FFT cross-correlation)
+  std::vector<Vec2> seeds;     ///< seed points in the reference image (px); empty = the point nearest the ROI centroid
+  int max_seeds = 8;           ///< 1–1000: seed attempts per image pair before the unreached points are given up
+  double prefilter_sigma = 0;  ///< px, 0–5: Gaussian pre-filter of every image (0 = none; ~0.5–1 reduces noise bias)
+  int batch = 32;              ///< 1–4096: points propagated per round (in parallel); 1 = strict reliability order
+  int threads = 0;             ///< OpenMP threads, 0 = OpenMP's default
+
+  /// Throws InputError naming the key (`dic.step`, ...) when a field is out of range.
+  void validate() const;
+};
+
+/// The matches of one image pair, index for index with the centres given.
+struct PairResult {
+  std::vector<PointMatch> points;
+  int ok = 0;              ///< points with status ok
+  double mean_zncc = 0;    ///< over ok points
+  int seeds_tried = 0;     ///< seed attempts (0 when every point had a guess)
+  double seconds = 0;      ///< wall time
+  std::string message;     ///< one line: what happened (seeds, fall-backs)
+};
+
+/// Correlates subsets centred at `centres` in `reference` with `current`. `neighbours[k]` lists the
+/// points next to k (−1 = none), which propagation follows. `guesses` (optional, per point) are
+/// starting shapes, e.g. the previous frame's: points with a guess are computed in parallel from it,
+/// and the failures are then re-done by propagation from their good neighbours. Without guesses the
+/// pair starts from seeds (DicOptions::seeds) found by FFT cross-correlation.
+PairResult correlate_pair(const Frame& reference, const Frame& current, const std::vector<Vec2>& centres,
+                          const std::vector<std::array<int, 4>>& neighbours, const DicOptions& options,
+                          const std::vector<std::optional<Shape>>& guesses = {});
+
+}  // namespace tricot::dic

@@ -1,0 +1,101 @@
+// Subset matching by inverse-compositional Gauss–Newton on the ZNSSD criterion (THEORY.md §10;
+// Pan, Li & Tong 2013, doi:10.1111/str.12008 for IC-GN in DIC; Gao, Cheng, Yang & Xu 2015,
+// doi:10.1016/j.optlaseng.2014.11.018 for the second-order shape function and its composition).
+//
+// A square subset of N×N pixels around a centre c in the reference image f is compared with the
+// current image g through the shape function W(ξ; p), ξ = pixel offset from c:
+//     x'(ξ) = c + ξ + (u + ux ξx + uy ξy [+ ½uxx ξx² + uxy ξx ξy + ½uyy ξy²],
+//                      v + vx ξx + vy ξy [+ ½vxx ξx² + vxy ξx ξy + ½vyy ξy²]).
+// ZNSSD:  C(p) = Σ_ξ [ (f(c+ξ) − f̄)/Δf − (g(x'(ξ)) − ḡ)/Δg ]²,  ZNCC = 1 − C/2.
+// IC-GN linearises f rather than g, so the Hessian is computed once per subset; each iteration warps
+// the reference subset by Δp and composes W(p) ← W(p) ∘ W(Δp)⁻¹.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "tricot/core/types.hpp"
+#include "tricot/image/bspline.hpp"
+
+namespace tricot::dic {
+
+/// What became of one point. Only `ok` points carry a measurement.
+enum class PointStatus {
+  ok,               ///< converged (|Δp| < tolerance) with ZNCC ≥ min_zncc
+  max_iterations,   ///< no convergence within max_iterations
+  low_correlation,  ///< converged, but ZNCC < min_zncc (or the current subset is blank)
+  out_of_image,     ///< the reference or the warped subset leaves the image
+  no_texture,       ///< the reference subset is (nearly) uniform: its gray-level spread or gradient is too small
+  diverged,         ///< the iteration produced NaN or a degenerate shape (folded subset)
+  not_computed,     ///< propagation never reached the point (disconnected from every seed)
+  lost,             ///< sequences: the point was lost in an earlier frame and is no longer tracked
+};
+/// The lowercase word written in points.csv (`ok`, `max_iterations`, ...).
+const char* to_string(PointStatus s);
+
+/// Order of the shape function: first (6 parameters, affine) or second (12 parameters).
+enum class ShapeOrder { first = 1, second = 2 };
+
+/// Shape-function parameters p, in this order:
+///   0 u, 1 ux, 2 uy, 3 uxx, 4 uxy, 5 uyy, 6 v, 7 vx, 8 vy, 9 vxx, 10 vxy, 11 vyy.
+/// A first-order shape keeps entries 3–5 and 9–11 at zero. u, v in px; gradients dimensionless.
+using Shape = Eigen::Matrix<double, 12, 1>;
+inline Shape translation(double u, double v) {
+  Shape p = Shape::Zero();
+  p(0) = u;
+  p(6) = v;
+  return p;
+}
+/// The displacement gradient ∇u = [[ux, uy], [vx, vy]] of a shape.
+inline Mat2 displacement_gradient(const Shape& p) { return (Mat2() << p(1), p(2), p(7), p(8)).finished(); }
+/// The shape moved to another centre: displacement and gradient at offset ξ from the centre (for
+/// handing a converged point's shape to its neighbour as a starting guess).
+Shape shift_shape(const Shape& p, const Vec2& xi);
+/// W(p₁) ∘ W(p₂) and W(p)⁻¹, through Gao's 6×6 matrix representation (exact for first order).
+Shape compose(const Shape& p1, const Shape& p2);
+Shape inverse(const Shape& p);
+/// x'(ξ) − ξ: the displacement the shape gives at offset ξ from the subset centre.
+Vec2 warp_displacement(const Shape& p, const Vec2& xi);
+
+/// Settings of one subset match.
+struct IcgnOptions {
+  int subset_size = 31;                  ///< N, odd, 7–301 px: subset of N×N pixels
+  ShapeOrder order = ShapeOrder::first;  ///< first (affine) or second order shape function
+  int max_iterations = 50;               ///< 1–1000
+  double tolerance = 1e-3;               ///< px, > 0: stop when |Δp| (gradients × N/2) falls below it
+  double min_zncc = 0.7;                 ///< 0–1: a converged point below this is `low_correlation`
+  /// Fraction of the image's full scale, ≥ 0: a reference subset whose gray-level standard deviation is
+  /// below min_texture × full_scale (or whose mean squared gradient is below (min_texture × full_scale / 10)²
+  /// per px² along its weakest direction) is `no_texture`.
+  double min_texture = 0.005;
+
+  /// Throws InputError naming the key (`dic.subset_size`, ...) when a field is out of range.
+  void validate() const;
+};
+
+/// The outcome of one subset match.
+struct PointMatch {
+  Shape p = Shape::Zero();  ///< from the reference subset centre to the current image
+  double zncc = 0;          ///< zero-normalised cross-correlation, 1 = identical
+  int iterations = 0;
+  PointStatus status = PointStatus::not_computed;
+};
+
+/// An image ready for correlation: its B-spline interpolant and pixel gradients.
+struct Frame {
+  image::Image image;  ///< the (pre-filtered) pixels
+  image::BSplineImage spline;
+  image::Gradient grad;
+};
+/// Pre-filters (Gaussian of `sigma` px, 0 = none) and builds the interpolant and gradients.
+Frame prepare_frame(const image::Image& img, double sigma = 0);
+
+/// Matches the subset centred at `centre` in `reference` with `current`, starting from `guess`.
+/// Sub-pixel centres are allowed (tracked points); integer centres read pixels directly.
+PointMatch icgn(const Frame& reference, const Frame& current, const Vec2& centre, const Shape& guess,
+                const IcgnOptions& options);
+
+/// The gray-level standard deviation of the subset and whether it passes the texture test.
+bool has_texture(const Frame& reference, const Vec2& centre, const IcgnOptions& options);
+
+}  // namespace tricot::dic

@@ -1,0 +1,245 @@
+// Sequence tracking: incremental, reference and automatic reference update (see sequence.hpp).
+#include "tricot/dic/sequence.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "tricot/core/error.hpp"
+
+namespace tricot::dic {
+
+const char* to_string(SequenceMode m) {
+  switch (m) {
+    case SequenceMode::incremental: return "incremental";
+    case SequenceMode::reference: return "reference";
+    case SequenceMode::automatic: return "auto";
+  }
+  return "unknown";
+}
+
+void SequenceOptions::validate() const {
+  dic.validate();
+  strain.validate();
+  if (!(update_zncc >= 0 && update_zncc <= 1))
+    throw InputError(Location{"", 0, "dic.update_zncc"}, "out of range", std::to_string(update_zncc), "0 to 1");
+  if (!(update_loss >= 0 && update_loss <= 1))
+    throw InputError(Location{"", 0, "dic.update_loss"}, "out of range", std::to_string(update_loss), "0 to 1");
+}
+
+namespace {
+const double nan = std::numeric_limits<double>::quiet_NaN();
+const Vec2 nowhere(nan, nan);
+}  // namespace
+
+struct SequenceTracker::State {
+  SequenceOptions o;
+  Reporter reporter;
+  SequenceResult result;
+  std::vector<std::array<int, 4>> neighbours;
+  std::shared_ptr<const Frame> ref, prev;  ///< the current reference image r and the previous image
+  int r = 0;
+  std::vector<Vec2> ref_x;                  ///< positions in image r
+  std::vector<char> alive;                  ///< the point has a position in image r
+  std::vector<std::optional<Shape>> last;   ///< starting shapes for the next frame
+  std::vector<std::optional<Shape>> fixed_last;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+
+  /// Correlates the alive points of image r with `cur`.
+  PairResult correlate(const Frame& cur, const std::vector<std::optional<Shape>>& guesses) const {
+    const int n = static_cast<int>(ref_x.size());
+    std::vector<int> compact(n, -1), full;
+    for (int k = 0; k < n; ++k)
+      if (alive[k]) compact[k] = static_cast<int>(full.size()), full.push_back(k);
+    std::vector<Vec2> c(full.size());
+    std::vector<std::array<int, 4>> nb(full.size());
+    std::vector<std::optional<Shape>> g(full.size());
+    bool any_guess = false;
+    for (std::size_t a = 0; a < full.size(); ++a) {
+      const int k = full[a];
+      c[a] = ref_x[k];
+      for (int d = 0; d < 4; ++d) nb[a][d] = neighbours[k][d] >= 0 ? compact[neighbours[k][d]] : -1;
+      g[a] = guesses[k];
+      any_guess |= g[a].has_value();
+    }
+    PairResult compact_result = correlate_pair(*ref, cur, c, nb, o.dic, any_guess ? g : std::vector<std::optional<Shape>>{});
+    PairResult out = compact_result;
+    out.points.assign(n, PointMatch{});
+    for (std::size_t a = 0; a < full.size(); ++a) out.points[full[a]] = compact_result.points[a];
+    for (int k = 0; k < n; ++k)
+      if (!alive[k]) out.points[k].status = PointStatus::lost;
+    return out;
+  }
+};
+
+SequenceTracker::SequenceTracker(const image::Image& reference, std::vector<GridPoint> grid, SequenceOptions options,
+                                 Reporter reporter)
+    : s_(std::make_unique<State>()) {
+  options.validate();
+  State& s = *s_;
+  s.o = std::move(options);
+  s.reporter = std::move(reporter);
+  s.result.grid = std::move(grid);
+  const auto& g = s.result.grid;
+  const int n = static_cast<int>(g.size());
+  s.neighbours = grid_neighbours(g);
+  s.ref = std::make_shared<const Frame>(prepare_frame(reference, s.o.dic.prefilter_sigma));
+  s.prev = s.ref;
+  s.ref_x.resize(n);
+  s.alive.assign(n, 1);
+  s.last.assign(n, std::nullopt);
+  s.fixed_last.assign(n, std::nullopt);
+  TrackedFrame f0;
+  f0.x.resize(n);
+  f0.zncc.assign(n, 1.0);
+  f0.status.assign(n, PointStatus::ok);
+  for (int k = 0; k < n; ++k) {
+    s.ref_x[k] = f0.x[k] = g[k].x;
+    if (!has_texture(*s.ref, g[k].x, s.o.dic.icgn)) {
+      f0.status[k] = icgn(*s.ref, *s.ref, g[k].x, Shape::Zero(), s.o.dic.icgn).status;  // no_texture / out_of_image
+      f0.zncc[k] = 0;
+      s.alive[k] = 0;
+    }
+  }
+  std::vector<char> good(n);
+  for (int k = 0; k < n; ++k) good[k] = f0.status[k] == PointStatus::ok, f0.ok += good[k];
+  f0.mean_zncc = 1;
+  f0.strain = green_lagrange(g, f0.x, good, s.o.strain);
+  f0.message = std::to_string(f0.ok) + "/" + std::to_string(n) + " points with texture";
+  s.result.frames.push_back(std::move(f0));
+}
+
+SequenceTracker::~SequenceTracker() = default;
+
+const TrackedFrame& SequenceTracker::add(const image::Image& next) {
+  State& s = *s_;
+  const auto t0 = std::chrono::steady_clock::now();
+  const int k = static_cast<int>(s.result.frames.size());
+  const int n = static_cast<int>(s.ref_x.size());
+  const auto cur = std::make_shared<const Frame>(prepare_frame(next, s.o.dic.prefilter_sigma));
+  const TrackedFrame& before = s.result.frames.back();
+
+  PairResult pair = s.correlate(*cur, s.last);
+  std::string note;
+  if (s.o.mode == SequenceMode::automatic && s.r < k - 1) {
+    int alive = 0;
+    for (char a : s.alive) alive += a;
+    const bool weak = pair.mean_zncc < s.o.update_zncc || (alive - pair.ok) > s.o.update_loss * alive;
+    if (weak) {  // Ncorr's step analysis: the previous image becomes the reference
+      std::vector<std::optional<Shape>> guess(n);
+      for (int p = 0; p < n; ++p)
+        if (before.status[p] == PointStatus::ok && pair.points[p].status == PointStatus::ok) {
+          const Vec2 u = s.ref_x[p] + Vec2(pair.points[p].p(0), pair.points[p].p(6)) - before.x[p];
+          guess[p] = translation(u(0), u(1));
+        }
+      s.ref = s.prev;
+      s.r = k - 1;
+      for (int p = 0; p < n; ++p) {
+        s.alive[p] = before.status[p] == PointStatus::ok;
+        s.ref_x[p] = before.x[p];
+      }
+      pair = s.correlate(*cur, guess);
+      note = "reference updated to frame " + std::to_string(k - 1) + "; ";
+    }
+  }
+
+  TrackedFrame f;
+  f.frame = k;
+  f.reference_frame = s.r;
+  f.x.assign(n, nowhere);
+  f.zncc.assign(n, nan);
+  f.status.assign(n, PointStatus::lost);
+  std::vector<char> good(n, 0);
+  double sum = 0;
+  for (int p = 0; p < n; ++p) {
+    const PointMatch& m = pair.points[p];
+    f.status[p] = m.status;
+    if (m.status == PointStatus::lost) continue;
+    f.zncc[p] = m.zncc;
+    if (m.status == PointStatus::ok) {
+      f.x[p] = s.ref_x[p] + Vec2(m.p(0), m.p(6));
+      good[p] = 1;
+      ++f.ok;
+      sum += m.zncc;
+    }
+  }
+  f.mean_zncc = f.ok ? sum / f.ok : 0;
+  std::vector<Vec2> X(n);
+  for (int p = 0; p < n; ++p) X[p] = s.result.grid[p].x;
+  f.strain = green_lagrange(s.result.grid, f.x, good, s.o.strain);
+  f.message = note + pair.message;
+
+  // Fixed-point incremental field between the previous image and this one (before the state moves on).
+  if (s.o.fixed_point_fields) {
+    IncrementField inc;
+    inc.from = k - 1;
+    inc.to = k;
+    bool any = false;
+    for (const auto& g : s.fixed_last) any |= g.has_value();
+    const PairResult fp = correlate_pair(*s.prev, *cur, X, s.neighbours, s.o.dic,
+                                         any ? s.fixed_last : std::vector<std::optional<Shape>>{});
+    inc.u.assign(n, nowhere);
+    inc.zncc.resize(n);
+    inc.status.resize(n);
+    for (int p = 0; p < n; ++p) {
+      const PointMatch& m = fp.points[p];
+      inc.zncc[p] = m.zncc;
+      inc.status[p] = m.status;
+      if (m.status == PointStatus::ok) {
+        inc.u[p] = Vec2(m.p(0), m.p(6));
+        s.fixed_last[p] = m.p;
+      }
+    }
+    s.result.increments.push_back(std::move(inc));
+  }
+
+  // Move on.
+  if (s.o.mode == SequenceMode::incremental) {
+    s.ref = cur;
+    s.r = k;
+    for (int p = 0; p < n; ++p) {
+      s.alive[p] = good[p];
+      s.ref_x[p] = f.x[p];
+      s.last[p] = good[p] ? std::optional<Shape>(pair.points[p].p) : std::nullopt;
+    }
+  } else {
+    for (int p = 0; p < n; ++p)
+      if (good[p]) s.last[p] = pair.points[p].p;
+  }
+  s.prev = cur;
+  f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  s.result.frames.push_back(std::move(f));
+  const TrackedFrame& done = s.result.frames.back();
+  char detail[160];
+  std::snprintf(detail, sizeof detail, "frame %d: %d/%d ok, mean ZNCC %.4f, ref %d", k, done.ok, n, done.mean_zncc,
+                done.reference_frame);
+  s.reporter.info(std::string(detail) + " — " + done.message);
+  return done;
+}
+
+const SequenceResult& SequenceTracker::result() {
+  State& s = *s_;
+  SequenceResult& r = s.result;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start).count();
+  const TrackedFrame& last = r.frames.back();
+  r.termination = last.ok > 0 || r.frames.size() == 1 ? SequenceTermination::completed : SequenceTermination::all_lost;
+  r.message = std::to_string(r.frames.size()) + " frames, " + to_string(s.o.mode) + " mode; " +
+              std::to_string(last.ok) + "/" + std::to_string(r.grid.size()) + " points ok in the last frame";
+  if (r.termination == SequenceTermination::all_lost) r.message += " (every point was lost)";
+  return r;
+}
+
+SequenceResult track_sequence(const std::vector<image::Image>& images, const Roi& roi, const SequenceOptions& options,
+                              Reporter reporter) {
+  options.validate();
+  if (images.empty()) throw InputError(Location{}, "no images", "0", "at least one");
+  auto grid = make_grid(roi, images[0].width, images[0].height, options.dic.icgn.subset_size, options.dic.step);
+  SequenceTracker t(images[0], std::move(grid), options, reporter);
+  for (std::size_t k = 1; k < images.size(); ++k) {
+    t.add(images[k]);
+    reporter.report({"dic", k, images.size() - 1, ""});
+  }
+  return t.result();
+}
+
+}  // namespace tricot::dic

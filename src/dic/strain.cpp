@@ -1,0 +1,59 @@
+// Local least-squares strain (see strain.hpp).
+#include "tricot/dic/strain.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "tricot/core/error.hpp"
+
+namespace tricot::dic {
+
+void StrainOptions::validate() const {
+  if (window < 3 || window > 51 || window % 2 == 0)
+    throw InputError(Location{"", 0, "strain.window"}, "out of range", std::to_string(window), "an odd number from 3 to 51");
+  if (!(min_fraction >= 0 && min_fraction <= 1))
+    throw InputError(Location{"", 0, "strain.min_fraction"}, "out of range", std::to_string(min_fraction), "0 to 1");
+}
+
+std::vector<StrainPoint> green_lagrange(const std::vector<GridPoint>& grid, const std::vector<Vec2>& x,
+                                        const std::vector<char>& good, const StrainOptions& o) {
+  o.validate();
+  std::map<std::pair<int, int>, int> index;
+  for (int k = 0; k < static_cast<int>(grid.size()); ++k) index[{grid[k].i, grid[k].j}] = k;
+  const int h = o.window / 2;
+  const int needed = std::max(4, static_cast<int>(std::ceil(o.min_fraction * o.window * o.window)));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<StrainPoint> out(grid.size());
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    StrainPoint& s = out[k];
+    s.exx = s.eyy = s.exy = nan;
+    if (!good[k]) continue;
+    // Normal equations of x = a + F (X − X_c) for each component, with 1, dX, dY as the basis.
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Eigen::Matrix<double, 3, 2> b = Eigen::Matrix<double, 3, 2>::Zero();
+    int count = 0;
+    for (int dj = -h; dj <= h; ++dj)
+      for (int di = -h; di <= h; ++di) {
+        auto it = index.find({grid[k].i + di, grid[k].j + dj});
+        if (it == index.end() || !good[it->second]) continue;
+        const Vec2 dX = grid[it->second].x - grid[k].x;
+        const Eigen::Vector3d phi(1, dX(0), dX(1));
+        A += phi * phi.transpose();
+        b += phi * x[it->second].transpose();
+        ++count;
+      }
+    if (count < needed) continue;
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(A);
+    if (lu.rank() < 3) continue;  // neighbours on a line
+    const Eigen::Matrix<double, 3, 2> c = lu.solve(b);
+    s.F = c.bottomRows<2>().transpose();  // F(i, a) = ∂x_i/∂X_a
+    const Mat2 E = 0.5 * (s.F.transpose() * s.F - Mat2::Identity());
+    s.exx = E(0, 0), s.eyy = E(1, 1), s.exy = E(0, 1);
+    s.valid = true;
+  }
+  return out;
+}
+
+}  // namespace tricot::dic

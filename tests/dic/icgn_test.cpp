@@ -1,0 +1,140 @@
+#include "tricot/dic/icgn.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "tricot/core/error.hpp"
+#include "tricot/synth/speckle.hpp"
+
+using namespace tricot;
+using namespace tricot::dic;
+
+namespace {
+
+/// Noise-free images rendered from the continuous pattern: IC-GN's own bias is a few 1e-4 px.
+constexpr double kNoiseFreeTol = 2e-3;
+/// Gradients: the same error spread over a 31 px subset.
+constexpr double kGradientTol = 2e-4;
+
+synth::SpecklePattern pattern(int size) {
+  return synth::SpecklePattern(synth::SpeckleOptions{}, 0, 0, size, size);
+}
+
+/// Reference and current frames of a motion X = φ⁻¹(x).
+std::pair<Frame, Frame> frames(int size, const synth::InverseMotion& motion) {
+  const auto P = pattern(size);
+  return {prepare_frame(synth::render(P, size, size, synth::no_motion)), prepare_frame(synth::render(P, size, size, motion))};
+}
+
+}  // namespace
+
+TEST(Shape, ComposingAShapeWithItsInverseGivesTheIdentity) {
+  Shape p;
+  p << 1.5, 0.05, -0.02, 0.001, -0.002, 0.0005, -0.7, 0.03, 0.1, 0.0, 0.001, -0.001;
+  // second order: Gao's 6×6 form drops the cubic and quartic terms of the composition, O(u·|p₂|·|∇u|)
+  EXPECT_LT(compose(p, inverse(p)).norm(), 1e-4);
+  p.segment<3>(3).setZero();
+  p.segment<3>(9).setZero();
+  EXPECT_LT(compose(p, inverse(p)).norm(), 1e-13);  // first order: exact
+}
+
+TEST(Shape, FirstOrderCompositionIsTheCompositionOfAffineMaps) {
+  Shape a = translation(2, -1), b = translation(0.5, 0.25);
+  a(1) = 0.1, a(2) = 0.02, a(7) = -0.03, a(8) = 0.2;
+  b(1) = -0.05, b(8) = 0.04;
+  const Vec2 xi(3, -4);
+  const Vec2 inner = xi + warp_displacement(b, xi);
+  const Vec2 expected = inner + warp_displacement(a, inner) - xi;
+  EXPECT_LT((warp_displacement(compose(a, b), xi) - expected).norm(), 1e-12);
+}
+
+TEST(Shape, ShiftedShapeGivesTheSameDisplacementField) {
+  Shape p;
+  p << 1.5, 0.05, -0.02, 0.001, -0.002, 0.0005, -0.7, 0.03, 0.1, 0.0, 0.001, -0.001;
+  const Vec2 c(4, -3), eta(2, 5);
+  EXPECT_LT((warp_displacement(shift_shape(p, c), eta) - warp_displacement(p, c + eta)).norm(), 1e-12);
+}
+
+TEST(Icgn, RecoversASubPixelTranslation) {
+  const double u = 0.37, v = -0.81;
+  auto [f, g] = frames(120, [&](const Vec2& x) { return Vec2(x(0) - u, x(1) - v); });
+  const PointMatch m = icgn(f, g, Vec2(60, 60), Shape::Zero(), IcgnOptions{});
+  ASSERT_EQ(m.status, PointStatus::ok);
+  EXPECT_NEAR(m.p(0), u, kNoiseFreeTol);
+  EXPECT_NEAR(m.p(6), v, kNoiseFreeTol);
+  EXPECT_GT(m.zncc, 0.999);
+}
+
+TEST(Icgn, RecoversAFivePercentUniformStrainInOneStep) {
+  // x = c + (1.05, 0.97)·(X − c) about c = (60, 60)
+  const Vec2 c(60, 60);
+  auto [f, g] = frames(140, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / 1.05, c(1) + (x(1) - c(1)) / 0.97); });
+  const Vec2 X(75, 50);
+  const PointMatch m = icgn(f, g, X, Shape::Zero(), IcgnOptions{});
+  ASSERT_EQ(m.status, PointStatus::ok);
+  EXPECT_NEAR(m.p(0), 0.05 * (X(0) - c(0)), kNoiseFreeTol);
+  EXPECT_NEAR(m.p(6), -0.03 * (X(1) - c(1)), kNoiseFreeTol);
+  EXPECT_NEAR(m.p(1), 0.05, kGradientTol);
+  EXPECT_NEAR(m.p(8), -0.03, kGradientTol);
+  EXPECT_NEAR(m.p(2), 0.0, kGradientTol);
+  EXPECT_NEAR(m.p(7), 0.0, kGradientTol);
+}
+
+TEST(Icgn, RecoversARigidRotation) {
+  const double theta = 3.0 * std::numbers::pi / 180;  // 3°
+  const Vec2 c(70, 70);
+  const Mat2 R = (Mat2() << std::cos(theta), -std::sin(theta), std::sin(theta), std::cos(theta)).finished();
+  auto [f, g] = frames(140, [&](const Vec2& x) { return Vec2(c + R.transpose() * (x - c)); });
+  const Vec2 X(90, 60);
+  const PointMatch m = icgn(f, g, X, Shape::Zero(), IcgnOptions{});
+  ASSERT_EQ(m.status, PointStatus::ok);
+  const Vec2 expected = c + R * (X - c) - X;
+  EXPECT_NEAR(m.p(0), expected(0), kNoiseFreeTol);
+  EXPECT_NEAR(m.p(6), expected(1), kNoiseFreeTol);
+  const Mat2 grad = R - Mat2::Identity();
+  EXPECT_LT((displacement_gradient(m.p) - grad).cwiseAbs().maxCoeff(), kGradientTol);
+}
+
+TEST(Icgn, SecondOrderShapeRecoversAQuadraticDisplacement) {
+  // u(X) = 0.002 (X − c)²: a first-order subset sees a bias, a second-order one does not.
+  const Vec2 c(70, 70);
+  const double a = 0.002;
+  auto [f, g] = frames(140, [&](const Vec2& x) {
+    // invert x = X + a (X − c)² along x by Newton
+    double X = x(0);
+    for (int k = 0; k < 30; ++k) X -= (X + a * (X - c(0)) * (X - c(0)) - x(0)) / (1 + 2 * a * (X - c(0)));
+    return Vec2(X, x(1));
+  });
+  const Vec2 X(80, 70);
+  IcgnOptions o;
+  o.order = ShapeOrder::second;
+  const PointMatch m = icgn(f, g, X, Shape::Zero(), o);
+  ASSERT_EQ(m.status, PointStatus::ok);
+  EXPECT_NEAR(m.p(0), a * 100, kNoiseFreeTol);
+  EXPECT_NEAR(m.p(1), 2 * a * 10, kGradientTol);
+  EXPECT_NEAR(m.p(3), 2 * a, 1e-4);
+}
+
+TEST(Icgn, BlankSubsetHasNoTexture) {
+  const Frame f = prepare_frame(image::Image(80, 80, 0.5f));
+  EXPECT_EQ(icgn(f, f, Vec2(40, 40), Shape::Zero(), IcgnOptions{}).status, PointStatus::no_texture);
+}
+
+TEST(Icgn, SubsetCrossingTheBorderIsOutOfImage) {
+  auto [f, g] = frames(80, synth::no_motion);
+  EXPECT_EQ(icgn(f, g, Vec2(10, 40), Shape::Zero(), IcgnOptions{}).status, PointStatus::out_of_image);
+  EXPECT_EQ(icgn(f, g, Vec2(40, 40), translation(30, 0), IcgnOptions{}).status, PointStatus::out_of_image);
+}
+
+TEST(IcgnOptions, EvenSubsetSizeIsRejectedWithItsKey) {
+  IcgnOptions o;
+  o.subset_size = 30;
+  try {
+    o.validate();
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "dic.subset_size");
+  }
+}
