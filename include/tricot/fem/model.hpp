@@ -1,0 +1,46 @@
+// Finite-element models of the paper's tests (THEORY §6, paper §3.2.2, Fig. 5): a quarter specimen
+// with symmetry on x = 0 and y = 0, a grip on the top edge and a free or guided side edge.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "tricot/fem/mesh.hpp"
+
+namespace tricot::fem {
+
+/// What the side edge x = W does.
+enum class SideEdge {
+  free,   ///< traction free (uniaxial test)
+  guide,  ///< u_x = c (the transverse dimension held: biaxial-induced test), u_y free
+};
+
+/// What the top edge y = H does.
+enum class GripControl {
+  displacement,  ///< u_y = d(t) on every top node
+  force,         ///< the top edge stays straight (one shared u_y) and carries the full-specimen force F(t)
+};
+
+/// One physical test, loaded through a list of steps.
+struct TestModel {
+  std::string name = "test";
+  Mesh mesh;
+  /// Angle in degrees from the x axis (the loading direction is y) to the course direction a_C. The
+  /// wale a_W is a_C turned +90°. 0 = course along x, so a test loaded along y pulls the wale.
+  double material_angle = 0;
+  GripControl control = GripControl::displacement;
+  /// Grip: also hold u_x = 0 on the top edge (a clamp); false = sliding grip (homogeneous states).
+  bool grip_holds_x = true;
+  SideEdge side = SideEdge::free;
+  /// Step loads, strictly increasing from > 0: the grip displacement d(t) in mm (quarter model, so
+  /// the full specimen stretches by 2d) or the full-specimen force in N.
+  std::vector<double> loads;
+  /// Guide: u_x = c on the side edge, mm (negative = the specimen is narrowed). One value for all
+  /// steps, or one per step (the guide is moved proportionally otherwise: c · load/load_last).
+  std::vector<double> guide;
+
+  /// Throws InputError naming `test.<field>` (with the test's name) when inconsistent.
+  void validate() const;
+};
+
+}  // namespace tricot::fem

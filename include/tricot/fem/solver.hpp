@@ -1,0 +1,74 @@
+// Nonlinear quasi-static solution of a test model (THEORY §4–§7): total-Lagrangian assembly, Newton–
+// Raphson with the consistent tangent and a line search, load stepping with automatic cutback, a
+// sparse direct solver (CHOLMOD/UMFPACK) whose symbolic analysis is kept across iterations and steps,
+// and exact sensitivities du/dc by back-substitution with the converged tangent.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "tricot/core/progress.hpp"
+#include "tricot/fem/law.hpp"
+#include "tricot/fem/model.hpp"
+
+namespace tricot::fem {
+
+struct SolveOptions {
+  /// Newton stops when ‖R_free‖ ≤ tolerance · max(‖F_reactions‖, 1e-12 N), > 0.
+  double tolerance = 1e-10;
+  /// Newton iterations per (sub)step, 1–200.
+  int max_iterations = 25;
+  /// Backtracking line search on the residual norm (off = full Newton steps).
+  bool line_search = true;
+  /// Halvings of a step that failed before giving up, 0–30.
+  int max_cutbacks = 8;
+  /// Compute du/dc and d(edge force)/dc at every step (THEORY §7).
+  bool sensitivities = false;
+  /// Keep every Newton iteration's residual norm in StepResult::residuals.
+  bool keep_residuals = true;
+
+  /// Throws InputError naming `solver.<field>` when out of range.
+  void validate() const;
+};
+
+/// The converged state at one step of the list.
+struct StepResult {
+  double load = 0;               ///< the step's load as given (mm or N)
+  Eigen::VectorXd u;             ///< nodal displacements, dof 2n = u_x, 2n+1 = u_y (mm)
+  double edge_displacement = 0;  ///< u_y of the grip (mm, quarter model)
+  double edge_force = 0;         ///< full-specimen grip force: 2 × the quarter's reaction (N)
+  double force_per_width = 0;    ///< edge_force / full initial width (N/mm)
+  double side_force = 0;         ///< full-specimen reaction on the guide (N, 0 when free)
+  int iterations = 0;            ///< Newton iterations, summed over sub-steps
+  int cutbacks = 0;              ///< sub-steps inserted before this step converged
+  std::vector<double> residuals; ///< ‖R‖ per Newton iteration of the last sub-step
+  /// Sensitivities (when asked): du_dc.col(k) = ∂u/∂c_k, and ∂edge_force/∂c_k.
+  Eigen::MatrixXd du_dc;
+  Eigen::VectorXd dforce_dc;
+  /// For a force-controlled grip, d(edge_displacement)/dc (du_dc holds it too, at a top node).
+};
+
+enum class SolveTermination {
+  converged,       ///< every step converged
+  not_converged,   ///< a step failed after max_cutbacks halvings; `steps` holds the converged ones
+  invalid_state,   ///< an element inverted (det F ≤ 0) or the law returned a non-finite value
+};
+const char* to_string(SolveTermination t);
+
+struct SimulationResult {
+  SolveTermination termination = SolveTermination::converged;
+  std::string message;            ///< one line: what happened, which step failed and why
+  std::vector<StepResult> steps;  ///< one per converged load step, in order
+  double seconds = 0;             ///< wall time
+  double factorization_seconds = 0;  ///< of which in numeric factorization
+  int factorizations = 0;
+  bool usable() const { return termination == SolveTermination::converged; }
+};
+
+/// Runs every step of `test` with `law`. Validates options and model first (InputError); a step that
+/// does not converge is a status in the result, never an exception. Progress: one report per step.
+SimulationResult simulate(const TestModel& test, const Law& law, const SolveOptions& options = {},
+                          const Reporter& reporter = {});
+
+}  // namespace tricot::fem
