@@ -1,0 +1,178 @@
+// Incompressible Mooney–Rivlin membrane (see mooney_rivlin.hpp, THEORY §5).
+#include "tricot/fem/mooney_rivlin.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+
+#include "tricot/core/error.hpp"
+
+namespace tricot::fem {
+namespace {
+
+double ipow(double x, int n) {
+  double r = 1;
+  for (int k = 0; k < n; ++k) r *= x;
+  return r;
+}
+
+std::string term_name(const MooneyRivlinTerm& t) {
+  std::string n = "C";
+  n += std::to_string(t.i);
+  n += std::to_string(t.j);
+  return n;
+}
+
+/// ∂W/∂I1, ∂W/∂I2 and the second derivatives, at x1 = I1 − 3, x2 = I2 − 3.
+struct EnergyDerivatives {
+  double W1 = 0, W2 = 0, W11 = 0, W12 = 0, W22 = 0;
+};
+
+/// The derivatives of one term with C = 1 (the basis of ∂P/∂C_ij).
+EnergyDerivatives term_derivatives(const MooneyRivlinTerm& t, double x1, double x2) {
+  EnergyDerivatives d;
+  const int i = t.i, j = t.j;
+  if (i >= 1) d.W1 = i * ipow(x1, i - 1) * ipow(x2, j);
+  if (j >= 1) d.W2 = j * ipow(x1, i) * ipow(x2, j - 1);
+  if (i >= 2) d.W11 = i * (i - 1) * ipow(x1, i - 2) * ipow(x2, j);
+  if (i >= 1 && j >= 1) d.W12 = i * j * ipow(x1, i - 1) * ipow(x2, j - 1);
+  if (j >= 2) d.W22 = j * (j - 1) * ipow(x1, i) * ipow(x2, j - 2);
+  return d;
+}
+
+EnergyDerivatives derivatives(const std::vector<MooneyRivlinTerm>& terms, double I1, double I2) {
+  EnergyDerivatives sum;
+  for (const auto& t : terms) {
+    const EnergyDerivatives d = term_derivatives(t, I1 - 3, I2 - 3);
+    sum.W1 += t.C * d.W1;
+    sum.W2 += t.C * d.W2;
+    sum.W11 += t.C * d.W11;
+    sum.W12 += t.C * d.W12;
+    sum.W22 += t.C * d.W22;
+  }
+  return sum;
+}
+
+double dot(const Mat2& a, const Mat2& b) { return (a.array() * b.array()).sum(); }
+
+}  // namespace
+
+MooneyRivlin::MooneyRivlin(std::vector<MooneyRivlinTerm> terms) : terms_(std::move(terms)) {
+  for (std::size_t k = 0; k < terms_.size(); ++k) {
+    const auto& t = terms_[k];
+    std::string key = "material.";
+    key += term_name(t);
+    const Location where{"", 0, key};
+    if (t.i < 0 || t.j < 0 || t.i > 9 || t.j > 9 || (t.i == 0 && t.j == 0))
+      throw InputError(where, "bad Mooney–Rivlin exponents",
+                       "(" + std::to_string(t.i) + ", " + std::to_string(t.j) + ")", "0–9 each, not both 0");
+    if (!std::isfinite(t.C)) throw InputError(where, "not a finite number", std::to_string(t.C), "a finite N/mm");
+    for (std::size_t m = 0; m < k; ++m)
+      if (terms_[m].i == t.i && terms_[m].j == t.j) throw InputError(where, "coefficient given twice");
+  }
+}
+
+std::vector<std::string> MooneyRivlin::coefficient_names() const {
+  std::vector<std::string> n;
+  for (const auto& t : terms_) n.push_back(term_name(t));
+  return n;
+}
+
+Eigen::VectorXd MooneyRivlin::coefficients() const {
+  Eigen::VectorXd c(terms_.size());
+  for (std::size_t k = 0; k < terms_.size(); ++k) c(k) = terms_[k].C;
+  return c;
+}
+
+void MooneyRivlin::set_coefficients(const Eigen::VectorXd& c) {
+  if (c.size() != static_cast<Eigen::Index>(terms_.size()))
+    throw InputError(Location{"", 0, "material"}, "wrong number of Mooney–Rivlin coefficients",
+                     std::to_string(c.size()), std::to_string(terms_.size()));
+  for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k].C = c(k);
+}
+
+// THEORY §5. With C₂ = FᵀF, J2 = det C₂ and C₂⁻¹:
+//   ∂I1/∂C₂ = G1 = I − C₂⁻¹/J2,   ∂I2/∂C₂ = G2 = I/J2 + (J2 − tr C₂/J2) C₂⁻¹,
+//   S₂ = 2 (W1 G1 + W2 G2),  P = F S₂.
+// The tangent is the exact directional derivative of P along each unit dF (four columns of A).
+void MooneyRivlin::evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const {
+  const Mat2& F = in.F;
+  const double detF = F.determinant();
+  if (!(detF > 0) || !std::isfinite(detF)) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    out.P.setConstant(nan);
+    out.A.setConstant(nan);
+    out.lambda3 = nan;
+    out.dP_dc.assign(req.sensitivities ? terms_.size() : 0, Mat2::Constant(nan));
+    return;
+  }
+  const Mat2 I = Mat2::Identity();
+  const Mat2 C = F.transpose() * F;
+  const double J2 = detF * detF;
+  const double trC = C.trace();
+  const Mat2 Ci = C.inverse();
+  const double I1 = trC + 1 / J2;
+  const double I2 = trC / J2 + J2;
+  const Mat2 G1 = I - Ci / J2;
+  const Mat2 G2 = I / J2 + (J2 - trC / J2) * Ci;
+  const EnergyDerivatives d = derivatives(terms_, I1, I2);
+  const Mat2 S = 2 * (d.W1 * G1 + d.W2 * G2);
+  out.P = F * S;
+  out.lambda3 = 1 / detF;
+
+  if (req.tangent) {
+    for (int k = 0; k < 2; ++k)
+      for (int l = 0; l < 2; ++l) {
+        Mat2 dF = Mat2::Zero();
+        dF(k, l) = 1;
+        const Mat2 dC = dF.transpose() * F + F.transpose() * dF;
+        const double a = dot(Ci, dC);  // dJ2 / J2
+        const double b = dC.trace();
+        const Mat2 CdC = Ci * dC * Ci;  // −dC₂⁻¹
+        const double dI1 = dot(G1, dC), dI2 = dot(G2, dC);
+        const Mat2 dG1 = (a * Ci + CdC) / J2;
+        const Mat2 dG2 = -a / J2 * I + (J2 * a - b / J2 + trC * a / J2) * Ci - (J2 - trC / J2) * CdC;
+        const double dW1 = d.W11 * dI1 + d.W12 * dI2;
+        const double dW2 = d.W12 * dI1 + d.W22 * dI2;
+        const Mat2 dS = 2 * (dW1 * G1 + d.W1 * dG1 + dW2 * G2 + d.W2 * dG2);
+        out.A.col(2 * k + l) = flatten(dF * S + F * dS);
+      }
+  }
+  if (req.sensitivities) {
+    out.dP_dc.resize(terms_.size());
+    for (std::size_t k = 0; k < terms_.size(); ++k) {
+      const EnergyDerivatives b = term_derivatives(terms_[k], I1 - 3, I2 - 3);
+      out.dP_dc[k] = F * (2 * (b.W1 * G1 + b.W2 * G2));
+    }
+  } else {
+    out.dP_dc.clear();
+  }
+}
+
+std::vector<MooneyRivlinTerm> paper_mooney_rivlin_terms() {
+  return {{1, 0, 0.1}, {2, 0, -0.025}, {2, 1, 0.015}, {0, 3, 0.01}};
+}
+
+// THEORY §5 closed forms, principal stretches (λ1, λ2, λ3) with λ1λ2λ3 = 1.
+double mooney_rivlin_nominal_stress(const std::vector<MooneyRivlinTerm>& terms, HomogeneousMode mode,
+                                    double lambda) {
+  const double l = lambda;
+  switch (mode) {
+    case HomogeneousMode::uniaxial: {
+      const EnergyDerivatives d = derivatives(terms, l * l + 2 / l, 2 * l + 1 / (l * l));
+      return 2 * (l - 1 / (l * l)) * (d.W1 + d.W2 / l);
+    }
+    case HomogeneousMode::equibiaxial: {
+      const EnergyDerivatives d = derivatives(terms, 2 * l * l + std::pow(l, -4), std::pow(l, 4) + 2 / (l * l));
+      return 2 * (l - std::pow(l, -5)) * (d.W1 + l * l * d.W2);
+    }
+    case HomogeneousMode::pure_shear: {
+      const double I = l * l + 1 + 1 / (l * l);
+      const EnergyDerivatives d = derivatives(terms, I, I);
+      return 2 * (l - std::pow(l, -3)) * (d.W1 + d.W2);
+    }
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace tricot::fem

@@ -1,0 +1,82 @@
+// Compressible neo-Hookean membrane in plane stress (see neo_hookean.hpp).
+#include "tricot/fem/neo_hookean.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+
+#include "tricot/core/error.hpp"
+
+namespace tricot::fem {
+namespace {
+
+void check(double mu, double lambda) {
+  if (!(mu > 0) || !std::isfinite(mu))
+    throw InputError(Location{"", 0, "material.mu"}, "out of range", std::to_string(mu), "> 0 N/mm");
+  if (!(lambda >= 0) || !std::isfinite(lambda))
+    throw InputError(Location{"", 0, "material.lambda"}, "out of range", std::to_string(lambda), ">= 0 N/mm");
+}
+
+}  // namespace
+
+NeoHookean::NeoHookean(double mu, double lambda) : mu_(mu), lambda_(lambda) { check(mu, lambda); }
+
+void NeoHookean::set_coefficients(const Eigen::VectorXd& c) {
+  if (c.size() != 2)
+    throw InputError(Location{"", 0, "material"}, "wrong number of neo-Hookean coefficients",
+                     std::to_string(c.size()), "2");
+  check(c(0), c(1));
+  mu_ = c(0);
+  lambda_ = c(1);
+}
+
+void NeoHookean::evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const {
+  const Mat2& F = in.F;
+  const double detF = F.determinant();
+  if (!(detF > 0) || !std::isfinite(detF)) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    out.P.setConstant(nan);
+    out.A.setConstant(nan);
+    out.lambda3 = nan;
+    out.dP_dc.assign(req.sensitivities ? 2 : 0, Mat2::Constant(nan));
+    return;
+  }
+  const double mu = mu_, lam = lambda_;
+  const double lnJ2 = 2 * std::log(detF);
+  // σ33 = 0: g(s) = μ (eˢ − 1) + λ/2 (ln J2 + s) = 0 with s = ln C33. g is increasing and convex, so
+  // Newton from s = 0 converges monotonically after at most one overshoot.
+  double s = 0;
+  for (int it = 0; it < 100; ++it) {
+    const double g = mu * (std::exp(s) - 1) + 0.5 * lam * (lnJ2 + s);
+    const double ds = -g / (mu * std::exp(s) + 0.5 * lam);
+    s += ds;
+    if (std::abs(ds) <= 1e-15 * std::max(1.0, std::abs(s))) break;
+  }
+  const double t = std::exp(s);          // C33 = λ3²
+  const double lnJ = 0.5 * (lnJ2 + s);   // ln of the 3-D volume ratio
+  const double h = mu * t + 0.5 * lam;   // ∂g/∂s
+  const Mat2 Fit = F.inverse().transpose();
+  out.P = mu * (F - t * Fit);
+  out.lambda3 = std::sqrt(t);
+
+  if (req.tangent) {
+    // dP = μ (dF − dt F⁻ᵀ + t F⁻ᵀ dFᵀ F⁻ᵀ), dt = t ds, ds = −λ (F⁻ᵀ : dF) / h.
+    for (int k = 0; k < 2; ++k)
+      for (int l = 0; l < 2; ++l) {
+        Mat2 dF = Mat2::Zero();
+        dF(k, l) = 1;
+        const double dt = t * (-lam * Fit(k, l) / h);
+        out.A.col(2 * k + l) = flatten(mu * (dF - dt * Fit + t * Fit * dF.transpose() * Fit));
+      }
+  }
+  if (req.sensitivities) {
+    // ∂s/∂μ = −(t − 1)/h, ∂s/∂λ = −ln J / h (implicit differentiation of g = 0).
+    out.dP_dc.resize(2);
+    out.dP_dc[0] = (F - t * Fit) - mu * t * (-(t - 1) / h) * Fit;
+    out.dP_dc[1] = -mu * t * (-lnJ / h) * Fit;
+  } else {
+    out.dP_dc.clear();
+  }
+}
+
+}  // namespace tricot::fem

@@ -1,0 +1,140 @@
+// Orthotropic response-surface fabric law (see response_surface.hpp, THEORY §5).
+#include "tricot/fem/response_surface.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "fabric_frame.hpp"
+#include "tricot/core/error.hpp"
+
+namespace tricot::fem {
+namespace {
+
+double ipow(double x, int n) {
+  double r = 1;
+  for (int i = 0; i < n; ++i) r *= x;
+  return r;
+}
+
+/// εC^p εW^q and its two partial derivatives.
+struct MonomialValue {
+  double v, d_C, d_W;
+};
+MonomialValue eval(const Monomial& m, double eC, double eW) {
+  const double pC = ipow(eC, m.p), pW = ipow(eW, m.q);
+  return {pC * pW, m.p > 0 ? m.p * ipow(eC, m.p - 1) * pW : 0.0, m.q > 0 ? m.q * pC * ipow(eW, m.q - 1) : 0.0};
+}
+
+void check_monomials(const std::vector<Monomial>& list, const char* force) {
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const Monomial& m = list[i];
+    const std::string got = std::string(force) + " monomial (" + std::to_string(m.p) + ", " + std::to_string(m.q) + ")";
+    if (m.p < 0 || m.q < 0 || m.p + m.q == 0)
+      throw InputError(Location{"", 0, "material.monomials"}, "bad exponents", got, "p >= 0, q >= 0, p + q >= 1");
+    if (std::find(list.begin(), list.begin() + i, m) != list.begin() + i)
+      throw InputError(Location{"", 0, "material.monomials"}, "repeated monomial", got, "each (p, q) once per force");
+  }
+}
+
+std::vector<std::string> general_names(const std::vector<Monomial>& course, const std::vector<Monomial>& wale) {
+  std::vector<std::string> names;
+  for (const Monomial& m : course) names.push_back("C_" + std::to_string(m.p) + "_" + std::to_string(m.q));
+  for (const Monomial& m : wale) names.push_back("W_" + std::to_string(m.p) + "_" + std::to_string(m.q));
+  return names;
+}
+
+}  // namespace
+
+ResponseSurface::ResponseSurface(std::vector<Monomial> course, std::vector<Monomial> wale, double G_s,
+                                 std::vector<std::string> names)
+    : course_(std::move(course)), wale_(std::move(wale)), names_(std::move(names)), G_s_(G_s) {
+  check_monomials(course_, "course");
+  check_monomials(wale_, "wale");
+  if (!(G_s > 0) || !std::isfinite(G_s))
+    throw InputError(Location{"", 0, "material.G_s"}, "out of range", std::to_string(G_s), "> 0 N/mm");
+  c_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(course_.size() + wale_.size()));
+}
+
+ResponseSurface::ResponseSurface(std::vector<Monomial> course, std::vector<Monomial> wale, double G_s,
+                                 const Eigen::VectorXd& c)
+    : ResponseSurface(course, wale, G_s, general_names(course, wale)) {
+  if (c.size() != 0) set_coefficients(c);
+}
+
+ResponseSurface ResponseSurface::separable(int nC, int mC, int nW, int mW, double G_s) {
+  if (nC < 0 || mC < 0 || nW < 0 || mW < 0)
+    throw InputError(Location{"", 0, "material.orders"}, "negative polynomial order",
+                     std::to_string(nC) + ", " + std::to_string(mC) + ", " + std::to_string(nW) + ", " +
+                         std::to_string(mW),
+                     ">= 0");
+  std::vector<Monomial> course, wale;
+  std::vector<std::string> names;
+  for (int i = 1; i <= nC; ++i) course.push_back({i, 0}), names.push_back("a" + std::to_string(i));
+  for (int j = 1; j <= mC; ++j) course.push_back({0, j}), names.push_back("b" + std::to_string(j));
+  for (int i = 1; i <= nW; ++i) wale.push_back({0, i}), names.push_back("c" + std::to_string(i));
+  for (int j = 1; j <= mW; ++j) wale.push_back({j, 0}), names.push_back("d" + std::to_string(j));
+  return ResponseSurface(std::move(course), std::move(wale), G_s, std::move(names));
+}
+
+ResponseSurface ResponseSurface::preset(const std::string& name, double G_s) {
+  if (name == "paper14") return separable(6, 2, 4, 2, G_s);
+  if (name == "paper24") return separable(6, 6, 6, 6, G_s);
+  throw InputError(Location{"", 0, "material.preset"}, "unknown response-surface preset", name, "paper14, paper24");
+}
+
+void ResponseSurface::set_coefficients(const Eigen::VectorXd& c) {
+  if (c.size() != c_.size())
+    throw InputError(Location{"", 0, "material.coefficients"}, "wrong number of response-surface coefficients",
+                     std::to_string(c.size()), std::to_string(c_.size()));
+  if (!c.allFinite())
+    throw InputError(Location{"", 0, "material.coefficients"}, "not a finite number", "", "finite N/mm");
+  c_ = c;
+}
+
+Vec2 ResponseSurface::forces(double eps_C, double eps_W) const {
+  Vec2 f = Vec2::Zero();
+  const std::size_t nc = course_.size();
+  for (std::size_t k = 0; k < nc; ++k) f(0) += c_(k) * eval(course_[k], eps_C, eps_W).v;
+  for (std::size_t k = 0; k < wale_.size(); ++k) f(1) += c_(nc + k) * eval(wale_[k], eps_C, eps_W).v;
+  return f;
+}
+
+Mat2 ResponseSurface::material_frame_stress(const LawInput& in) const {
+  const detail::FabricKinematics k = detail::fabric_kinematics(in, false);
+  const Vec2 f = forces(k.E_m(0, 0), k.E_m(1, 1));
+  return detail::fabric_T({f(0), f(1)}, G_s_, k.E_m);
+}
+
+void ResponseSurface::evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const {
+  if (detail::fabric_invalid(in, req, c_.size(), out)) return;
+  const detail::FabricKinematics k = detail::fabric_kinematics(in, req.tangent);
+  const double eC = k.E_m(0, 0), eW = k.E_m(1, 1);
+  detail::FabricForces f;
+  const std::size_t nc = course_.size();
+  for (std::size_t i = 0; i < nc; ++i) {
+    const MonomialValue m = eval(course_[i], eC, eW);
+    f.F_C += c_(i) * m.v;
+    f.dFC_deC += c_(i) * m.d_C;
+    f.dFC_deW += c_(i) * m.d_W;
+  }
+  for (std::size_t i = 0; i < wale_.size(); ++i) {
+    const MonomialValue m = eval(wale_[i], eC, eW);
+    f.F_W += c_(nc + i) * m.v;
+    f.dFW_deC += c_(nc + i) * m.d_C;
+    f.dFW_deW += c_(nc + i) * m.d_W;
+  }
+  detail::fabric_stress(in, k, f, G_s_, req.tangent, out);
+  if (req.sensitivities) {
+    // Linear: ∂P/∂c_k = R Q T_k Qᵀ with T_k = diag(monomial, 0) (course) or diag(0, monomial) (wale).
+    out.dP_dc.resize(c_.size());
+    for (std::size_t i = 0; i < nc; ++i)
+      out.dP_dc[i] = detail::fabric_basis(in, k, Vec2(eval(course_[i], eC, eW).v, 0).asDiagonal());
+    for (std::size_t i = 0; i < wale_.size(); ++i)
+      out.dP_dc[nc + i] = detail::fabric_basis(in, k, Vec2(0, eval(wale_[i], eC, eW).v).asDiagonal());
+  } else {
+    out.dP_dc.clear();
+  }
+}
+
+}  // namespace tricot::fem

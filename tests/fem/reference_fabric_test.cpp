@@ -1,0 +1,187 @@
+#include "tricot/fem/reference_fabric.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "testing/fd_check.hpp"
+#include "tricot/core/error.hpp"
+
+using namespace tricot;
+using namespace tricot::fem;
+using tricot::test::JacobianMatches;
+
+namespace {
+
+/// Records a measured figure in the gtest report (docs/validation/fabric.md reads it from --gtest_output).
+void record(const char* key, double value) {
+  std::ostringstream s;
+  s << std::scientific << std::setprecision(2) << value;
+  ::testing::Test::RecordProperty(key, s.str());
+}
+
+/// Central differences (h = 1e-6) of these smooth maps are exact to ~1e-9 relative; a wrong term is O(1).
+constexpr double kFdTol = 1e-7;
+/// Identities that hold exactly in real arithmetic, checked to a few ulps of the O(1) forces.
+constexpr double kRoundOff = 1e-13;
+
+Mat2 rot(double deg) {
+  const double t = deg * std::numbers::pi / 180;
+  Mat2 R;
+  R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
+  return R;
+}
+
+Mat2 P_of(const Law& law, const Mat2& F, const Mat2& Q) {
+  LawOutput out;
+  law.evaluate({F, Q}, {false, false}, out);
+  return out.P;
+}
+
+/// docs/theory/fabric.md §4 written out independently of the implementation.
+Vec2 reference_forces(const ReferenceFabricParameters& p, double eC, double eW) {
+  const double LC = p.k_CL * p.s_CL * (std::exp((eC - p.eps_CL) / p.s_CL) - std::exp(-p.eps_CL / p.s_CL));
+  const double LW = p.k_WL * p.s_WL * (std::exp((eW - p.eps_WL) / p.s_WL) - std::exp(-p.eps_WL / p.s_WL));
+  return {p.k_C * eC + LC + p.k_X * eC * eW * eW, p.k_W * eW + LW + p.k_X * eC * eC * eW};
+}
+
+struct State {
+  std::string name;
+  Mat2 F;
+};
+
+/// Up to the locking range: λ = 1.61 is εC = 0.8 (onset), λ = 1.73 is εC = 1.0.
+std::vector<State> states() {
+  Mat2 small, combined;
+  small << 1 + 1e-4, 2e-4, -1e-4, 1 - 3e-5;
+  combined << 1.7, 0.3, -0.2, 1.3;
+  return {{"identity", Mat2::Identity()},
+          {"small strain", small},
+          {"large stretch in the locking range", Vec2(1.8, 1.2).asDiagonal()},
+          {"large rotation 120 deg", rot(120) * Mat2(Vec2(1.6, 0.9).asDiagonal())},
+          {"combined rotation 200 deg, stretch and shear", rot(200) * combined}};
+}
+
+}  // namespace
+
+TEST(ReferenceFabric, TangentMatchesFiniteDifferencesFromIdentityToLargeRotations) {
+  double worst = 0;
+  const ReferenceFabric law;
+  for (const Mat2& Q : {Mat2(Mat2::Identity()), rot(30), rot(90)}) {
+    for (const auto& s : states()) {
+      LawOutput out;
+      law.evaluate({s.F, Q}, {true, false}, out);
+      auto P = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return flatten(P_of(law, unflatten(Vec4(x)), Q)); };
+      EXPECT_TRUE(JacobianMatches(P, flatten(s.F), out.A, kFdTol)) << s.name;
+      worst = std::max(worst, tricot::test::jacobian_error(P, flatten(s.F), out.A));
+    }
+  }
+  record("max_tangent_fd_rel_error", worst);
+}
+
+TEST(ReferenceFabric, CoefficientSensitivitiesMatchFiniteDifferences) {
+  const ReferenceFabric law;
+  double worst = 0;
+  const Mat2 Q = rot(-40);
+  for (const auto& s : states()) {
+    if (s.name == "identity") continue;  // every sensitivity vanishes at rest
+    LawOutput out;
+    law.evaluate({s.F, Q}, {false, true}, out);
+    ASSERT_EQ(out.dP_dc.size(), 9u);
+    Eigen::MatrixXd J(4, 9);
+    for (int k = 0; k < 9; ++k) J.col(k) = flatten(out.dP_dc[k]);
+    auto P = [&](const Eigen::VectorXd& c) -> Eigen::VectorXd {
+      ReferenceFabric l = law;
+      l.set_coefficients(c);
+      return flatten(P_of(l, s.F, Q));
+    };
+    EXPECT_TRUE(JacobianMatches(P, law.coefficients(), J, kFdTol)) << s.name;
+    worst = std::max(worst, tricot::test::jacobian_error(P, law.coefficients(), J));
+  }
+  record("max_dP_dc_fd_rel_error", worst);
+}
+
+TEST(ReferenceFabric, HomogeneousBiaxialForcesAreTheDocumentedFormula) {
+  const ReferenceFabric law;
+  for (double l1 : {1.0, 1.3, 1.61, 1.8}) {
+    for (double l2 : {0.95, 1.1, 1.3}) {
+      const double e1 = 0.5 * (l1 * l1 - 1), e2 = 0.5 * (l2 * l2 - 1);
+      const Vec2 f = reference_forces(law.parameters(), e1, e2);
+      const Mat2 P = P_of(law, Vec2(l1, l2).asDiagonal(), Mat2::Identity());
+      EXPECT_NEAR(P(0, 0), f(0), kRoundOff * (1 + std::abs(f(0))));
+      EXPECT_NEAR(P(1, 1), f(1), kRoundOff * (1 + std::abs(f(1))));
+      EXPECT_EQ(P(0, 1), 0.0);
+      EXPECT_NEAR(law.forces(e1, e2)(0), f(0), kRoundOff * (1 + std::abs(f(0))));
+    }
+  }
+}
+
+TEST(ReferenceFabric, HasTheMagnitudesAndShapeOfACompressionKnit) {
+  const ReferenceFabric law;
+  const double FC100 = law.forces(1.0, 0.0)(0), FW100 = law.forces(0.0, 1.0)(1);
+  EXPECT_GT(FC100, 0.1);  // course force per width at 100 % strain: 0.1–1 N/mm
+  EXPECT_LT(FC100, 1.0);
+  EXPECT_GT(FC100 / FW100, 3.0);  // wale several times softer at equal strain
+  // J shape: near-linear below the locking onset, then much stiffer.
+  auto slope_C = [&](double e, double eW) { return (law.forces(e + 1e-6, eW)(0) - law.forces(e - 1e-6, eW)(0)) / 2e-6; };
+  auto slope_W = [&](double e) { return (law.forces(0, e + 1e-6)(1) - law.forces(0, e - 1e-6)(1)) / 2e-6; };
+  EXPECT_LT(slope_C(0.5, 0) / slope_C(0.0, 0), 1.1);
+  EXPECT_GT(slope_C(1.2, 0) / slope_C(0.0, 0), 3.0);
+  EXPECT_GT(slope_W(1.2) / slope_W(0.0), 2.0);
+  // Combined stretch stiffens the course response.
+  EXPECT_GT(slope_C(0.8, 0.4), slope_C(0.8, 0.0) * 1.03);
+}
+
+TEST(ReferenceFabric, RigidRotationRotatesPAndLeavesTheLocalForcesUnchanged) {
+  const ReferenceFabric law;
+  Mat2 F;
+  F << 1.6, 0.25, -0.1, 1.2;
+  const Mat2 Q = rot(25);
+  double worst = 0;
+  for (double deg : {37.0, 90.0, 180.0, -100.0}) {
+    const Mat2 Q0 = rot(deg);
+    const double eP = (P_of(law, Q0 * F, Q) - Q0 * P_of(law, F, Q)).norm();
+    const double eT = (law.material_frame_stress({Q0 * F, Q}) - law.material_frame_stress({F, Q})).norm();
+    EXPECT_LT(eP, kRoundOff) << deg;
+    EXPECT_LT(eT, kRoundOff) << deg;
+    worst = std::max({worst, eP / P_of(law, F, Q).norm(), eT / law.material_frame_stress({F, Q}).norm()});
+  }
+  record("rotation_max_rel_error", worst);
+}
+
+TEST(ReferenceFabric, NinetyDegreeMaterialAngleSwapsCourseAndWale) {
+  ReferenceFabricParameters p;
+  ReferenceFabricParameters swapped = p;
+  std::swap(swapped.k_C, swapped.k_W);
+  std::swap(swapped.k_CL, swapped.k_WL);
+  std::swap(swapped.eps_CL, swapped.eps_WL);
+  std::swap(swapped.s_CL, swapped.s_WL);
+  const ReferenceFabric law(p), law_swapped(swapped);
+  double worst = 0;
+  for (const auto& s : states()) {
+    const double e = (P_of(law, s.F, rot(90)) - P_of(law_swapped, s.F, Mat2::Identity())).norm();
+    EXPECT_LT(e, kRoundOff) << s.name;
+    if (s.name != "identity") worst = std::max(worst, e / P_of(law_swapped, s.F, Mat2::Identity()).norm());
+  }
+  record("swap_max_rel_error", worst);
+}
+
+TEST(ReferenceFabric, RejectsOutOfRangeParameters) {
+  ReferenceFabricParameters p;
+  p.s_CL = 0;
+  EXPECT_THROW(ReferenceFabric{p}, InputError);
+  p = {};
+  p.G_s = -1;
+  EXPECT_THROW(ReferenceFabric{p}, InputError);
+  ReferenceFabric law;
+  EXPECT_THROW(law.set_coefficients(Eigen::VectorXd::Zero(3)), InputError);
+  EXPECT_EQ(law.coefficient_names().size(), 9u);
+  EXPECT_EQ(law.coefficient_names()[2], "eps_CL");
+}
