@@ -30,6 +30,10 @@ void DicOptions::validate() const {
 
 namespace {
 
+/// Wide seed searches (seed.hpp) per image pair: each costs about a second on a large image, and a
+/// pair where two of them fail (a blank or unrelated image) will not be saved by a third.
+constexpr int kMaxWideSearches = 2;
+
 /// Per-point bookkeeping of the propagation.
 enum class State : unsigned char { open, done, given_up };
 
@@ -103,6 +107,14 @@ class Propagation {
   std::priority_queue<std::pair<double, int>> queue_;
 };
 
+/// Whether the shape `pj` of a neighbour, carried over by `d` to a point, predicts that point's
+/// displacement within kConsistency px.
+constexpr double kConsistency = 1.0;  ///< px: far above the measurement error, far below a false match's offset
+bool agree(const Shape& pj, const Shape& pk, const Vec2& d) {
+  const Vec2 predicted = warp_displacement(pj, d);
+  return (predicted - Vec2(pk(0), pk(6))).norm() < kConsistency;
+}
+
 int nearest_untried(const std::vector<Vec2>& c, const Vec2& x, const Propagation& prop) {
   int best = -1;
   double d = 1e300;
@@ -137,10 +149,23 @@ PairResult correlate_pair(const Frame& ref, const Frame& cur, const std::vector<
 #pragma omp parallel for schedule(dynamic, 8)
     for (int k = 0; k < n; ++k)
       if (guesses[k]) out[k] = icgn(ref, cur, centres[k], *guesses[k], o.icgn);
+    // A guess far from the truth may converge on a look-alike subset elsewhere (self-similar speckle
+    // matches at ZNCC ≈ 0.9): a point is kept only when a good neighbour's shape, carried over to it,
+    // agrees with it. The others are left to propagation from the consistent ones.
+    std::vector<char> consistent(n, 0);
+    for (int k = 0; k < n; ++k)
+      if (guesses[k] && out[k].status == PointStatus::ok)
+        for (int j : neighbours[k])
+          if (j >= 0 && guesses[j] && out[j].status == PointStatus::ok &&
+              agree(out[j].p, out[k].p, centres[k] - centres[j])) {
+            consistent[k] = 1;
+            break;
+          }
     int with_guess = 0, good = 0;
     for (int k = 0; k < n; ++k)
       if (guesses[k]) {
         ++with_guess;
+        if (out[k].status == PointStatus::ok && !consistent[k]) out[k].status = PointStatus::inconsistent;
         good += out[k].status == PointStatus::ok;
         // a failure from a guess leaves the point open for propagation
         if (out[k].status == PointStatus::ok || out[k].status == PointStatus::no_texture) prop.settle(k, out[k]);
@@ -154,6 +179,7 @@ PairResult correlate_pair(const Frame& ref, const Frame& cur, const std::vector<
   // (blank ones are skipped without spending an attempt).
   std::size_t user = 0;
   std::vector<int> failed_seeds;
+  int wide_tries = 0;
   while (r.seeds_tried < o.max_seeds) {
     int k = -1;
     if (user < o.seeds.size()) {
@@ -184,8 +210,17 @@ PairResult correlate_pair(const Frame& ref, const Frame& cur, const std::vector<
     } else {
       m.status = PointStatus::low_correlation;
     }
+    bool wide = false;
+    if (m.status != PointStatus::ok && m.status != PointStatus::no_texture && m.status != PointStatus::out_of_image &&
+        wide_tries < kMaxWideSearches) {
+      ++wide_tries;  // the local search failed: look over the whole image with stretched templates
+      if (const SeedGuess w = wide_seed_guess(ref, cur, centres[k], o.icgn.subset_size); w.found) {
+        const PointMatch mw = icgn(ref, cur, centres[k], w.p, o.icgn);
+        if (mw.status == PointStatus::ok || mw.zncc > m.zncc) m = mw, wide = mw.status == PointStatus::ok;
+      }
+    }
     message += (message.empty() ? "" : "; ") + std::string("seed ") + std::to_string(r.seeds_tried) + " at " +
-               fmt_point(centres[k]) + ": " + to_string(m.status);
+               fmt_point(centres[k]) + ": " + to_string(m.status) + (wide ? " (wide search)" : "");
     prop.settle(k, m);
     if (m.status != PointStatus::ok && prop.open(k)) prop.settle(k, m);  // a seed is not retried
     if (m.status != PointStatus::ok && m.status != PointStatus::no_texture) failed_seeds.push_back(k);

@@ -19,6 +19,7 @@ const char* to_string(PointStatus s) {
     case PointStatus::out_of_image: return "out_of_image";
     case PointStatus::no_texture: return "no_texture";
     case PointStatus::diverged: return "diverged";
+    case PointStatus::inconsistent: return "inconsistent";
     case PointStatus::not_computed: return "not_computed";
     case PointStatus::lost: return "lost";
   }
@@ -97,150 +98,228 @@ Frame prepare_frame(const image::Image& img, double sigma) {
 }
 
 // ---------------------------------------------------------------------------------------------------
-// The reference subset: offsets, zero-mean gray levels, steepest-descent images J = ∇f · ∂W/∂p.
+// The reference subset: zero-mean gray levels f − f̄, steepest-descent images J = ∇f · ∂W/∂p, and what
+// every iteration reuses (Hessian H = Σ J Jᵀ, Σ J, Σ (f − f̄) J). IC-GN computes all of it once per subset.
 
 namespace {
 
-/// Scratch space reused by every call on one thread.
-struct Scratch {
-  std::vector<float> xi_x, xi_y, fc, fx, fy, g;
-};
-thread_local Scratch scratch;
-
 bool is_integer(double v) { return v == std::floor(v); }
 
+/// The reference subset of one match, in scratch space that each thread reuses (no allocation per point).
+template <int NP>
+struct Reference {
+  using VecP = Eigen::Matrix<double, NP, 1>;
+  using MatP = Eigen::Matrix<double, NP, NP>;
+  std::vector<float> fc;  ///< f − f̄, n values, row-major over the subset
+  std::vector<float> J;   ///< NP planes of n values: J[a·n + k]
+  double df = 0;          ///< √Σ (f − f̄)²
+  std::vector<float> row; ///< g − f̄ along one row of the warped subset
+  float fm = 0;           ///< f̄: subtracted from g too, so that the single-precision row sums stay well conditioned
+  MatP H;
+  VecP sum_J, sum_fJ;
+  Eigen::LDLT<MatP> H_ldlt;
+};
+
+template <int NP>
+Reference<NP>& reference_scratch() {
+  thread_local Reference<NP> r;
+  return r;
+}
+
+/// The steepest-descent entries of pixel k at offset (x, y): J_a[k] = ∇f · ∂W/∂p_a, stored as NP planes
+/// of n values (plane a at J + a·n) so that the per-row sums of the iterations vectorise.
+template <int NP>
+inline void steepest(float fx, float fy, float x, float y, float* J, std::size_t n, std::size_t k) {
+  J[0 * n + k] = fx, J[1 * n + k] = fx * x, J[2 * n + k] = fx * y;
+  if constexpr (NP == 6) {
+    J[3 * n + k] = fy, J[4 * n + k] = fy * x, J[5 * n + k] = fy * y;
+  } else {
+    J[3 * n + k] = 0.5f * fx * x * x, J[4 * n + k] = fx * x * y, J[5 * n + k] = 0.5f * fx * y * y;
+    J[6 * n + k] = fy, J[7 * n + k] = fy * x, J[8 * n + k] = fy * y;
+    J[9 * n + k] = 0.5f * fy * x * x, J[10 * n + k] = fy * x * y, J[11 * n + k] = 0.5f * fy * y * y;
+  }
+}
+
 /// Reads the reference subset; returns false (with `status`) when it is outside or blank.
-bool read_reference(const Frame& ref, const Vec2& c, const IcgnOptions& o, double& df, PointStatus& status) {
+template <int NP>
+bool read_reference(const Frame& ref, const Vec2& c, const IcgnOptions& o, Reference<NP>& R, PointStatus& status) {
   const int N = o.subset_size, M = N / 2, n = N * N;
   const int W = ref.spline.width(), H = ref.spline.height();
-  if (c(0) - M < 0 || c(1) - M < 0 || c(0) + M > W - 1 || c(1) + M > H - 1) {
+  if (!c.allFinite() || c(0) - M < 0 || c(1) - M < 0 || c(0) + M > W - 1 || c(1) + M > H - 1) {
     status = PointStatus::out_of_image;
     return false;
   }
-  Scratch& s = scratch;
-  s.xi_x.resize(n), s.xi_y.resize(n), s.fc.resize(n), s.fx.resize(n), s.fy.resize(n), s.g.resize(n);
+  R.fc.resize(n);
+  R.J.resize(std::size_t(n) * NP);
+  R.row.resize(N);
   const bool on_pixels = is_integer(c(0)) && is_integer(c(1));
   double sum = 0;
-  int i = 0;
+  int k = 0;
   for (int dy = -M; dy <= M; ++dy)
-    for (int dx = -M; dx <= M; ++dx, ++i) {
-      s.xi_x[i] = static_cast<float>(dx);
-      s.xi_y[i] = static_cast<float>(dy);
+    for (int dx = -M; dx <= M; ++dx, ++k) {
+      float f, fx, fy;
       if (on_pixels) {
         const int x = static_cast<int>(c(0)) + dx, y = static_cast<int>(c(1)) + dy;
-        s.fc[i] = ref.image.at(x, y);
-        s.fx[i] = ref.grad.dx.at(x, y);
-        s.fy[i] = ref.grad.dy.at(x, y);
+        f = ref.image.at(x, y), fx = ref.grad.dx.at(x, y), fy = ref.grad.dy.at(x, y);
       } else {
         const image::Sample v = ref.spline.sample(c(0) + dx, c(1) + dy);
-        s.fc[i] = v.value, s.fx[i] = v.dx, s.fy[i] = v.dy;
+        f = v.value, fx = v.dx, fy = v.dy;
       }
-      sum += s.fc[i];
+      R.fc[k] = f;
+      sum += f;
+      steepest<NP>(fx, fy, float(dx), float(dy), R.J.data(), std::size_t(n), std::size_t(k));
     }
   const double fm = sum / n;
-  double ss = 0, sxx = 0, sxy = 0, syy = 0;
-  for (int k = 0; k < n; ++k) {
-    s.fc[k] = static_cast<float>(s.fc[k] - fm);
-    ss += double(s.fc[k]) * s.fc[k];
-    sxx += double(s.fx[k]) * s.fx[k], sxy += double(s.fx[k]) * s.fy[k], syy += double(s.fy[k]) * s.fy[k];
+  R.fm = static_cast<float>(fm);
+  double ss = 0;
+  for (float& v : R.fc) {
+    v = static_cast<float>(v - fm);
+    ss += double(v) * v;
   }
-  df = std::sqrt(ss);
+  R.df = std::sqrt(ss);
+  // H = Σ J Jᵀ, Σ J and Σ (f − f̄) J: dot products of the planes (a small GEMM costs more in set-up)
+  const float* fc = R.fc.data();
+  for (int a = 0; a < NP; ++a) {
+    const float* Ja = R.J.data() + std::size_t(a) * n;
+    float sj = 0, sfj = 0;
+#pragma omp simd reduction(+ : sj, sfj)
+    for (int k = 0; k < n; ++k) sj += Ja[k], sfj += fc[k] * Ja[k];
+    R.sum_J(a) = sj, R.sum_fJ(a) = sfj;
+    for (int b = a; b < NP; ++b) {
+      const float* Jb = R.J.data() + std::size_t(b) * n;
+      float hab = 0;
+#pragma omp simd reduction(+ : hab)
+      for (int k = 0; k < n; ++k) hab += Ja[k] * Jb[k];
+      R.H(a, b) = R.H(b, a) = hab;
+    }
+  }
+  // texture: gray-level spread and the weakest direction of the gradient's second moment
+  constexpr int iy = NP == 6 ? 3 : 6;
+  const double sxx = R.H(0, 0), syy = R.H(iy, iy), sxy = R.H(0, iy);
   const double level = o.min_texture * ref.image.full_scale;
   const double lambda_min = 0.5 * (sxx + syy) - std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
-  if (df / std::sqrt(double(n)) < level || lambda_min / n < (level / 10) * (level / 10) || df == 0) {
+  if (R.df / std::sqrt(double(n)) < level || lambda_min / n < (level / 10) * (level / 10) || R.df == 0) {
+    status = PointStatus::no_texture;
+    return false;
+  }
+  R.H_ldlt.compute(R.H);
+  if (R.H_ldlt.info() != Eigen::Success || !(R.H_ldlt.rcond() > 1e-12)) {
     status = PointStatus::no_texture;
     return false;
   }
   return true;
 }
 
+/// W(p) ∘ W(Δp)⁻¹ for first-order shapes, with 3×3 affine matrices (the 6×6 form is exact but slower).
+Shape compose_inverse_affine(const Shape& p, const Shape& dp) {
+  Eigen::Matrix3d A, D;
+  A << 1 + p(1), p(2), p(0), p(7), 1 + p(8), p(6), 0, 0, 1;
+  D << 1 + dp(1), dp(2), dp(0), dp(7), 1 + dp(8), dp(6), 0, 0, 1;
+  const Eigen::Matrix3d C = A * D.inverse();
+  Shape q = Shape::Zero();
+  q(0) = C(0, 2), q(1) = C(0, 0) - 1, q(2) = C(0, 1), q(6) = C(1, 2), q(7) = C(1, 0), q(8) = C(1, 1) - 1;
+  return q;
+}
+
+/// f(x, y) of the current image's spline (BSplineImage::value, inlined in the hot loop).
+inline float spline_value(const float* origin, int stride, double X, double Y) {
+  const double fx = std::floor(X), fy = std::floor(Y);
+  const auto wx = image::bspline_weights(static_cast<float>(X - fx));
+  const auto wy = image::bspline_weights(static_cast<float>(Y - fy));
+  const float* c = origin + (static_cast<std::ptrdiff_t>(fy) - 1) * stride + (static_cast<std::ptrdiff_t>(fx) - 1);
+  float v = 0;
+  for (int j = 0; j < 4; ++j, c += stride) v += wy[j] * (wx[0] * c[0] + wx[1] * c[1] + wx[2] * c[2] + wx[3] * c[3]);
+  return v;
+}
+
 template <int NP>
 PointMatch icgn_order(const Frame& ref, const Frame& cur, const Vec2& c, const Shape& guess, const IcgnOptions& o) {
   using VecP = Eigen::Matrix<double, NP, 1>;
-  using MatP = Eigen::Matrix<double, NP, NP>;
   PointMatch out;
-  double df = 0;
-  if (!read_reference(ref, c, o, df, out.status)) return out;
-  const Scratch& s = scratch;
-  const int n = o.subset_size * o.subset_size;
-  const double half = o.subset_size / 2;
-
-  // Hessian of the linearised ZNSSD, once per subset (the point of the inverse-compositional scheme).
-  MatP H = MatP::Zero();
-  Eigen::Matrix<double, NP, 1> Ji;
-  auto steepest = [&](int k) {
-    const double fx = s.fx[k], fy = s.fy[k], x = s.xi_x[k], y = s.xi_y[k];
-    if constexpr (NP == 6) {
-      Ji << fx, fx * x, fx * y, fy, fy * x, fy * y;
-    } else {
-      Ji << fx, fx * x, fx * y, 0.5 * fx * x * x, fx * x * y, 0.5 * fx * y * y, fy, fy * x, fy * y, 0.5 * fy * x * x,
-          fy * x * y, 0.5 * fy * y * y;
-    }
-  };
-  for (int k = 0; k < n; ++k) {
-    steepest(k);
-    H.template selfadjointView<Eigen::Lower>().rankUpdate(Ji);
-  }
-  H = H.template selfadjointView<Eigen::Lower>();
-  const Eigen::LDLT<MatP> Hinv(H);
-  if (Hinv.info() != Eigen::Success || !(Hinv.rcond() > 1e-12)) {
-    out.status = PointStatus::no_texture;
-    return out;
-  }
+  Reference<NP>& R = reference_scratch<NP>();
+  if (!read_reference<NP>(ref, c, o, R, out.status)) return out;
+  const int N = o.subset_size, M = N / 2, n = N * N;
+  const double half = M;
 
   Shape p = guess;
   if constexpr (NP == 6) p(3) = p(4) = p(5) = p(9) = p(10) = p(11) = 0;
   const double W1 = cur.spline.width() - 1, H1 = cur.spline.height() - 1;
-  std::vector<float>& g = scratch.g;
+  const float* origin = cur.spline.origin(0, 0);
+  const int stride = cur.spline.stride();
+  auto inside = [&](double X, double Y) { return X >= 0 && Y >= 0 && X <= W1 && Y <= H1; };
   out.status = PointStatus::max_iterations;
   for (int it = 1; it <= o.max_iterations; ++it) {
     out.iterations = it;
-    // Warp the subset into the current image and sample g there.
-    double sum = 0, sum2 = 0;
-    for (int k = 0; k < n; ++k) {
-      const double x = s.xi_x[k], y = s.xi_y[k];
-      double X = c(0) + x + p(0) + p(1) * x + p(2) * y, Y = c(1) + y + p(6) + p(7) * x + p(8) * y;
-      if constexpr (NP == 12) {
-        X += 0.5 * p(3) * x * x + p(4) * x * y + 0.5 * p(5) * y * y;
-        Y += 0.5 * p(9) * x * x + p(10) * x * y + 0.5 * p(11) * y * y;
-      }
-      if (!(X >= 0 && Y >= 0 && X <= W1 && Y <= H1)) {
-        out.status = std::isfinite(X) && std::isfinite(Y) ? PointStatus::out_of_image : PointStatus::diverged;
-        out.p = p;
-        return out;
-      }
-      const float v = cur.spline.value(X, Y);
-      g[k] = v;
-      sum += v;
-      sum2 += double(v) * v;
+    out.p = p;
+    // The warped subset must lie in the image: its corners suffice for an affine warp (first order).
+    if constexpr (NP == 6) {
+      for (int a : {-M, M})
+        for (int b : {-M, M}) {
+          const Vec2 d = warp_displacement(p, Vec2(a, b));
+          const double X = c(0) + a + d(0), Y = c(1) + b + d(1);
+          if (!inside(X, Y)) {
+            out.status = std::isfinite(X) && std::isfinite(Y) ? PointStatus::out_of_image : PointStatus::diverged;
+            return out;
+          }
+        }
     }
-    const double gm = sum / n;
-    const double dg = std::sqrt(std::max(0.0, sum2 - n * gm * gm));
-    if (!(dg > 1e-12 * df)) {  // the warped subset is blank
+    // One pass over the warped subset: Σh, Σh², Σ(f − f̄)h and Σ h J with h = g − f̄, row by row: first
+    // h along the row (the B-spline gathers), then the sums (SIMD; single precision within a row, double
+    // across rows).
+    double sg = 0, sgg = 0, sfg = 0;
+    VecP sgJ = VecP::Zero();
+    float* const h = R.row.data();
+    const float* const J = R.J.data();
+    const float* const fc0 = R.fc.data();
+    const float fm = R.fm;  // locals: the compiler cannot keep thread-local members in registers across stores to h
+    for (int y = -M, row = 0; y <= M; ++y, row += N) {
+      // first-order part of the warp along the row: X = X0 + (1 + ux)·x, Y = Y0 + vx·x
+      const double X0 = c(0) + p(0) + p(2) * y, Y0 = c(1) + y + p(6) + p(8) * y;
+      const double ax = 1 + p(1), ay = p(7);
+      for (int i = 0; i < N; ++i) {
+        const int x = i - M;
+        double X = X0 + ax * x, Y = Y0 + ay * x;
+        if constexpr (NP == 12) {
+          X += 0.5 * p(3) * x * x + p(4) * x * y + 0.5 * p(5) * y * y;
+          Y += 0.5 * p(9) * x * x + p(10) * x * y + 0.5 * p(11) * y * y;
+          if (!inside(X, Y)) {
+            out.status = std::isfinite(X) && std::isfinite(Y) ? PointStatus::out_of_image : PointStatus::diverged;
+            return out;
+          }
+        }
+        h[i] = spline_value(origin, stride, X, Y) - fm;
+      }
+      const float* fc = fc0 + row;
+      float rg = 0, rgg = 0, rfg = 0;
+#pragma omp simd reduction(+ : rg, rgg, rfg)
+      for (int i = 0; i < N; ++i) rg += h[i], rgg += h[i] * h[i], rfg += fc[i] * h[i];
+      sg += rg, sgg += rgg, sfg += rfg;
+      for (int a = 0; a < NP; ++a) {
+        const float* Ja = J + std::size_t(a) * n + row;
+        float s = 0;
+#pragma omp simd reduction(+ : s)
+        for (int i = 0; i < N; ++i) s += h[i] * Ja[i];
+        sgJ(a) += s;
+      }
+    }
+    const double hm = sg / n;  // ḡ − f̄
+    const double dg = std::sqrt(std::max(0.0, sgg - sg * hm));
+    if (!(dg > 1e-6 * R.df)) {  // the warped subset is blank
       out.status = PointStatus::low_correlation;
       out.zncc = 0;
-      out.p = p;
       return out;
     }
-    const double ratio = df / dg;
-    VecP b = VecP::Zero();
-    double cross = 0;
-    for (int k = 0; k < n; ++k) {
-      const double gk = g[k] - gm;
-      cross += s.fc[k] * gk;
-      const double r = s.fc[k] - ratio * gk;
-      steepest(k);
-      b += r * Ji;
-    }
-    out.zncc = cross / (df * dg);
-    const VecP dp = -Hinv.solve(b);
+    out.zncc = sfg / (R.df * dg);  // Σ(f − f̄)(g − ḡ) = Σ(f − f̄)h since Σ(f − f̄) = 0
+    // ∇C ∝ Σ [(f − f̄) − (Δf/Δg)(g − ḡ)] J, with Σ (g − ḡ) J = Σ h J − (ḡ − f̄) Σ J
+    const VecP b = R.sum_fJ - (R.df / dg) * (sgJ - hm * R.sum_J);
+    const VecP dp = -R.H_ldlt.solve(b);
     Shape dP = Shape::Zero();
     if constexpr (NP == 6) {
       dP(0) = dp(0), dP(1) = dp(1), dP(2) = dp(2), dP(6) = dp(3), dP(7) = dp(4), dP(8) = dp(5);
     } else {
       dP = dp;
     }
-    p = shape_of(warp_matrix(p) * warp_matrix(dP).inverse());  // W(p) ∘ W(Δp)⁻¹
+    p = NP == 6 ? compose_inverse_affine(p, dP) : shape_of(warp_matrix(p) * warp_matrix(dP).inverse());
     out.p = p;
     if (!p.allFinite() || (Mat2::Identity() + displacement_gradient(p)).determinant() < 0.05) {
       out.status = PointStatus::diverged;
@@ -250,7 +329,7 @@ PointMatch icgn_order(const Frame& ref, const Frame& cur, const Vec2& c, const S
                    half * half * (dP(1) * dP(1) + dP(2) * dP(2) + dP(7) * dP(7) + dP(8) * dP(8));
     if constexpr (NP == 12)
       norm2 += 0.25 * half * half * half * half *
-               (dP.segment<3>(3).squaredNorm() + dP.segment<3>(9).squaredNorm());
+               (dP.template segment<3>(3).squaredNorm() + dP.template segment<3>(9).squaredNorm());
     if (norm2 < o.tolerance * o.tolerance) {
       out.status = out.zncc >= o.min_zncc ? PointStatus::ok : PointStatus::low_correlation;
       return out;
@@ -268,9 +347,8 @@ PointMatch icgn(const Frame& reference, const Frame& current, const Vec2& centre
 }
 
 bool has_texture(const Frame& reference, const Vec2& centre, const IcgnOptions& options) {
-  double df = 0;
   PointStatus s;
-  return read_reference(reference, centre, options, df, s);
+  return read_reference<6>(reference, centre, options, reference_scratch<6>(), s);
 }
 
 }  // namespace tricot::dic

@@ -1,6 +1,7 @@
 // FFT cross-correlation seeds (see seed.hpp).
 #include "tricot/dic/seed.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
@@ -68,6 +69,86 @@ SeedGuess seed_guess(const Frame& ref, const Frame& cur, const Vec2& centre, int
     out.p(1 + a) = g(0);
     out.p(7 + a) = g(1);
   }
+  return out;
+}
+
+namespace {
+
+/// The reference seen through x = c + F (X − c): an n×n template around c, sampled from the B-spline
+/// (clamped to the image, so a template reaching past the border repeats the edge).
+cv::Mat stretched_template(const Frame& ref, const Vec2& c, const Mat2& F, int n) {
+  const int m = n / 2;
+  const Mat2 Finv = F.inverse();
+  const double W1 = ref.spline.width() - 1, H1 = ref.spline.height() - 1;
+  cv::Mat T(n, n, CV_32F);
+  for (int y = -m; y <= m; ++y)
+    for (int x = -m; x <= m; ++x) {
+      const Vec2 X = c + Finv * Vec2(x, y);
+      T.at<float>(y + m, x + m) = ref.spline.value(std::clamp(X(0), 0.0, W1), std::clamp(X(1), 0.0, H1));
+    }
+  return T;
+}
+
+struct Candidate {
+  double zncc = -2;
+  cv::Point at;  ///< top-left corner of the best match
+  Mat2 F = Mat2::Identity();
+};
+
+/// Best match of `T` in `S` (ZNCC), within `roi` of S (whole S when empty).
+void match(const cv::Mat& S, const cv::Mat& T, const Mat2& F, Candidate& best, cv::Rect roi = {}) {
+  const cv::Mat window = roi.area() > 0 ? S(roi) : S;
+  if (window.cols < T.cols || window.rows < T.rows) return;
+  cv::Mat C;
+  cv::matchTemplate(window, T, C, cv::TM_CCOEFF_NORMED);
+  double mx = -2;
+  cv::Point at;
+  cv::minMaxLoc(C, nullptr, &mx, nullptr, &at);
+  if (std::isfinite(mx) && mx > best.zncc) best = {mx, at + roi.tl(), F};
+}
+
+}  // namespace
+
+SeedGuess wide_seed_guess(const Frame& ref, const Frame& cur, const Vec2& centre, int N) {
+  SeedGuess out;
+  const int n = 2 * N - 1;  // odd
+  const cv::Mat S(cur.image.height, cur.image.width, CV_32F, const_cast<float*>(cur.image.pixels.data()));
+  if (S.cols < n || S.rows < n) return out;
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(S, mean, stddev);
+  if (!(stddev[0] > 1e-6 * std::max(1.0, cur.image.full_scale))) return out;  // a blank image
+  // 1. Locate: every candidate stretch over the whole image, at half resolution.
+  cv::Mat S2;
+  cv::resize(S, S2, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  const double stretches[] = {0.8, 1.0, 1.25, 1.55, 1.9};
+  Candidate coarse;
+  for (double sx : stretches)
+    for (double sy : stretches) {
+      const Mat2 F = Vec2(sx, sy).asDiagonal();
+      cv::Mat T2;
+      cv::resize(stretched_template(ref, centre, F, n), T2, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+      match(S2, T2, F, coarse);
+    }
+  if (coarse.zncc <= -1.5) return out;
+  // 2. Refine at full resolution: stretches within ±12 % of the best, ±6 px around its place.
+  const int half2 = (n / 2) / 2;  // the half-resolution template's half width (resize rounds n/2)
+  const cv::Point guess_centre(2 * (coarse.at.x + half2), 2 * (coarse.at.y + half2));
+  const int r = 6;
+  const cv::Rect roi = cv::Rect(guess_centre.x - n / 2 - r, guess_centre.y - n / 2 - r, n + 2 * r, n + 2 * r) &
+                       cv::Rect(0, 0, S.cols, S.rows);
+  Candidate fine;
+  for (double fx : {0.89, 0.94, 1.0, 1.06, 1.12})
+    for (double fy : {0.89, 0.94, 1.0, 1.06, 1.12}) {
+      const Mat2 F = (Vec2(fx, fy).asDiagonal() * coarse.F).eval();
+      match(S, stretched_template(ref, centre, F, n), F, fine, roi);
+    }
+  if (fine.zncc <= -1.5) return out;
+  out.found = true;
+  out.zncc = fine.zncc;
+  const Vec2 matched(fine.at.x + n / 2, fine.at.y + n / 2);
+  const Mat2 grad = fine.F - Mat2::Identity();
+  out.p = translation(matched(0) - centre(0), matched(1) - centre(1));
+  out.p(1) = grad(0, 0), out.p(2) = grad(0, 1), out.p(7) = grad(1, 0), out.p(8) = grad(1, 1);
   return out;
 }
 

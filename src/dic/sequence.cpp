@@ -41,6 +41,7 @@ struct SequenceTracker::State {
   int r = 0;
   std::vector<Vec2> ref_x;                  ///< positions in image r
   std::vector<char> alive;                  ///< the point has a position in image r
+  std::vector<PointStatus> dead;            ///< what a point that is not alive reports: why frame 0 rejected it, or lost
   std::vector<std::optional<Shape>> last;   ///< starting shapes for the next frame
   std::vector<std::optional<Shape>> fixed_last;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
@@ -67,7 +68,7 @@ struct SequenceTracker::State {
     out.points.assign(n, PointMatch{});
     for (std::size_t a = 0; a < full.size(); ++a) out.points[full[a]] = compact_result.points[a];
     for (int k = 0; k < n; ++k)
-      if (!alive[k]) out.points[k].status = PointStatus::lost;
+      if (!alive[k]) out.points[k].status = dead[k];
     return out;
   }
 };
@@ -87,6 +88,7 @@ SequenceTracker::SequenceTracker(const image::Image& reference, std::vector<Grid
   s.prev = s.ref;
   s.ref_x.resize(n);
   s.alive.assign(n, 1);
+  s.dead.assign(n, PointStatus::lost);
   s.last.assign(n, std::nullopt);
   s.fixed_last.assign(n, std::nullopt);
   TrackedFrame f0;
@@ -99,6 +101,7 @@ SequenceTracker::SequenceTracker(const image::Image& reference, std::vector<Grid
       f0.status[k] = icgn(*s.ref, *s.ref, g[k].x, Shape::Zero(), s.o.dic.icgn).status;  // no_texture / out_of_image
       f0.zncc[k] = 0;
       s.alive[k] = 0;
+      s.dead[k] = f0.status[k];
     }
   }
   std::vector<char> good(n);
@@ -154,7 +157,7 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
   for (int p = 0; p < n; ++p) {
     const PointMatch& m = pair.points[p];
     f.status[p] = m.status;
-    if (m.status == PointStatus::lost) continue;
+    if (!s.alive[p]) continue;
     f.zncc[p] = m.zncc;
     if (m.status == PointStatus::ok) {
       f.x[p] = s.ref_x[p] + Vec2(m.p(0), m.p(6));

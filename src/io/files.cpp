@@ -120,6 +120,7 @@ Table read_csv(const fs::path& path) {
                          "a finite number");
     }
     t.rows.push_back(std::move(row));
+    t.lines.push_back(line_no);
   }
   if (t.columns.empty()) throw InputError({file, 0, ""}, "empty file: no header row");
   return t;

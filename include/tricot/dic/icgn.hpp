@@ -27,6 +27,7 @@ enum class PointStatus {
   out_of_image,     ///< the reference or the warped subset leaves the image
   no_texture,       ///< the reference subset is (nearly) uniform: its gray-level spread or gradient is too small
   diverged,         ///< the iteration produced NaN or a degenerate shape (folded subset)
+  inconsistent,     ///< converged from a guess, but no good neighbour agrees with it (a look-alike subset)
   not_computed,     ///< propagation never reached the point (disconnected from every seed)
   lost,             ///< sequences: the point was lost in an earlier frame and is no longer tracked
 };

@@ -31,4 +31,13 @@ struct SeedGuess {
 SeedGuess seed_guess(const Frame& reference, const Frame& current, const Vec2& centre, int subset_size,
                      int search_radius, const Vec2& predicted = Vec2::Zero());
 
+/// The fall-back when the local search fails: a large one-step motion (45 % stretch from the first image,
+/// a displacement far beyond the search radius). A template of 2N − 1 px, about twice the subset, is built
+/// from the reference's B-spline through candidate stretches F = diag(sx, sy), sx, sy ∈ [0.8, 1.9], and
+/// matched over the whole current image at half resolution; the best candidate is then refined at full
+/// resolution on a finer grid of stretches. The larger template keeps self-similar speckle (a 31 px
+/// subset of a Boolean-model pattern matches elsewhere with ZNCC ≈ 0.9) from seeding at a wrong place.
+/// Costs about a second on a 2000×1000 image: correlate_pair uses it at most twice per image pair.
+SeedGuess wide_seed_guess(const Frame& reference, const Frame& current, const Vec2& centre, int subset_size);
+
 }  // namespace tricot::dic

@@ -19,6 +19,8 @@ std::string read_text(const std::filesystem::path& path);
 struct Table {
   std::vector<std::string> columns;
   std::vector<std::vector<double>> rows;
+  /// read_csv: the 1-based line of each row in its file, for messages (empty otherwise).
+  std::vector<int> lines;
 
   /// Index of a column; throws InputError naming the file and the missing column.
   std::size_t column(const std::string& name, const std::string& file = {}) const;

@@ -1,0 +1,28 @@
+// tricot demo: the paper's §3.3 validation (Table 1, Fig. 10) on built-in data. The experiment and
+// project files it runs are generated here; examples/uniaxial-mooney/{experiment,project}.toml are
+// copies of the default ones (a test keeps them equal), so a user can run the same by hand.
+#pragma once
+
+#include <array>
+#include <string>
+
+namespace tricot::cli {
+
+/// The experiment file of the `uniaxial-mooney` case: the truth fem::paper_mooney_rivlin_terms(),
+/// force-controlled uniaxial strip, 35 steps, generated on 14 × 48 Q8 (4282 dofs); `noise_relative`
+/// as in [synth].
+std::string demo_experiment_toml(double noise_relative = 0);
+
+/// One identification of the case on the paper's mesh size (10 × 34 Q8, 2218 dofs).
+struct DemoProject {
+  std::array<double, 4> start{0.05, -0.0125, 0.0075, 0.005};  ///< C10, C20, C21, C03 (truth × 0.5)
+  double edge_displacement = 1;  ///< [data] weights: Table 1's choices
+  double field = 1;
+  std::string experiment_dir = "experiment";
+  std::string jacobian = "exact";
+  bool sigma_from_truth = false;
+  double epsilon = 1e-12;
+};
+std::string demo_project_toml(const DemoProject& p);
+
+}  // namespace tricot::cli

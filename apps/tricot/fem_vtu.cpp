@@ -1,0 +1,62 @@
+#include "fem_vtu.hpp"
+
+#include <Eigen/LU>
+#include <limits>
+
+#include "tricot/fem/element.hpp"
+
+namespace tricot::cli {
+
+io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const fem::Law& law,
+                         double material_angle_deg) {
+  io::VtuGrid g;
+  const int n = mesh.nodes(), per = fem::nodes_per_element(mesh.type);
+  g.points.reserve(3 * n);
+  io::VtuField disp{"displacement", 3, {}};
+  disp.values.reserve(3 * n);
+  for (int a = 0; a < n; ++a) {
+    g.points.insert(g.points.end(), {mesh.X(0, a) + u(2 * a), mesh.X(1, a) + u(2 * a + 1), 0.0});
+    disp.values.insert(disp.values.end(), {u(2 * a), u(2 * a + 1), 0.0});
+  }
+  // Our Q8 node order (corners CCW, then mid-sides 0-1, 1-2, 2-3, 3-0) is VTK's quadratic quad's.
+  g.cell_type = mesh.type == fem::ElementType::Q4 ? io::VtkCell::quad : io::VtkCell::quadratic_quad;
+  g.connectivity.reserve(per * mesh.elements());
+  for (const auto& c : mesh.connectivity) g.connectivity.insert(g.connectivity.end(), c.begin(), c.begin() + per);
+
+  io::VtuField sigma{"cauchy_stress", 9, {}}, strain{"green_lagrange_strain", 9, {}};
+  const Mat2 Q = fem::material_axes(material_angle_deg);
+  fem::LawOutput out;
+  const fem::LawRequest req{false, false};
+  for (int e = 0; e < mesh.elements(); ++e) {
+    const fem::ElementGeometry geo = fem::element_geometry(mesh, e);
+    const fem::ElementVector ue = fem::element_displacements(mesh, e, u);
+    Mat2 s = Mat2::Zero(), E = Mat2::Zero();
+    double E33 = 0, area = 0;
+    for (int q = 0; q < geo.points; ++q) {
+      const Mat2 F = fem::deformation_gradient(geo, q, ue);
+      fem::LawInput in;
+      in.F = F;
+      in.Q = Q;
+      double l3 = std::numeric_limits<double>::quiet_NaN();
+      Mat2 sq = Mat2::Constant(std::numeric_limits<double>::quiet_NaN());
+      if (F.determinant() > 0) {
+        law.evaluate(in, req, out);
+        sq = fem::Law::cauchy(F, out.P);
+        l3 = out.lambda3;
+      }
+      const double w = geo.dA0[q];
+      s += w * sq;
+      E += w * 0.5 * (F.transpose() * F - Mat2::Identity());
+      E33 += w * 0.5 * (l3 * l3 - 1);
+      area += w;
+    }
+    s /= area, E /= area, E33 /= area;
+    sigma.values.insert(sigma.values.end(), {s(0, 0), s(0, 1), 0, s(1, 0), s(1, 1), 0, 0, 0, 0});
+    strain.values.insert(strain.values.end(), {E(0, 0), E(0, 1), 0, E(1, 0), E(1, 1), 0, 0, 0, E33});
+  }
+  g.point_data = {std::move(disp)};
+  g.cell_data = {std::move(sigma), std::move(strain)};
+  return g;
+}
+
+}  // namespace tricot::cli

@@ -1,0 +1,68 @@
+// tricot identify: the project file, the run (checkpoints, resume) and its outputs (result.json,
+// history.csv, plots). Exposed so that `tricot demo` runs its identifications through the same code.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "console.hpp"
+#include "experiment_files.hpp"
+#include "tricot/fem/solver.hpp"
+#include "tricot/ident/identify.hpp"
+#include "tricot/ident/objective.hpp"
+#include "tricot/io/config.hpp"
+
+namespace tricot::cli {
+
+/// The project file: the case sections ([mesh], [law], [solver], [[test]]) with [experiment],
+/// [[parameter]], [data] and [identify].
+io::SectionSpec identify_schema();
+
+/// A project's model of its experiment, ready for ident::identify.
+struct Project {
+  std::unique_ptr<fem::Law> law;
+  fem::SolveOptions solver;
+  std::vector<fem::TestModel> models;
+  ident::IdentifyOptions options;  ///< from [identify]
+  std::optional<Truth> truth;      ///< the experiment's truth.json, when it has one
+  std::unique_ptr<ident::Objective> objective;
+};
+/// Reads the experiment of a validated project (relative to `base`) and builds its objective.
+/// Throws InputError located in the project file (FileError for a missing file or folder).
+Project build_project(const io::Node& root, const std::filesystem::path& base);
+
+/// How to run one identification.
+struct IdentifyRequest {
+  std::filesystem::path base;  ///< the folder `experiment.dir` is relative to (the project file's)
+  std::filesystem::path out;   ///< DIR: result.json, history.csv, checkpoint.json, plots/
+  bool resume = false;         ///< continue from DIR/checkpoint.json
+  bool plots = true;           ///< plots/*.png through gnuplot
+  bool print_summary = true;   ///< the table of coefficients at the end
+  /// Testing aid: after this many checkpoints the process kills itself (SIGKILL), as a run killed
+  /// mid-way; 0 = never.
+  int kill_after = 0;
+  /// Called after each checkpoint is written (the demo's ε study reads the run from them).
+  std::function<void(const ident::Checkpoint&)> observe;
+};
+
+struct IdentifyOutcome {
+  ident::IdentifyResult result;
+  std::optional<Truth> truth;  ///< the experiment's truth.json, when it has one
+  int residuals = 0;           ///< N, the data values in f
+  std::string data;            ///< the data groups, e.g. "tension/edge_displacement (35)"
+  int dofs = 0;                ///< of the identification mesh (first test)
+};
+
+/// Runs the identification of a validated project: reads the experiment, builds the objective,
+/// runs LM with a checkpoint after every accepted step, and writes result.json, history.csv and
+/// plots/history.png (plots/fit_<test>.png for the edge data) to `request.out`.
+/// Throws InputError for a bad project or data (FileError when a file is missing).
+IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& request, Console& console);
+
+/// A path as a gnuplot string literal ('…', quotes doubled).
+std::string gnuplot_quote(const std::filesystem::path& p);
+
+}  // namespace tricot::cli

@@ -1,0 +1,116 @@
+// The paper's generated uniaxial case (issue 2): a Q8 strip of ~2200 dofs, clamped grip, free side,
+// 35 displacement steps to 100 % strain with the Mooney–Rivlin law. Target: ≤ 100 ms, and at most
+// twice the time of its own factorizations. Counters: dofs, Newton iterations, factorizations and the
+// share of the wall time spent in them.
+#include <benchmark/benchmark.h>
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
+
+#include "assembly.hpp"  // the engine's private assembly (bench/CMakeLists.txt adds src/fem)
+#include "tricot/fem/mooney_rivlin.hpp"
+#include "tricot/fem/solver.hpp"
+
+namespace {
+
+using namespace tricot::fem;
+
+TestModel uniaxial_strip(ElementType type, int nx, int ny) {
+  MeshOptions m;
+  m.width = 10, m.height = 50, m.nx = nx, m.ny = ny, m.type = type;
+  TestModel t;
+  t.name = "uniaxial";
+  t.mesh = make_quarter_mesh(m);
+  for (int k = 1; k <= 35; ++k) t.loads.push_back(m.height * k / 35.0);  // 2d/(2H) = 100 % at the end
+  return t;
+}
+
+void run(benchmark::State& state, const TestModel& t, bool sensitivities) {
+  const MooneyRivlin law(paper_mooney_rivlin_terms());
+  SolveOptions o;
+  o.sensitivities = sensitivities;
+  SimulationResult r;
+  double seconds = 0, factorization = 0;
+  for (auto _ : state) {
+    r = simulate(t, law, o);
+    seconds += r.seconds;
+    factorization += r.factorization_seconds;
+  }
+  if (!r.usable()) state.SkipWithError(r.message.c_str());
+  int iterations = 0;
+  for (const auto& s : r.steps) iterations += s.iterations;
+  state.counters["dofs"] = t.mesh.dofs();
+  state.counters["newton"] = iterations;
+  state.counters["factorizations"] = r.factorizations;
+  state.counters["fact_ms"] = 1e3 * factorization / state.iterations();
+  state.counters["fact_share"] = factorization / seconds;
+  state.counters["force_N"] = r.steps.empty() ? 0 : r.steps.back().edge_force;
+}
+
+void BM_UniaxialMooneyQ8(benchmark::State& state) { run(state, uniaxial_strip(ElementType::Q8, 8, 42), false); }
+void BM_UniaxialMooneyQ8Sensitivities(benchmark::State& state) {
+  run(state, uniaxial_strip(ElementType::Q8, 8, 42), true);
+}
+
+// The pieces of one Newton iteration on the same strip, at the last step's converged state: one
+// assembly with and without the tangent, and one numeric factorization with each candidate solver
+// (the symbolic analysis is done once, outside the timing, as in simulate()).
+struct Pieces {
+  TestModel t = uniaxial_strip(ElementType::Q8, 8, 42);
+  MooneyRivlin law{paper_mooney_rivlin_terms()};
+  detail::DofMap dofs = detail::make_dof_map(t);
+  detail::Assembler assembler{t, dofs, law};
+  Eigen::VectorXd u;
+  detail::Assembled a;
+  Pieces() {
+    u = simulate(t, law).steps.back().u;
+    assembler.assemble(u, {true, false}, a);
+  }
+};
+const Pieces& pieces() {
+  static const Pieces p;
+  return p;
+}
+
+void BM_AssemblyQ8(benchmark::State& state) {
+  const Pieces& p = pieces();
+  detail::Assembled a;
+  for (auto _ : state) p.assembler.assemble(p.u, {state.range(0) == 1, false}, a);
+  state.SetLabel(state.range(0) == 1 ? "residual and tangent" : "residual only");
+}
+
+template <class Solver>
+void factorize_loop(benchmark::State& state, Solver& s, const Eigen::SparseMatrix<double>& K) {
+  s.analyzePattern(K);
+  for (auto _ : state) s.factorize(K);
+  if (s.info() != Eigen::Success) state.SkipWithError("factorization failed");
+  state.counters["n"] = static_cast<double>(K.rows());
+}
+
+void BM_FactorizeCholmodSimplicialLDLt(benchmark::State& state) {  // what simulate() uses
+  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> s;
+  s.setMode(Eigen::CholmodLDLt);
+  s.cholmod().print = 0;
+  const Eigen::SparseMatrix<double> L = pieces().a.K.triangularView<Eigen::Lower>();
+  factorize_loop(state, s, L);
+}
+void BM_FactorizeCholmodSupernodalLLt(benchmark::State& state) {
+  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> s;
+  s.setMode(Eigen::CholmodSupernodalLLt);
+  s.cholmod().print = 0;
+  const Eigen::SparseMatrix<double> L = pieces().a.K.triangularView<Eigen::Lower>();
+  factorize_loop(state, s, L);
+}
+void BM_FactorizeEigenSimplicialLDLT(benchmark::State& state) {
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> s;
+  factorize_loop(state, s, pieces().a.K);
+}
+
+}  // namespace
+
+BENCHMARK(BM_AssemblyQ8)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FactorizeCholmodSimplicialLDLt)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FactorizeCholmodSupernodalLLt)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FactorizeEigenSimplicialLDLT)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_UniaxialMooneyQ8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_UniaxialMooneyQ8Sensitivities)->Unit(benchmark::kMillisecond);

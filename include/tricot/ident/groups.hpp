@@ -1,0 +1,59 @@
+// The data groups of the objective, eq. (1) (THEORY §2): each group g of N_g values has a weight
+// w_g and a scale s_g, and contributes the scaled residuals
+//     r_i = √(w_g / N_g) · (y_i − y_i^exp) / s_g,   f = ½ Σ r_i².
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace tricot::ident {
+
+enum class GroupKind {
+  edge_displacement,  ///< the grip displacement of a test, one value per step
+  edge_force,         ///< the grip force of a test, one value per step
+  field_u,            ///< u at the points of a test, step-major (all points of step 0, then step 1, …)
+  field_v,            ///< v likewise
+  field_uv,           ///< u and v in one group with one scale: per step, per point, u then v
+};
+const char* to_string(GroupKind k);  ///< "edge_displacement", …, "field_uv"
+
+struct DataGroup {
+  std::string name;  ///< "<test>/<kind>", e.g. "uniaxial/edge_force"
+  GroupKind kind = GroupKind::edge_force;
+  int test = -1;      ///< the test's index in the experiment (−1 = none, for analytic problems)
+  int offset = 0;     ///< first row of the group in r
+  int size = 0;       ///< N_g
+  double weight = 1;  ///< w_g
+  double scale = 1;   ///< s_g: the measurement σ when given, else the RMS of the group's data
+  bool sigma = false; ///< s_g is a measurement σ (THEORY §8)
+};
+
+/// Stacks groups and applies eq. (1).
+class ScaledResiduals {
+ public:
+  /// Appends a group of measured values y_exp with weight w (≥ 0, finite) and measurement σ (0 =
+  /// unknown: the scale is then RMS(y_exp)). Throws InputError (key `data.<name>`) for an empty
+  /// group, non-finite data, or a zero RMS without σ.
+  const DataGroup& add(const std::string& name, GroupKind kind, int test, const Eigen::VectorXd& y_exp,
+                       double weight = 1, double sigma = 0);
+
+  const std::vector<DataGroup>& groups() const { return groups_; }
+  int size() const { return static_cast<int>(measured_.size()); }
+  /// y^exp, stacked in group order.
+  const Eigen::VectorXd& measured() const { return measured_; }
+  /// √(w_g/N_g)/s_g for every row.
+  const Eigen::VectorXd& factors() const { return factor_; }
+  /// r = factors ∘ (y − y^exp).
+  Eigen::VectorXd residuals(const Eigen::VectorXd& y) const;
+  /// ∂y/∂J → ∂r/∂J, in place (rows scaled by factors).
+  void scale_rows(Eigen::MatrixXd& dy_dJ) const;
+  /// Var(r_i) implied by the measurement σ: w_g/N_g (THEORY §8). Empty unless every group has σ.
+  Eigen::VectorXd sigma_variance() const;
+
+ private:
+  std::vector<DataGroup> groups_;
+  Eigen::VectorXd measured_, factor_;
+};
+
+}  // namespace tricot::ident

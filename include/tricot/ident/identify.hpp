@@ -1,0 +1,122 @@
+// Levenberg–Marquardt identification (THEORY §3, paper §2.1) on Ceres: the paper's ε (eq. 2) and
+// δ (eq. 3) criteria, relative parameters, bounds, the stability test with restarts, covariance
+// (§8), a checkpoint after every accepted step and resume from one.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tricot/core/progress.hpp"
+#include "tricot/ident/covariance.hpp"
+#include "tricot/ident/problem.hpp"
+
+namespace tricot::ident {
+
+/// One point of the history: the start, every accepted LM step, and every stability restart.
+struct HistoryEntry {
+  int iteration = 0;          ///< LM iterations so far (accepted and rejected, all restarts)
+  double objective = 0;       ///< f, eq. (1)
+  Eigen::VectorXd parameters; ///< J
+  int restart = 0;            ///< stability restarts before this entry
+};
+
+/// The state after an accepted LM step: enough to continue the run exactly (resume_from). The
+/// library does not write it; on_checkpoint hands it to the caller.
+struct Checkpoint {
+  std::vector<std::string> names;  ///< identified coefficients, in order
+  Eigen::VectorXd scales;          ///< LM units: J = scales ∘ x
+  Eigen::VectorXd x;               ///< LM variables at the accepted point (exact, for the resume)
+  Eigen::VectorXd parameters;      ///< J = scales ∘ x, for reading
+  double objective = 0;
+  double trust_region_radius = 0;  ///< LM's radius for the next step (1/μ)
+  int iterations = 0, evaluations = 0, jacobian_evaluations = 0, failed_evaluations = 0, restarts = 0;
+  double wall_seconds = 0;  ///< spent so far, carried on by a resumed run
+  std::vector<HistoryEntry> history;
+};
+
+struct IdentifyOptions {
+  /// Eq. (2): stop when f < ε (absolute; f as eq. 1), ≥ 0; 0 = off. Paper: 1e-12.
+  double epsilon = 1e-12;
+  /// Eq. (3): stop when an accepted step changes no coefficient by more than δ relative,
+  /// max_k |ΔJ_k| / |J_k| < δ (|ΔJ_k| / scale_k where J_k = 0); also Ceres' parameter_tolerance
+  /// (‖Δx‖ ≤ δ(‖x‖ + δ) on a trial step). (0, 1). Paper: 1e-5.
+  double delta = 1e-5;
+  /// Stop when a trial step changes f by less than this fraction of f (Ceres' function_tolerance),
+  /// [0, 1); 0 = off.
+  double function_tolerance = 1e-12;
+  /// Stop when the max-norm of the gradient of f in LM units is ≤ this (Ceres'), ≥ 0; 0 = off.
+  double gradient_tolerance = 1e-14;
+  /// LM iterations in all (accepted and rejected, restarts included), 1–100000.
+  int max_iterations = 200;
+  /// The paper's stability test: after convergence, evaluate f with each coefficient in turn scaled
+  /// by (1 ± η) (± η·scale where it is 0); restart LM from the best if it is below f*.
+  bool stability_test = true;
+  double stability_eta = 0.05;  ///< η, (0, 1)
+  int max_restarts = 10;        ///< stability restarts, 0–1000; more → termination `unstable`
+  JacobianMode jacobian = JacobianMode::exact;
+  Difference difference = Difference::forward;  ///< finite_difference only
+  double fd_step = 1e-6;  ///< finite_difference only: h_k = fd_step · scale_k, (0, 0.1]
+  /// Threads for finite-difference columns and the stability test, 0–1024; 0 = OpenMP's default.
+  int threads = 0;
+  /// LM's first trust-region radius 1/μ₀ in LM units (relative), (0, 1e16]. A damped first step
+  /// keeps a poor start from driving the FE into laws it cannot solve: on the clamped uniaxial
+  /// Mooney–Rivlin test from ×2 the truth, 1e4 (Ceres' default, nearly Gauss–Newton) cost 107
+  /// failed FE trials and 5 stability restarts, 10 none, 1 none but more iterations.
+  double initial_trust_region_radius = 10;
+  /// Called after every accepted step (and at the start) with the state to save; may be empty.
+  std::function<void(const Checkpoint&)> on_checkpoint;
+  /// Continue a run from its last checkpoint: LM goes on from the same state, so it reaches the
+  /// same answer. Its names and scales must match the problem's (InputError `resume`).
+  std::optional<Checkpoint> resume_from;
+
+  /// Throws InputError naming `identify.<field>`.
+  void validate() const;
+  JacobianOptions jacobian_options() const { return {jacobian, difference, fd_step, threads}; }
+};
+
+enum class Termination {
+  objective_below_epsilon,   ///< converged: f < ε (eq. 2)
+  step_below_delta,          ///< converged: an accepted step below δ (eq. 3), Ceres' parameter
+                             ///< tolerance on a trial step, or the trust region collapsed
+  objective_stalled,         ///< converged: a trial step changed f by < function_tolerance · f
+  gradient_below_tolerance,  ///< converged: gradient max-norm ≤ gradient_tolerance
+  max_iterations,            ///< not converged: max_iterations LM iterations used
+  unstable,                  ///< the stability test still found a lower f after max_restarts
+  fe_failure,                ///< the model could not be evaluated at the start or at an accepted
+                             ///< point (the FE did not converge); `message` has its reason
+};
+const char* to_string(Termination t);  ///< the enumerator's name
+
+struct IdentifyResult {
+  Termination termination = Termination::fe_failure;
+  std::string message;  ///< one line: why it stopped
+  std::vector<std::string> names;
+  Eigen::VectorXd start;       ///< J at the start (of this run, or of the resumed one)
+  Eigen::VectorXd parameters;  ///< J*, the lowest f found
+  double objective = 0;        ///< f(J*)
+  Uncertainty uncertainty;     ///< at J* (empty when J* could not be evaluated with a Jacobian)
+  int iterations = 0;            ///< LM iterations (accepted and rejected), restarts included
+  int evaluations = 0;           ///< r(J) computations: trials, finite-difference columns, stability
+  int jacobian_evaluations = 0;  ///< Jacobians LM used
+  int failed_evaluations = 0;    ///< trial points where the model failed (steps rejected)
+  int restarts = 0;              ///< stability restarts
+  bool stability_passed = false; ///< the last stability test found no lower f
+  double wall_seconds = 0;
+  JacobianMode jacobian = JacobianMode::exact;
+  std::vector<HistoryEntry> history;
+
+  /// Converged by one of the four criteria and (when asked) passed the stability test.
+  bool converged() const;
+  std::vector<double> std_error() const;  ///< uncertainty.std_error as a list
+};
+
+/// Runs LM from the parameters' start values (or options.resume_from). Validates the options and
+/// parameters first (InputError); a model that fails is a termination, never an exception.
+/// Progress: one report per LM iteration, stage "identify", detail "f = …, C10 = …, …".
+IdentifyResult identify(const Problem& problem, const IdentifyOptions& options = {},
+                        const Reporter& reporter = {});
+
+}  // namespace tricot::ident

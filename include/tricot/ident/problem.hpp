@@ -1,0 +1,88 @@
+// A least-squares problem in the identified coefficients J: the scaled residuals r(J) of eq. (1)
+// and their Jacobian, exact or by finite differences (THEORY §2, §3, §7). The FE objective
+// (objective.hpp) is one; tests use analytic ones.
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace tricot::ident {
+
+/// One identified coefficient (THEORY §3).
+struct Parameter {
+  std::string name;  ///< the law's coefficient name, e.g. "C10"
+  /// Start value; NaN = the law's current value (resolved by the objective).
+  double start = std::numeric_limits<double>::quiet_NaN();
+  /// > 0: LM works in x = J / scale. 0 = |start|, which makes LM's steps relative, as the paper's
+  /// J_{i+1} = J_i + t_i∘J_i. A zero start needs an explicit scale.
+  double scale = 0;
+  double lower = -std::numeric_limits<double>::infinity();  ///< bound on J, < upper
+  double upper = std::numeric_limits<double>::infinity();   ///< bound on J
+
+  /// The scale LM uses: `scale`, or |start| when scale is 0.
+  double resolved_scale() const;
+};
+/// Throws InputError naming `parameters.<name>.<field>` for: an empty or repeated name, a
+/// non-finite start, lower ≥ upper, a start outside the bounds, a negative or non-finite scale, or
+/// a zero start without a scale.
+void validate(const std::vector<Parameter>& parameters);
+
+/// r(J) and, when asked, ∂r/∂J.
+struct Evaluation {
+  /// false: the model could not be evaluated at J (the FE did not converge, a point left the
+  /// deformed mesh, …). r and jacobian are then meaningless; `message` says why.
+  bool ok = false;
+  std::string message;
+  Eigen::VectorXd y;         ///< model values, stacked like r (unscaled, in the data's units)
+  Eigen::VectorXd r;         ///< scaled residuals, eq. (1)
+  Eigen::MatrixXd jacobian;  ///< ∂r/∂J, residuals × parameters, physical J; empty when not asked
+  int evaluations = 0;       ///< r(J) computations it took (1, plus one per finite-difference trial)
+
+  double objective() const { return 0.5 * r.squaredNorm(); }  ///< f of eq. (1)
+};
+
+class Problem {
+ public:
+  virtual ~Problem() = default;
+  /// The identified coefficients, start values resolved (finite).
+  virtual const std::vector<Parameter>& parameters() const = 0;
+  virtual int residuals() const = 0;
+  /// r(J) and, when `jacobian` is true, the exact ∂r/∂J. Thread-safe: called concurrently for the
+  /// columns of a finite-difference Jacobian and for the stability test.
+  virtual Evaluation evaluate(const Eigen::VectorXd& J, bool jacobian) const = 0;
+  /// Whether evaluate() can give an exact Jacobian; if not, only finite differences are allowed.
+  virtual bool has_exact_jacobian() const { return true; }
+  /// THEORY §8: Var(r_i) when every scale is a measurement σ (ScaledResiduals::sigma_variance());
+  /// empty = estimate σ̂² = 2f/(N − n) from the fit.
+  virtual Eigen::VectorXd residual_variance() const { return {}; }
+};
+
+enum class JacobianMode {
+  exact,              ///< from the problem (FE sensitivities, THEORY §7)
+  finite_difference,  ///< the paper's way: one perturbed evaluation per column (two when central)
+};
+enum class Difference { forward, central };
+const char* to_string(JacobianMode m);  ///< "exact", "finite_difference"
+const char* to_string(Difference d);    ///< "forward", "central"
+
+struct JacobianOptions {
+  JacobianMode mode = JacobianMode::exact;
+  Difference difference = Difference::forward;
+  /// Finite-difference step in LM units, (0, 0.1]: h_k = step · scale_k (a relative step).
+  double step = 1e-6;
+  /// Threads for the finite-difference columns, 0–1024; 0 = OpenMP's default.
+  int threads = 0;
+
+  /// Throws InputError naming `identify.<field>`.
+  void validate() const;
+};
+
+/// r(J) and, when `jacobian`, ∂r/∂J by `options.mode`. Finite differences evaluate the columns in
+/// parallel; a forward trial that fails is retried backward, a central one falls back to one side.
+/// `base`, when given, is r(J) already computed (saves one evaluation for forward differences).
+Evaluation evaluate(const Problem& problem, const Eigen::VectorXd& J, bool jacobian,
+                    const JacobianOptions& options, const Evaluation* base = nullptr);
+
+}  // namespace tricot::ident

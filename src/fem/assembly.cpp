@@ -1,0 +1,229 @@
+// Dof map and colored parallel assembly (THEORY §4, §6, §7).
+#include "assembly.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+
+#include <omp.h>
+
+namespace tricot::fem::detail {
+
+DofMap make_dof_map(const TestModel& test) {
+  const Mesh& m = test.mesh;
+  const int ndof = m.dofs();
+  DofMap d;
+  d.eq.assign(ndof, 0);  // 0 = free for now, −1 = prescribed, −2 = shared grip
+  d.grip.assign(ndof, 0);
+  d.guide.assign(ndof, 0);
+  for (int n : m.left) d.eq[2 * n] = -1;    // symmetry: u_x = 0
+  for (int n : m.bottom) d.eq[2 * n + 1] = -1;  // symmetry: u_y = 0
+  for (int n : m.top) {
+    d.top_y.push_back(2 * n + 1);
+    if (test.control == GripControl::displacement) {
+      d.eq[2 * n + 1] = -1;
+      d.grip[2 * n + 1] = 1;
+    } else {
+      d.eq[2 * n + 1] = -2;
+    }
+    if (test.grip_holds_x) d.eq[2 * n] = -1;
+  }
+  for (int n : m.right) {
+    d.right_x.push_back(2 * n);
+    if (test.side == SideEdge::guide) {
+      d.eq[2 * n] = -1;
+      d.guide[2 * n] = 1;
+    }
+  }
+  for (int k = 0; k < ndof; ++k) {
+    if (d.eq[k] == 0) {
+      d.eq[k] = d.equations++;
+    } else if (d.eq[k] == -2) {
+      if (d.master < 0) d.master = d.equations++;
+      d.eq[k] = d.master;
+    }
+  }
+  return d;
+}
+
+void expand(const DofMap& dofs, const Eigen::VectorXd& z, const Load& load, Eigen::VectorXd& u) {
+  const int ndof = static_cast<int>(dofs.eq.size());
+  u.resize(ndof);
+  for (int k = 0; k < ndof; ++k)
+    u(k) = dofs.eq[k] >= 0 ? z(dofs.eq[k]) : load.d * dofs.grip[k] + load.c * dofs.guide[k];
+}
+
+namespace {
+
+// Quadrature points per assembly from which threads are tried: below, a barrier costs more than the work.
+constexpr int kParallelPoints = 1000;
+
+int element_dof(const Mesh& m, int e, int i) { return 2 * m.connectivity[e][i / 2] + i % 2; }
+
+}  // namespace
+
+Assembler::Assembler(const TestModel& test, const DofMap& dofs, const Law& law)
+    : test_(test), dofs_(dofs), law_(law), Q_(material_axes(test.material_angle)) {
+  const Mesh& m = test.mesh;
+  const int ne = m.elements();
+  D_ = 2 * nodes_per_element(m.type);
+  nc_ = static_cast<int>(law.coefficients().size());
+  geometry_.reserve(ne);
+  for (int e = 0; e < ne; ++e) geometry_.push_back(element_geometry(m, e));
+
+  // Fixed pattern of the free-free block.
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<size_t>(ne) * D_ * D_);
+  for (int e = 0; e < ne; ++e)
+    for (int i = 0; i < D_; ++i)
+      for (int j = 0; j < D_; ++j) {
+        const int qi = dofs.eq[element_dof(m, e, i)], qj = dofs.eq[element_dof(m, e, j)];
+        if (qi >= 0 && qj >= 0) t.emplace_back(qi, qj, 0.0);
+      }
+  pattern_.resize(dofs.equations, dofs.equations);
+  pattern_.setFromTriplets(t.begin(), t.end());
+  pattern_.makeCompressed();
+
+  // Scatter map: element pair (i, j) -> position of (eq_i, eq_j) in valuePtr().
+  slot_.assign(static_cast<size_t>(ne) * D_ * D_, -1);
+  const int* outer = pattern_.outerIndexPtr();
+  const int* inner = pattern_.innerIndexPtr();
+  for (int e = 0; e < ne; ++e)
+    for (int i = 0; i < D_; ++i)
+      for (int j = 0; j < D_; ++j) {
+        const int qi = dofs.eq[element_dof(m, e, i)], qj = dofs.eq[element_dof(m, e, j)];
+        if (qi < 0 || qj < 0) continue;
+        const int* p = std::lower_bound(inner + outer[qj], inner + outer[qj + 1], qi);
+        slot_[(static_cast<size_t>(e) * D_ + i) * D_ + j] = static_cast<int>(p - inner);
+      }
+
+  // Per element: dofs, equations, and the few local dofs that feed g_grip, g_guide and h_top.
+  dof_.resize(static_cast<size_t>(ne) * D_);
+  eq_.resize(dof_.size());
+  grip_local_.resize(ne), guide_local_.resize(ne), top_local_.resize(ne);
+  std::vector<char> top(m.dofs(), 0);
+  for (int k : dofs.top_y) top[k] = 1;
+  for (int e = 0; e < ne; ++e)
+    for (int i = 0; i < D_; ++i) {
+      const int d = element_dof(m, e, i);
+      dof_[e * D_ + i] = d, eq_[e * D_ + i] = dofs.eq[d];
+      if (dofs.grip[d]) grip_local_[e].push_back(i);
+      if (dofs.guide[d]) guide_local_[e].push_back(i);
+      if (top[d]) top_local_[e].push_back(i);
+    }
+
+  // Greedy coloring: elements conflict when they share a node or an equation (the shared grip).
+  const int N = m.nodes();
+  std::vector<std::vector<int>> users(N + 1);
+  auto resources = [&](int e) {
+    std::vector<int> r;
+    for (int a = 0; a < D_ / 2; ++a) r.push_back(m.connectivity[e][a]);
+    for (int i = 0; i < D_; ++i)
+      if (dofs.master >= 0 && dofs.eq[element_dof(m, e, i)] == dofs.master) r.push_back(N);
+    return r;
+  };
+  for (int e = 0; e < ne; ++e)
+    for (int r : resources(e)) users[r].push_back(e);
+  std::vector<int> color(ne, -1);
+  for (int e = 0; e < ne; ++e) {
+    std::vector<char> used;
+    for (int r : resources(e))
+      for (int o : users[r])
+        if (color[o] >= 0) {
+          if (color[o] >= static_cast<int>(used.size())) used.resize(color[o] + 1, 0);
+          used[color[o]] = 1;
+        }
+    int c = 0;
+    while (c < static_cast<int>(used.size()) && used[c]) ++c;
+    color[e] = c;
+    if (c >= static_cast<int>(colors_.size())) colors_.resize(c + 1);
+    colors_[c].push_back(e);
+  }
+}
+
+bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assembled& a) const {
+  const Mesh& m = test_.mesh;
+  const int ndof = m.dofs(), neq = dofs_.equations;
+  a.f.setZero(ndof);
+  if (req.tangent) {
+    if (a.K.nonZeros() != pattern_.nonZeros() || a.K.rows() != neq) a.K = pattern_;
+    std::fill(a.K.valuePtr(), a.K.valuePtr() + a.K.nonZeros(), 0.0);
+    a.g_grip.setZero(neq);
+    a.g_guide.setZero(neq);
+    a.h_top.setZero(neq);
+  }
+  if (req.sensitivities) a.df_dc.setZero(ndof, nc_);
+  if (req.tangent) a.symmetric = true;  // else K and its flag stay those of the last tangent
+  a.status = ElementStatus::ok;
+  a.element = -1;
+  a.min_detF = INFINITY;
+
+  std::atomic<bool> failed{false};
+  double* K = req.tangent ? a.K.valuePtr() : nullptr;
+
+  // Threads pay off on an idle machine but cost a scheduler slice per color barrier on a loaded one:
+  // the first two tangent assemblies run serial then threaded, and the faster way is kept.
+  const bool try_threads = omp_get_max_threads() > 1 && m.elements() * geometry_.front().points >= kParallelPoints;
+  const int probe = req.tangent && try_threads && threaded_ < 0 ? probes_++ : -1;
+  const bool parallel = try_threads && (probe >= 0 ? probe == 1 : threaded_ == 1);
+  const auto t0 = std::chrono::steady_clock::now();
+#pragma omp parallel if (parallel)
+  {
+    LawOutput lo;
+    ElementResponse r;
+    bool symmetric = true;
+    double min_detF = INFINITY;
+    for (const auto& elements : colors_) {
+#pragma omp for schedule(static)
+      for (size_t k = 0; k < elements.size(); ++k) {
+        if (failed.load(std::memory_order_relaxed)) continue;
+        const int e = elements[k];
+        ElementStatus s;
+        try {
+          s = element_response(geometry_[e], element_displacements(m, e, u), law_, Q_, req, lo, r);
+        } catch (...) {
+          s = ElementStatus::non_finite;
+        }
+        min_detF = std::min(min_detF, r.min_detF);
+        if (s != ElementStatus::ok) {
+#pragma omp critical(tricot_fem_assembly_failure)
+          if (a.element < 0 || e < a.element) a.status = s, a.element = e, a.min_detF = r.min_detF;
+          failed = true;
+          continue;
+        }
+        const int* dof = &dof_[static_cast<size_t>(e) * D_];
+        const int* eq = &eq_[static_cast<size_t>(e) * D_];
+        for (int i = 0; i < D_; ++i) a.f(dof[i]) += r.f(i);
+        if (req.sensitivities)
+          for (int i = 0; i < D_; ++i) a.df_dc.row(dof[i]) += r.df_dc.row(i);
+        if (!req.tangent) continue;
+        symmetric = symmetric && r.symmetric_tangent;
+        const int* slot = &slot_[static_cast<size_t>(e) * D_ * D_];
+        for (int i = 0; i < D_; ++i)
+          for (int j = 0; j < D_; ++j)
+            if (slot[i * D_ + j] >= 0) K[slot[i * D_ + j]] += r.K(i, j);
+        for (int j : grip_local_[e])
+          for (int i = 0; i < D_; ++i)
+            if (eq[i] >= 0) a.g_grip(eq[i]) += r.K(i, j);
+        for (int j : guide_local_[e])
+          for (int i = 0; i < D_; ++i)
+            if (eq[i] >= 0) a.g_guide(eq[i]) += r.K(i, j);
+        for (int i : top_local_[e])
+          for (int j = 0; j < D_; ++j)
+            if (eq[j] >= 0) a.h_top(eq[j]) += r.K(i, j);
+      }
+    }
+#pragma omp critical(tricot_fem_assembly_reduce)
+    {
+      if (req.tangent) a.symmetric = a.symmetric && symmetric;
+      if (a.status == ElementStatus::ok) a.min_detF = std::min(a.min_detF, min_detF);
+    }
+  }
+  if (probe >= 0) {
+    probe_seconds_[probe] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (probe == 1) threaded_ = probe_seconds_[1] < probe_seconds_[0] ? 1 : 0;
+  }
+  return !failed;
+}
+
+}  // namespace tricot::fem::detail

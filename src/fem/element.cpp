@@ -1,0 +1,179 @@
+// Q4/Q8 total-Lagrangian membrane elements (THEORY §4, §6).
+#include "tricot/fem/element.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace tricot::fem {
+
+ShapeValues shape(ElementType type, const Vec2& xi) {
+  static constexpr double kCorner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  const double x = xi(0), y = xi(1);
+  ShapeValues s;
+  if (type == ElementType::Q4) {
+    for (int a = 0; a < 4; ++a) {
+      const double xa = kCorner[a][0], ya = kCorner[a][1];
+      s.N(a) = 0.25 * (1 + x * xa) * (1 + y * ya);
+      s.dN_dxi(a, 0) = 0.25 * xa * (1 + y * ya);
+      s.dN_dxi(a, 1) = 0.25 * ya * (1 + x * xa);
+    }
+    return s;
+  }
+  // Serendipity Q8: corners ¼(1+ξξa)(1+ηηa)(ξξa+ηηa−1); mid-sides ½(1−ξ²)(1+ηηa) or ½(1+ξξa)(1−η²).
+  for (int a = 0; a < 4; ++a) {
+    const double xa = kCorner[a][0], ya = kCorner[a][1];
+    const double p = 1 + x * xa, q = 1 + y * ya, r = x * xa + y * ya - 1;
+    s.N(a) = 0.25 * p * q * r;
+    s.dN_dxi(a, 0) = 0.25 * xa * q * (r + p);
+    s.dN_dxi(a, 1) = 0.25 * ya * p * (r + q);
+  }
+  static constexpr double kMid[4][2] = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+  for (int m = 0; m < 4; ++m) {
+    const double xa = kMid[m][0], ya = kMid[m][1];
+    const int a = 4 + m;
+    if (xa == 0) {
+      s.N(a) = 0.5 * (1 - x * x) * (1 + y * ya);
+      s.dN_dxi(a, 0) = -x * (1 + y * ya);
+      s.dN_dxi(a, 1) = 0.5 * ya * (1 - x * x);
+    } else {
+      s.N(a) = 0.5 * (1 + x * xa) * (1 - y * y);
+      s.dN_dxi(a, 0) = 0.5 * xa * (1 - y * y);
+      s.dN_dxi(a, 1) = -y * (1 + x * xa);
+    }
+  }
+  return s;
+}
+
+std::span<const QuadraturePoint> quadrature(ElementType type) {
+  static const double g2 = 1 / std::sqrt(3.0), g3 = std::sqrt(0.6);
+  static const std::array<QuadraturePoint, 4> q4 = {
+      QuadraturePoint{{-g2, -g2}, 1}, {{g2, -g2}, 1}, {{g2, g2}, 1}, {{-g2, g2}, 1}};
+  static const std::array<QuadraturePoint, 9> q8 = [] {
+    const double p[3] = {-g3, 0, g3}, w[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
+    std::array<QuadraturePoint, 9> r;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) r[3 * j + i] = {{p[i], p[j]}, w[i] * w[j]};
+    return r;
+  }();
+  if (type == ElementType::Q4) return q4;
+  return q8;
+}
+
+ElementGeometry element_geometry(const Mesh& mesh, int e) {
+  ElementGeometry g;
+  g.nodes = nodes_per_element(mesh.type);
+  const auto rule = quadrature(mesh.type);
+  g.points = static_cast<int>(rule.size());
+  g.min_detJ0 = INFINITY;
+  const auto& c = mesh.connectivity[e];
+  for (int q = 0; q < g.points; ++q) {
+    const ShapeValues s = shape(mesh.type, rule[q].xi);
+    Mat2 J = Mat2::Zero();  // J_ij = ∂X_i/∂ξ_j
+    for (int a = 0; a < g.nodes; ++a) J += mesh.X.col(c[a]) * s.dN_dxi.row(a);
+    const double detJ = J.determinant();
+    g.min_detJ0 = std::min(g.min_detJ0, detJ);
+    g.dA0[q] = rule[q].weight * detJ;
+    g.dN_dX[q].setZero();
+    g.dN_dX[q].topRows(g.nodes) = s.dN_dxi.topRows(g.nodes) * J.inverse();
+  }
+  return g;
+}
+
+ElementVector element_displacements(const Mesh& mesh, int e, const Eigen::VectorXd& u) {
+  ElementVector ue = ElementVector::Zero();
+  const int n = nodes_per_element(mesh.type);
+  for (int a = 0; a < n; ++a) ue.segment<2>(2 * a) = u.segment<2>(2 * mesh.connectivity[e][a]);
+  return ue;
+}
+
+Mat2 deformation_gradient(const ElementGeometry& g, int q, const ElementVector& ue) {
+  Mat2 F = Mat2::Identity();
+  for (int a = 0; a < g.nodes; ++a) F += ue.segment<2>(2 * a) * g.dN_dX[q].row(a);
+  return F;
+}
+
+Mat2 deformation_gradient(const Mesh& mesh, int e, const Vec2& xi, const Eigen::VectorXd& u) {
+  const ShapeValues s = shape(mesh.type, xi);
+  const int n = nodes_per_element(mesh.type);
+  const auto& c = mesh.connectivity[e];
+  Mat2 J = Mat2::Zero(), H = Mat2::Zero();  // ∂X/∂ξ and ∂u/∂ξ
+  for (int a = 0; a < n; ++a) {
+    J += mesh.X.col(c[a]) * s.dN_dxi.row(a);
+    H += u.segment<2>(2 * c[a]) * s.dN_dxi.row(a);
+  }
+  return Mat2::Identity() + H * J.inverse();
+}
+
+Mat2 material_axes(double angle_deg) {
+  const double a = angle_deg * std::numbers::pi / 180;
+  Mat2 Q;
+  Q << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
+  return Q;
+}
+
+namespace {
+
+// B maps element dofs to flatten(δF): B(2i+j, 2a+i) = ∂N_a/∂X_j (row-major F, as in core/types.hpp).
+// B is never formed: with G = ∂N/∂X (nodes × 2), Bᵀ v for a flattened tensor v = flatten(V) is
+// G Vᵀ read row-major, i.e. (Bᵀ v)(2a+i) = Σ_j G(a, j) V(i, j).
+template <int NN>
+ElementStatus response(const ElementGeometry& g, const ElementVector& ue, const Law& law,
+                       const Mat2& Q, const LawRequest& req, LawOutput& lo, ElementResponse& out) {
+  constexpr int D = 2 * NN;
+  using NodeMat = Eigen::Matrix<double, NN, 2, Eigen::RowMajor>;  // (a, i) -> dof 2a+i
+  auto BT = [](const Eigen::Matrix<double, NN, 2>& G, const Mat2& V) -> NodeMat {
+    return G.lazyProduct(V.transpose());
+  };
+  out.f.setZero();
+  if (req.tangent) out.K.setZero();
+  out.symmetric_tangent = true;
+  out.min_detF = INFINITY;
+  int nc = 0;
+  if (req.sensitivities) {
+    nc = static_cast<int>(law.coefficients().size());
+    out.df_dc.setZero(D, nc);
+  }
+  LawInput in;
+  in.Q = Q;
+  for (int q = 0; q < g.points; ++q) {
+    in.F = deformation_gradient(g, q, ue);
+    const double detF = in.F.determinant();
+    out.min_detF = std::min(out.min_detF, detF);
+    if (!(detF > 0)) return ElementStatus::inverted;
+    law.evaluate(in, req, lo);
+    if (!lo.P.allFinite() || (req.tangent && !lo.A.allFinite())) return ElementStatus::non_finite;
+    const Eigen::Matrix<double, NN, 2> G = g.dN_dX[q].template topRows<NN>();
+    const double w = g.dA0[q];
+    Eigen::Map<NodeMat>(out.f.data()) += w * BT(G, lo.P);
+    if (req.tangent) {
+      const double scale = lo.A.cwiseAbs().maxCoeff();
+      if ((lo.A - lo.A.transpose()).cwiseAbs().maxCoeff() > 1e-10 * scale) out.symmetric_tangent = false;
+      // Column 2b+k of K: Bᵀ (A B)(:, 2b+k), with (A B)(:, 2b+k) = Σ_l A(:, 2k+l) G(b, l).
+      const Eigen::Matrix<double, 4, 2> A0 = w * lo.A.template leftCols<2>(), A1 = w * lo.A.template rightCols<2>();
+      for (int b = 0; b < NN; ++b) {
+        const Vec4 v0 = A0 * G.row(b).transpose(), v1 = A1 * G.row(b).transpose();
+        Eigen::Map<NodeMat>(out.K.col(2 * b).data()) += BT(G, unflatten(v0));
+        Eigen::Map<NodeMat>(out.K.col(2 * b + 1).data()) += BT(G, unflatten(v1));
+      }
+    }
+    if (req.sensitivities) {
+      if (static_cast<int>(lo.dP_dc.size()) != nc) return ElementStatus::non_finite;
+      for (int k = 0; k < nc; ++k) {
+        if (!lo.dP_dc[k].allFinite()) return ElementStatus::non_finite;
+        Eigen::Map<NodeMat>(out.df_dc.col(k).data()) += w * BT(G, lo.dP_dc[k]);
+      }
+    }
+  }
+  return ElementStatus::ok;
+}
+
+}  // namespace
+
+ElementStatus element_response(const ElementGeometry& g, const ElementVector& ue, const Law& law,
+                               const Mat2& Q, const LawRequest& request, LawOutput& scratch,
+                               ElementResponse& out) {
+  return g.nodes == 4 ? response<4>(g, ue, law, Q, request, scratch, out)
+                      : response<8>(g, ue, law, Q, request, scratch, out);
+}
+
+}  // namespace tricot::fem

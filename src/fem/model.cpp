@@ -1,0 +1,82 @@
+// Consistency checks of a test model (THEORY §6).
+#include "tricot/fem/model.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "tricot/core/error.hpp"
+#include "tricot/fem/element.hpp"
+
+namespace tricot::fem {
+
+namespace {
+
+std::string num(double v) {
+  std::string s = std::to_string(v);
+  return std::isfinite(v) ? s : (std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf"));
+}
+
+}  // namespace
+
+void TestModel::validate() const {
+  const std::string who = "test '" + name + "': ";
+  auto bad = [&](const char* key, const std::string& problem, const std::string& got = {},
+                 const std::string& expected = {}) {
+    throw InputError(Location{"", 0, key}, who + problem, got, expected);
+  };
+  if (name.empty()) throw InputError(Location{"", 0, "test.name"}, "empty test name", "\"\"", "a name");
+  if (!std::isfinite(material_angle)) bad("test.material_angle", "not a finite angle", num(material_angle), "degrees");
+
+  // Mesh: non-empty, consistent connectivity, four edges, no element inverted in the reference state.
+  const int n = mesh.nodes();
+  if (n == 0 || mesh.elements() == 0)
+    bad("test.mesh", "empty mesh", std::to_string(n) + " nodes, " + std::to_string(mesh.elements()) + " elements",
+        "at least one element");
+  if (!mesh.X.allFinite()) bad("test.mesh", "non-finite node coordinates");
+  const int per = nodes_per_element(mesh.type);
+  for (int e = 0; e < mesh.elements(); ++e)
+    for (int a = 0; a < per; ++a)
+      if (mesh.connectivity[e][a] < 0 || mesh.connectivity[e][a] >= n)
+        bad("test.mesh", "element " + std::to_string(e) + " refers to a missing node",
+            std::to_string(mesh.connectivity[e][a]), "0 to " + std::to_string(n - 1));
+  const std::pair<const char*, const std::vector<int>*> edges[] = {
+      {"left", &mesh.left}, {"bottom", &mesh.bottom}, {"top", &mesh.top}, {"right", &mesh.right}};
+  for (const auto& [edge, set] : edges) {
+    if (set->empty()) bad("test.mesh", std::string("no nodes on the ") + edge + " edge");
+    for (int v : *set)
+      if (v < 0 || v >= n) bad("test.mesh", std::string("bad node on the ") + edge + " edge", std::to_string(v));
+  }
+  for (int e = 0; e < mesh.elements(); ++e) {
+    const double det = element_geometry(mesh, e).min_detJ0;
+    if (!(det > 0))
+      bad("test.mesh", "element " + std::to_string(e) + " is inverted or degenerate in the reference mesh",
+          "det(dX/dxi) = " + num(det), "> 0");
+  }
+
+  // Steps: strictly increasing from > 0.
+  if (loads.empty()) bad("test.loads", "no load steps", "[]", "at least one step");
+  for (size_t k = 0; k < loads.size(); ++k) {
+    const double prev = k == 0 ? 0.0 : loads[k - 1];
+    if (!std::isfinite(loads[k]))
+      bad("test.loads", "step " + std::to_string(k + 1) + " is not a finite number", num(loads[k]));
+    if (!(loads[k] > prev))
+      bad("test.loads",
+          k == 0 ? "the first load must be > 0"
+                 : "loads must increase strictly (step " + std::to_string(k + 1) + " goes backwards)",
+          num(loads[k]) + (k == 0 ? "" : " after " + num(prev)), "strictly increasing values > 0");
+  }
+
+  // Guide: one value, or one per step; only with a guided side edge.
+  if (side == SideEdge::guide) {
+    if (guide.size() != 1 && guide.size() != loads.size())
+      bad("test.guide", "a guide needs one value or one per step", std::to_string(guide.size()) + " values",
+          "1 or " + std::to_string(loads.size()));
+    for (double c : guide)
+      if (!std::isfinite(c)) bad("test.guide", "not a finite displacement", num(c), "mm");
+  } else if (!guide.empty()) {
+    bad("test.guide", "guide values given but the side edge is free", std::to_string(guide.size()) + " values",
+        "none (or side = guide)");
+  }
+}
+
+}  // namespace tricot::fem

@@ -1,0 +1,65 @@
+// Eq. (1) scaling of the data groups (THEORY §2).
+#include "tricot/ident/groups.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "tricot/core/error.hpp"
+
+namespace tricot::ident {
+
+const char* to_string(GroupKind k) {
+  switch (k) {
+    case GroupKind::edge_displacement: return "edge_displacement";
+    case GroupKind::edge_force: return "edge_force";
+    case GroupKind::field_u: return "field_u";
+    case GroupKind::field_v: return "field_v";
+    case GroupKind::field_uv: return "field_uv";
+  }
+  return "?";
+}
+
+const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, int test,
+                                      const Eigen::VectorXd& y_exp, double weight, double sigma) {
+  const Location where{"", 0, "data." + name};
+  if (y_exp.size() == 0) throw InputError(where, "empty data group");
+  if (!y_exp.allFinite()) throw InputError(where, "non-finite data");
+  if (!(weight >= 0) || !std::isfinite(weight))
+    throw InputError(where, "weight out of range", std::to_string(weight), ">= 0");
+  if (!(sigma >= 0) || !std::isfinite(sigma))
+    throw InputError(where, "sigma out of range", std::to_string(sigma), ">= 0");
+  DataGroup g;
+  g.name = name;
+  g.kind = kind;
+  g.test = test;
+  g.offset = size();
+  g.size = static_cast<int>(y_exp.size());
+  g.weight = weight;
+  g.sigma = sigma > 0;
+  g.scale = sigma > 0 ? sigma : std::sqrt(y_exp.squaredNorm() / g.size);  // THEORY §2 [choice]: RMS
+  if (!(g.scale > 0))
+    throw InputError(where, "all data are zero, so the group has no scale: give its sigma");
+  const Eigen::Index n0 = measured_.size();
+  measured_.conservativeResize(n0 + g.size);
+  measured_.tail(g.size) = y_exp;
+  factor_.conservativeResize(n0 + g.size);
+  factor_.tail(g.size).setConstant(std::sqrt(weight / g.size) / g.scale);
+  groups_.push_back(g);
+  return groups_.back();
+}
+
+Eigen::VectorXd ScaledResiduals::residuals(const Eigen::VectorXd& y) const {
+  return factor_.cwiseProduct(y - measured_);
+}
+
+void ScaledResiduals::scale_rows(Eigen::MatrixXd& dy_dJ) const { dy_dJ = factor_.asDiagonal() * dy_dJ; }
+
+Eigen::VectorXd ScaledResiduals::sigma_variance() const {
+  for (const DataGroup& g : groups_)
+    if (!g.sigma) return {};
+  Eigen::VectorXd var(size());
+  for (const DataGroup& g : groups_) var.segment(g.offset, g.size).setConstant(g.weight / g.size);
+  return var;
+}
+
+}  // namespace tricot::ident

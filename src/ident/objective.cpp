@@ -1,0 +1,208 @@
+// The FE objective (THEORY §2, §7): simulate every test, take its values at the measured points and
+// steps, scale them by eq. (1); the Jacobian from the FE sensitivities.
+#include "tricot/ident/objective.hpp"
+
+#include <omp.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <optional>
+#include <string>
+
+#include "tricot/core/error.hpp"
+#include "predict.hpp"
+
+namespace tricot::ident {
+
+namespace {
+
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+void check_weight(double w, const char* key) {
+  if (!(w >= 0) || !std::isfinite(w)) throw InputError(Location{"", 0, key}, "out of range", num(w), ">= 0");
+}
+
+}  // namespace
+
+void DataWeights::validate() const {
+  check_weight(edge_displacement, "data.edge_displacement");
+  check_weight(edge_force, "data.edge_force");
+  check_weight(field, "data.field");
+}
+
+void ObjectiveOptions::validate() const {
+  weights.validate();
+  solver.validate();
+  if (threads < 0 || threads > 1024)
+    throw InputError(Location{"", 0, "identify.threads"}, "out of range", std::to_string(threads), "0 to 1024");
+}
+
+Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, const fem::Law& law,
+                     std::vector<Parameter> parameters, ObjectiveOptions options)
+    : experiment_(std::move(experiment)), law_(law.clone()), parameters_(std::move(parameters)),
+      options_(std::move(options)) {
+  options_.validate();
+  experiment_.validate();
+
+  // One model per test, in the experiment's order, with the same steps.
+  for (const TestData& d : experiment_.tests) {
+    auto it = std::find_if(models.begin(), models.end(), [&](const fem::TestModel& m) { return m.name == d.name; });
+    if (it == models.end())
+      throw InputError(Location{d.source, 0, "experiment." + d.name}, "no test model of that name");
+    it->validate();
+    const double tol = 1e-9 * std::max(std::abs(d.loads.back()), std::abs(it->loads.back()));
+    bool same = it->loads.size() == d.loads.size();
+    for (size_t k = 0; same && k < d.loads.size(); ++k) same = std::abs(it->loads[k] - d.loads[k]) <= tol;
+    if (!same)
+      throw InputError(Location{d.source, 0, "experiment." + d.name + ".loads"},
+                       "the measured steps differ from the model's", std::to_string(d.loads.size()) + " steps",
+                       "the model's " + std::to_string(it->loads.size()) + " loads");
+    models_.push_back(*it);
+  }
+  for (const fem::TestModel& m : models)
+    if (!experiment_.find(m.name))
+      throw InputError(Location{"", 0, "test." + m.name}, "test model without data in the experiment");
+
+  // Parameters: coefficients of the law; a NaN start is the law's value.
+  const std::vector<std::string> names = law_->coefficient_names();
+  const Eigen::VectorXd c0 = law_->coefficients();
+  for (Parameter& p : parameters_) {
+    const auto it = std::find(names.begin(), names.end(), p.name);
+    if (it == names.end()) {
+      std::string list;
+      for (const auto& s : names) list += (list.empty() ? "" : ", ") + s;
+      throw InputError(Location{"", 0, "parameters." + p.name}, "not a coefficient of the " + law_->name() + " law",
+                       p.name, "one of " + list);
+    }
+    coefficient_.push_back(static_cast<int>(it - names.begin()));
+    if (std::isnan(p.start)) p.start = c0(coefficient_.back());
+  }
+  validate(parameters_);
+
+  // Field points: located once in each reference mesh; all must be inside.
+  for (size_t t = 0; t < models_.size(); ++t)
+    reference_locations_.push_back(detail::locate_points(models_[t], experiment_.tests[t]));
+
+  // Data groups (THEORY §2).
+  const DataWeights& w = options_.weights;
+  for (size_t t = 0; t < models_.size(); ++t) {
+    const TestData& d = experiment_.tests[t];
+    const int ti = static_cast<int>(t);
+    const bool force_control = models_[t].control == fem::GripControl::force;
+    auto to_vec = [](const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()); };
+    if (w.edge_displacement > 0 && force_control && !d.edge_displacement.empty())
+      data_.add(d.name + "/edge_displacement", GroupKind::edge_displacement, ti, to_vec(d.edge_displacement),
+                w.edge_displacement, d.sigma.edge_displacement);
+    if (w.edge_force > 0 && !force_control && !d.edge_force.empty())
+      data_.add(d.name + "/edge_force", GroupKind::edge_force, ti, to_vec(d.edge_force), w.edge_force,
+                d.sigma.edge_force);
+    if (w.field > 0 && d.has_field()) {
+      if (w.field_uv) {
+        data_.add(d.name + "/field_uv", GroupKind::field_uv, ti, detail::stack_uv(d.u, d.v), w.field, d.sigma.field);
+      } else {
+        data_.add(d.name + "/field_u", GroupKind::field_u, ti, detail::stack(d.u), w.field, d.sigma.field);
+        data_.add(d.name + "/field_v", GroupKind::field_v, ti, detail::stack(d.v), w.field, d.sigma.field);
+      }
+    }
+  }
+  if (data_.size() == 0)
+    throw InputError(Location{"", 0, "data"}, "no data selected",
+                     "", "edge displacement (force control), edge force (displacement control) or field data "
+                         "with a weight > 0");
+}
+
+std::unique_ptr<fem::Law> Objective::law_at(const Eigen::VectorXd& J) const {
+  auto law = law_->clone();
+  Eigen::VectorXd c = law->coefficients();
+  for (size_t k = 0; k < coefficient_.size(); ++k) c(coefficient_[k]) = J(static_cast<Eigen::Index>(k));
+  law->set_coefficients(c);
+  return law;
+}
+
+Evaluation Objective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
+  Evaluation out;
+  out.evaluations = 1;
+  std::unique_ptr<fem::Law> law;
+  try {
+    law = law_at(J);
+  } catch (const std::exception& e) {
+    out.message = std::string("coefficients rejected by the law: ") + e.what();
+    return out;
+  }
+  fem::SolveOptions so = options_.solver;
+  so.sensitivities = jacobian;
+  so.keep_residuals = false;
+  const int T = static_cast<int>(models_.size());
+  std::vector<detail::Prediction> pred(T);
+  std::vector<std::string> message(T);
+  std::vector<char> ok(T, 0);
+  const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+  for (int t = 0; t < T; ++t) {
+    try {
+      const fem::SimulationResult sim = fem::simulate(models_[t], *law, so);
+      if (!sim.usable()) {
+        message[t] = "test " + models_[t].name + ": " + sim.message;
+        continue;
+      }
+      ok[t] = detail::predict(models_[t], experiment_.tests[t], reference_locations_[t], sim,
+                              jacobian ? &coefficient_ : nullptr, pred[t], message[t]);
+    } catch (const std::exception& e) {
+      message[t] = "test " + models_[t].name + ": " + e.what();
+    }
+  }
+  for (int t = 0; t < T; ++t)
+    if (!ok[t]) {
+      out.message = message[t];
+      return out;
+    }
+
+  const int N = data_.size(), n = static_cast<int>(parameters_.size());
+  out.y.resize(N);
+  Eigen::MatrixXd dy;
+  if (jacobian) dy.setZero(N, n);
+  for (const DataGroup& g : data_.groups()) {
+    const detail::Prediction& P = pred[g.test];
+    switch (g.kind) {
+      case GroupKind::edge_displacement:
+        out.y.segment(g.offset, g.size) = P.edge_displacement;
+        if (jacobian) dy.middleRows(g.offset, g.size) = P.d_edge_displacement;
+        break;
+      case GroupKind::edge_force:
+        out.y.segment(g.offset, g.size) = P.edge_force;
+        if (jacobian) dy.middleRows(g.offset, g.size) = P.d_edge_force;
+        break;
+      case GroupKind::field_u:
+        out.y.segment(g.offset, g.size) = detail::stack(P.U);
+        if (jacobian) dy.middleRows(g.offset, g.size) = P.dU;
+        break;
+      case GroupKind::field_v:
+        out.y.segment(g.offset, g.size) = detail::stack(P.V);
+        if (jacobian) dy.middleRows(g.offset, g.size) = P.dV;
+        break;
+      case GroupKind::field_uv:
+        out.y.segment(g.offset, g.size) = detail::stack_uv(P.U, P.V);
+        if (jacobian)
+          for (Eigen::Index i = 0; i < P.dU.rows(); ++i) {
+            dy.row(g.offset + 2 * i) = P.dU.row(i);
+            dy.row(g.offset + 2 * i + 1) = P.dV.row(i);
+          }
+        break;
+    }
+  }
+  out.r = data_.residuals(out.y);
+  if (jacobian) {
+    data_.scale_rows(dy);
+    out.jacobian = std::move(dy);
+  }
+  out.ok = true;
+  return out;
+}
+
+}  // namespace tricot::ident

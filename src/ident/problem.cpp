@@ -1,0 +1,122 @@
+// Parameters and Jacobians of a least-squares problem (THEORY §3): exact, or finite differences
+// with the columns evaluated in parallel (the paper computed them one after the other).
+#include "tricot/ident/problem.hpp"
+
+#include <omp.h>
+
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "tricot/core/error.hpp"
+
+namespace tricot::ident {
+
+namespace {
+
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+}  // namespace
+
+double Parameter::resolved_scale() const { return scale > 0 ? scale : std::abs(start); }
+
+void validate(const std::vector<Parameter>& parameters) {
+  if (parameters.empty()) throw InputError(Location{"", 0, "parameters"}, "no parameter to identify");
+  std::set<std::string> seen;
+  for (const Parameter& p : parameters) {
+    const std::string key = "parameters." + p.name;
+    auto fail = [&](const std::string& field, const std::string& problem, const std::string& got,
+                    const std::string& expected) {
+      throw InputError(Location{"", 0, field.empty() ? key : key + "." + field}, problem, got, expected);
+    };
+    if (p.name.empty()) throw InputError(Location{"", 0, "parameters"}, "a parameter without a name");
+    if (!seen.insert(p.name).second) fail("", "listed twice", p.name, "each coefficient once");
+    if (!std::isfinite(p.start)) fail("start", "start value must be finite", num(p.start), "a number");
+    if (!(p.scale >= 0) || !std::isfinite(p.scale)) fail("scale", "out of range", num(p.scale), ">= 0");
+    if (!(p.lower < p.upper)) fail("lower", "lower bound not below upper bound", num(p.lower), "< " + num(p.upper));
+    if (p.start < p.lower || p.start > p.upper)
+      fail("start", "start value outside the bounds", num(p.start), "[" + num(p.lower) + ", " + num(p.upper) + "]");
+    if (p.start == 0 && p.scale == 0)
+      fail("scale", "a zero start value needs an explicit scale (LM works in J/scale)", "0", "> 0");
+  }
+}
+
+const char* to_string(JacobianMode m) { return m == JacobianMode::exact ? "exact" : "finite_difference"; }
+const char* to_string(Difference d) { return d == Difference::forward ? "forward" : "central"; }
+
+void JacobianOptions::validate() const {
+  if (!(step > 0 && step <= 0.1))
+    throw InputError(Location{"", 0, "identify.fd_step"}, "out of range", num(step), "(0, 0.1]");
+  if (threads < 0 || threads > 1024)
+    throw InputError(Location{"", 0, "identify.threads"}, "out of range", std::to_string(threads), "0 to 1024");
+}
+
+Evaluation evaluate(const Problem& problem, const Eigen::VectorXd& J, bool jacobian,
+                    const JacobianOptions& options, const Evaluation* base) {
+  if (options.mode == JacobianMode::exact || !jacobian) {
+    Evaluation e = problem.evaluate(J, jacobian);
+    e.evaluations = std::max(e.evaluations, 1);
+    return e;
+  }
+  // Finite differences: column k from trials at J ± h_k e_k, h_k = step · scale_k.
+  Evaluation e = base ? *base : problem.evaluate(J, false);
+  if (!base) e.evaluations = 1;
+  else e.evaluations = 0;
+  if (!e.ok) return e;
+  const auto& params = problem.parameters();
+  const int n = static_cast<int>(J.size());
+  const bool central = options.difference == Difference::central;
+  // Trials: (k, +) for every column, and (k, −) for central differences.
+  const int trials = central ? 2 * n : n;
+  std::vector<Evaluation> trial(trials);
+  std::vector<double> h(n);
+  for (int k = 0; k < n; ++k) h[k] = options.step * params[k].resolved_scale();
+  auto run = [&](int i, double sign) {
+    const int k = i % n;
+    Eigen::VectorXd Jt = J;
+    Jt(k) += sign * h[k];
+    return problem.evaluate(Jt, false);
+  };
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+  for (int i = 0; i < trials; ++i) trial[i] = run(i, i < n ? 1.0 : -1.0);
+  e.evaluations += trials;
+  e.jacobian.resize(e.r.size(), n);
+  for (int k = 0; k < n; ++k) {
+    const Evaluation& plus = trial[k];
+    if (central) {
+      const Evaluation& minus = trial[n + k];
+      if (plus.ok && minus.ok) {
+        e.jacobian.col(k) = (plus.r - minus.r) / (2 * h[k]);
+        continue;
+      }
+      if (plus.ok) e.jacobian.col(k) = (plus.r - e.r) / h[k];
+      else if (minus.ok) e.jacobian.col(k) = (e.r - minus.r) / h[k];
+      else {
+        e.ok = false;
+        e.message = "finite differences for " + params[k].name + ": " + plus.message;
+        return e;
+      }
+      continue;
+    }
+    if (plus.ok) {
+      e.jacobian.col(k) = (plus.r - e.r) / h[k];
+      continue;
+    }
+    const Evaluation minus = run(k, -1.0);  // a forward trial failed: try backward
+    ++e.evaluations;
+    if (!minus.ok) {
+      e.ok = false;
+      e.message = "finite differences for " + params[k].name + ": " + plus.message;
+      return e;
+    }
+    e.jacobian.col(k) = (e.r - minus.r) / h[k];
+  }
+  return e;
+}
+
+}  // namespace tricot::ident

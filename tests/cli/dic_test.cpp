@@ -1,0 +1,283 @@
+// `tricot dic` from the outside (DESIGN.md "dic"): outputs, flags over the config, and every bad input
+// ending in a clear one-line error with the documented exit code, or in per-point statuses.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "dic_config.hpp"
+#include "testing/cli.hpp"
+#include "tricot/dic/grid.hpp"
+#include "tricot/image/image.hpp"
+#include "tricot/synth/speckle.hpp"
+
+using namespace tricot;
+using test::run_tricot;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Noise-free rendered frames: the measured translation is within a few thousandths of a pixel.
+constexpr double kShiftTol = 0.01;
+
+constexpr int kW = 160, kH = 120;
+
+/// Writes a speckle frame moved by `d` (px) to `path`; `blank_left` px of the left side are flat gray.
+void write_frame(const fs::path& path, const Vec2& d, int blank_left = 0, int w = kW, int h = kH) {
+  synth::SpeckleOptions o;
+  o.subsamples = 1;
+  const synth::SpecklePattern P(o, -20, -20, w + 20, h + 20);
+  image::Image img = synth::render(P, w, h, [&](const Vec2& x) { return Vec2(x - d); });
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < blank_left; ++x) img.at(x, y) = 0.5f;
+  std::ofstream(path, std::ios::binary) << image::encode_gray(img, path.extension().string(), 8);
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<std::vector<std::string>> read_rows(const fs::path& csv) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(slurp(csv));
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::string cell;
+    std::istringstream l(line);
+    while (std::getline(l, cell, ',')) cells.push_back(cell);
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+std::string first_line(const fs::path& p) {
+  std::ifstream in(p);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+/// Subsets 20 px from the border stay inside the image for the shifts of Frames.
+constexpr const char* kRoi = " --roi 20,20,140,100";
+
+/// Three frames translated by 0, (1.5, −0.5) and (3, −1) px.
+struct Frames {
+  fs::path dir;
+  std::vector<fs::path> files;
+  explicit Frames(const std::string& name) : dir(test::scratch_dir(name)) {
+    const Vec2 d[3] = {{0, 0}, {1.5, -0.5}, {3, -1}};
+    for (int k = 0; k < 3; ++k) {
+      files.push_back(dir / ("frame_" + std::to_string(k) + ".png"));
+      write_frame(files.back(), d[k]);
+    }
+  }
+  std::string args() const {
+    std::string s;
+    for (const auto& f : files) s += " " + q(f);
+    return s;
+  }
+};
+
+}  // namespace
+
+TEST(CliDic, HelpTeachesWithExamplesAndTheOutputs) {
+  const auto r = run_tricot("dic --help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* s : {"Examples:", "tricot dic -o out/dic", "points.csv", "--subset", "--step", "--mode", "--roi",
+                        "incremental", "Exit codes"})
+    EXPECT_NE(r.out.find(s), std::string::npos) << s;
+}
+
+TEST(CliDic, PrintConfigIsAFullyCommentedFileThatReadsBackAsTheDefaults) {
+  const auto r = run_tricot("dic --print-config");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("[dic]"), std::string::npos);
+  EXPECT_NE(r.out.find("# Subset size"), std::string::npos);
+  const io::Node n = io::parse_config(cli::dic_schema(), r.out, "printed");
+  EXPECT_EQ(n.section("dic").integer("subset_size"), 31);
+  EXPECT_EQ(n.section("dic").string("mode"), "incremental");
+}
+
+TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays) {
+  const Frames f("cli_dic_points");
+  const fs::path out = f.dir / "out";
+  const auto r = run_tricot("dic -q --step 20" + std::string(kRoi) + " -o " + q(out) + f.args());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = read_rows(out / "points.csv");
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(first_line(out / "points.csv"), "frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy");
+  const std::size_t n = dic::make_grid(dic::Roi::rectangle(20, 20, 140, 100), kW, kH, 31, 20).size();
+  ASSERT_EQ(rows.size(), 1 + 3 * n);
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const auto& c = rows[i];
+    ASSERT_EQ(c.size(), 13u) << i;
+    const int frame = std::stoi(c[0]);
+    EXPECT_EQ(c[9], "ok") << i;
+    const double u = std::stod(c[6]), v = std::stod(c[7]);
+    EXPECT_NEAR(u, 1.5 * frame, kShiftTol) << i;
+    EXPECT_NEAR(v, -0.5 * frame, kShiftTol) << i;
+    EXPECT_NEAR(std::stod(c[4]) - std::stod(c[2]), u, 1e-4);  // u = x − x0
+    if (frame == 0) EXPECT_EQ(c[8], "1.000000");
+  }
+  const auto frames = read_rows(out / "frames.csv");
+  ASSERT_EQ(frames.size(), 4u);
+  EXPECT_EQ(frames[0][0], "frame");
+  EXPECT_EQ(frames[3][1], f.files[2].string());
+  for (int k = 0; k < 3; ++k) EXPECT_TRUE(fs::exists(out / "overlays" / ("frame_000" + std::to_string(k) + ".png"))) << k;
+  EXPECT_NE(r.out.find("3 frames"), std::string::npos) << r.out;
+}
+
+TEST(CliDic, FlagsOverrideTheConfigFile) {
+  const Frames f("cli_dic_flags");
+  std::ofstream(f.dir / "dic.toml") << "[dic]\nsubset_size = 41\nstep = 40\nmode = \"reference\"\n\n[output]\noverlays = false\n";
+  const fs::path out = f.dir / "out";
+  const auto r = run_tricot("dic " + q(f.dir / "dic.toml") + " -q --step 15 -o " + q(out) + f.args());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t n = dic::make_grid(dic::Roi::whole_image(), kW, kH, 41, 15).size();  // subset from the file
+  EXPECT_EQ(read_rows(out / "points.csv").size(), 1 + 3 * n);
+  EXPECT_EQ(read_rows(out / "frames.csv")[3][2], "0");  // reference mode from the file
+  EXPECT_FALSE(fs::exists(out / "overlays"));
+}
+
+TEST(CliDic, AMissingFrameExitsThreeNamingItBeforeAnyWork) {
+  const Frames f("cli_dic_missing");
+  const fs::path out = f.dir / "out";
+  const auto r = run_tricot("dic -q -o " + q(out) + f.args() + " " + q(f.dir / "frame_9.png"));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_EQ(r.err, "tricot: error: " + (f.dir / "frame_9.png").string() + ": image not found\n");
+  EXPECT_FALSE(fs::exists(out / "points.csv"));
+}
+
+TEST(CliDic, AFrameOfAnotherSizeExitsThreeNamingItAndBothSizes) {
+  const Frames f("cli_dic_size");
+  write_frame(f.dir / "big.png", Vec2(1, 0), 0, kW + 1, kH);
+  const auto r = run_tricot("dic -q -o " + q(f.dir / "out") + f.args() + " " + q(f.dir / "big.png"));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find((f.dir / "big.png").string() + ": image size differs from the reference image (got 161x120, expected 160x120)"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(CliDic, ABlankReferenceIsAnErrorNamingTheFile) {
+  const Frames f("cli_dic_blank_ref");
+  std::ofstream(f.dir / "blank.png", std::ios::binary) << image::encode_gray(image::Image(kW, kH, 0.5f, 1.0), ".png");
+  const auto r = run_tricot("dic -q -o " + q(f.dir / "out") + " " + q(f.dir / "blank.png") + f.args());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find((f.dir / "blank.png").string() + ": the reference image has no texture in the region of interest"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(CliDic, ABlankFrameLosesEveryPointWritesTheResultsAndExitsFour) {
+  const Frames f("cli_dic_blank_frame");
+  std::ofstream(f.dir / "blank.png", std::ios::binary) << image::encode_gray(image::Image(kW, kH, 0.5f, 1.0), ".png");
+  const fs::path out = f.dir / "out";
+  const auto r = run_tricot("dic -q --step 20 -o " + q(out) + " " + q(f.files[0]) + " " + q(f.dir / "blank.png") +
+                            " " + q(f.files[1]));
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_NE(r.err.find("blank.png: every point was lost"), std::string::npos) << r.err;
+  const auto rows = read_rows(out / "points.csv");
+  int frame1 = 0, frame2 = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    if (rows[i][0] == "1") {
+      ++frame1;
+      EXPECT_NE(rows[i][9], "ok");
+      EXPECT_EQ(rows[i][4], "");  // no position
+    }
+    if (rows[i][0] == "2") {
+      ++frame2;
+      EXPECT_EQ(rows[i][9], "lost");
+    }
+  }
+  EXPECT_GT(frame1, 0);
+  EXPECT_EQ(frame1, frame2);
+}
+
+TEST(CliDic, ARoiOutsideTheImageIsAUsageErrorNamingTheFlag) {
+  const Frames f("cli_dic_roi");
+  const auto r = run_tricot("dic -q --roi 500,500,600,600 -o " + q(f.dir / "out") + f.args());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err,
+            "tricot: error: command line: --roi: region of interest lies outside the image (got 500,500,600,600, "
+            "expected within 0,0,159,119)\n");
+}
+
+TEST(CliDic, ARoiFlagThatIsNotFourNumbersIsAUsageError) {
+  const Frames f("cli_dic_roi_text");
+  const auto r = run_tricot("dic -q --roi 1,2,3 -o " + q(f.dir / "out") + f.args());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--roi: not four numbers"), std::string::npos) << r.err;
+}
+
+TEST(CliDic, AnEvenSubsetIsAUsageErrorNamingTheFlag) {
+  const Frames f("cli_dic_even");
+  const auto r = run_tricot("dic -q --subset 30 -o " + q(f.dir / "out") + f.args());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--subset: must be odd (got 30"), std::string::npos) << r.err;
+}
+
+TEST(CliDic, ABadConfigValueNamesFileLineAndKey) {
+  const Frames f("cli_dic_bad_config");
+  std::ofstream(f.dir / "dic.toml") << "[dic]\nstep = 10\nmin_zncc = 1.5\n";
+  const auto r = run_tricot("dic " + q(f.dir / "dic.toml") + " -q -o " + q(f.dir / "out") + f.args());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "tricot: error: " + (f.dir / "dic.toml").string() + ":3: dic.min_zncc: out of range (got 1.5, expected 0 to 1)\n");
+}
+
+TEST(CliDic, ASeedOnABlankAreaStillMeasuresTheTexturedPartWithPerPointStatuses) {
+  const fs::path dir = test::scratch_dir("cli_dic_seed");
+  write_frame(dir / "a.png", Vec2(0, 0), 70);
+  write_frame(dir / "b.png", Vec2(1.25, 0.5), 70);
+  std::ofstream(dir / "dic.toml") << "[dic]\nstep = 10\nseeds = [20.0, 60.0]\n";
+  const fs::path out = dir / "out";
+  const auto r = run_tricot("dic " + q(dir / "dic.toml") + " -q -o " + q(out) + " " + q(dir / "a.png") + " " + q(dir / "b.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int blank = 0, ok = 0;
+  for (const auto& c : read_rows(out / "points.csv")) {
+    if (c[0] != "1") continue;
+    const double x0 = std::stod(c[2]);
+    if (x0 + 15 < 70) {
+      ++blank;
+      EXPECT_EQ(c[9], "no_texture") << x0;
+    }
+    if (x0 - 15 > 70) {
+      ++ok;
+      ASSERT_EQ(c[9], "ok") << x0;
+      EXPECT_NEAR(std::stod(c[6]), 1.25, kShiftTol);
+    }
+  }
+  EXPECT_GT(blank, 0);
+  EXPECT_GT(ok, 0);
+}
+
+TEST(CliDic, IncrementsAndSpecimenCoordinatesAreWrittenOnRequest) {
+  const Frames f("cli_dic_extra");
+  std::ofstream(f.dir / "dic.toml") << "[dic]\nstep = 20\nroi = [20, 20, 140, 100]\n\n[physical]\nmm_per_px = 0.1\ncentre_px = [80.0, 60.0]\n\n"
+                                       "[output]\nincrements = true\noverlays = false\n";
+  const fs::path out = f.dir / "out";
+  const auto r = run_tricot("dic " + q(f.dir / "dic.toml") + " -q -o " + q(out) + f.args());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto inc = read_rows(out / "increments.csv");
+  ASSERT_GT(inc.size(), 1u);
+  EXPECT_EQ(first_line(out / "increments.csv"), "from,to,id,x,y,u,v,zncc,status");
+  for (std::size_t i = 1; i < inc.size(); ++i) EXPECT_NEAR(std::stod(inc[i][5]), 1.5, kShiftTol);  // each step moves 1.5 px
+  const auto sp = read_rows(out / "specimen.csv");
+  EXPECT_EQ(sp[0][2], "X0");
+  for (std::size_t i = 1; i < sp.size(); ++i) {
+    if (sp[i][0] != "2") continue;
+    // 0.1 mm/px; specimen Y up: image v = −1 px is +0.1 mm
+    EXPECT_NEAR(std::stod(sp[i][6]), 0.3, 0.1 * kShiftTol);
+    EXPECT_NEAR(std::stod(sp[i][7]), 0.1, 0.1 * kShiftTol);
+  }
+}
+
+TEST(CliDic, NoImageIsAUsageError) {
+  const fs::path dir = test::scratch_dir("cli_dic_none");
+  EXPECT_EQ(run_tricot("dic -o " + q(dir / "out")).exit_code, 2);
+}

@@ -1,0 +1,410 @@
+#include "tricot/fem/solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "assembly.hpp"  // white-box: the global residual and tangent
+#include "testing/fd_check.hpp"
+#include "testing_law.hpp"
+#include "tricot/core/error.hpp"
+#include "tricot/fem/mooney_rivlin.hpp"
+
+namespace tricot::fem {
+namespace {
+
+constexpr double kPatch = 1e-10;       // issue 2: a uniform strain is reproduced to 1e-10
+constexpr double kFdTangent = 1e-6;    // central differences, h = 1e-6: round-off ~1e-10 of the entries
+constexpr double kFdSimulate = 1e-5;   // brief: sensitivities match FD of whole simulations to 1e-5
+constexpr double kTightNewton = 1e-13; // Newton tolerance for runs that are differenced
+
+void record(const std::string& key, double value, int digits = 3) {
+  std::ostringstream o;
+  o.precision(digits);
+  o << value;
+  ::testing::Test::RecordProperty(key, o.str());
+}
+
+Mesh strip(ElementType type, int nx, int ny, double width = 10, double height = 25) {
+  MeshOptions o;
+  o.type = type, o.nx = nx, o.ny = ny, o.width = width, o.height = height;
+  return make_quarter_mesh(o);
+}
+
+// Interior and edge nodes moved at random (edge nodes along their edge, corners fixed), by up to
+// 20 % of the element size: elements become general (and, for Q8, curved) quadrilaterals.
+Mesh distort(Mesh m, double hx, double hy) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> r(-0.2, 0.2);
+  const double W = m.X.row(0).maxCoeff(), H = m.X.row(1).maxCoeff();
+  for (int n = 0; n < m.nodes(); ++n) {
+    const double x = m.X(0, n), y = m.X(1, n);
+    const bool on_x = x == 0 || x == W, on_y = y == 0 || y == H;
+    if (!on_x) m.X(0, n) += r(rng) * hx;
+    if (!on_y) m.X(1, n) += r(rng) * hy;
+  }
+  return m;
+}
+
+TestModel model(Mesh mesh, std::vector<double> loads) {
+  TestModel t;
+  t.name = "t";
+  t.mesh = std::move(mesh);
+  t.loads = std::move(loads);
+  return t;
+}
+
+SolveOptions tight() {
+  SolveOptions o;
+  o.tolerance = kTightNewton;
+  return o;
+}
+
+// The homogeneous uniaxial state of the test law: lateral stretch λ2 with P11(diag(λ2, λ)) = 0.
+struct Uniform {
+  double l1, l2, P22, P11;
+};
+Uniform uniform_state(const Law& law, double l2_given, double l1_fixed = NAN) {
+  auto P = [&](double a, double b) {
+    LawInput in;
+    in.F << a, 0, 0, b;
+    LawOutput o;
+    law.evaluate(in, {}, o);
+    return o;
+  };
+  double l1 = std::isnan(l1_fixed) ? 1.0 : l1_fixed;
+  if (std::isnan(l1_fixed))
+    for (int it = 0; it < 50; ++it) {
+      const LawOutput o = P(l1, l2_given);
+      l1 -= o.P(0, 0) / o.A(0, 0);
+    }
+  const LawOutput o = P(l1, l2_given);
+  return {l1, l2_given, o.P(1, 1), o.P(0, 0)};
+}
+
+// ---------------------------------------------------------------------------------------------------
+
+class Types : public ::testing::TestWithParam<ElementType> {};
+
+TEST_P(Types, PatchTestReproducesUniformUniaxialStrainOnADistortedMesh) {
+  const test::TestingLaw law(1.0, 2.0);
+  const double W = 10, H = 25, d = 10;
+  TestModel t = model(distort(strip(GetParam(), 3, 4, W, H), W / 3, H / 4), {4, d});
+  t.grip_holds_x = false;  // sliding grip, free side: the exact field is homogeneous
+  const SimulationResult r = simulate(t, law, tight());
+  ASSERT_TRUE(r.usable()) << r.message;
+  const Uniform s = uniform_state(law, 1 + d / H);
+  const StepResult& last = r.steps.back();
+  double err = 0;
+  for (int n = 0; n < t.mesh.nodes(); ++n) {
+    const Vec2 X = t.mesh.X.col(n);
+    err = std::max(err, (last.u.segment<2>(2 * n) - Vec2((s.l1 - 1) * X(0), (s.l2 - 1) * X(1))).norm() / d);
+  }
+  record(std::string("patch_error_") + to_string(GetParam()), err);
+  EXPECT_LT(err, kPatch);
+  EXPECT_NEAR(last.edge_force, s.P22 * 2 * W, kPatch * std::abs(s.P22 * 2 * W));
+  EXPECT_NEAR(last.force_per_width, s.P22, kPatch * std::abs(s.P22));
+  EXPECT_DOUBLE_EQ(last.edge_displacement, d);
+  EXPECT_EQ(last.side_force, 0);
+}
+
+TEST_P(Types, PatchTestWithAGuideGivesTheSideForce) {
+  const test::TestingLaw law(1.0, 2.0, 0.5);
+  const double W = 10, H = 25, d = 5, c = -2;
+  TestModel t = model(distort(strip(GetParam(), 3, 4, W, H), W / 3, H / 4), {d});
+  t.grip_holds_x = false;
+  t.side = SideEdge::guide;
+  t.guide = {c};
+  const SimulationResult r = simulate(t, law, tight());
+  ASSERT_TRUE(r.usable()) << r.message;
+  const Uniform s = uniform_state(law, 1 + d / H, 1 + c / W);
+  const StepResult& last = r.steps.back();
+  for (int n = 0; n < t.mesh.nodes(); ++n) {
+    const Vec2 X = t.mesh.X.col(n);
+    EXPECT_LT((last.u.segment<2>(2 * n) - Vec2((s.l1 - 1) * X(0), (s.l2 - 1) * X(1))).norm(), kPatch * d);
+  }
+  EXPECT_NEAR(last.edge_force, s.P22 * 2 * W, kPatch * std::abs(s.P22 * W));
+  EXPECT_NEAR(last.side_force, s.P11 * 2 * H, kPatch * std::abs(s.P22 * W));
+}
+
+TEST_P(Types, ForceControlledPatchTestKeepsTheGripStraight) {
+  const test::TestingLaw law(1.0, 2.0);
+  const double W = 10, H = 25;
+  TestModel t = model(distort(strip(GetParam(), 3, 4, W, H), W / 3, H / 4), {2, 6});
+  t.grip_holds_x = false;
+  t.control = GripControl::force;
+  const SimulationResult r = simulate(t, law, tight());
+  ASSERT_TRUE(r.usable()) << r.message;
+  const StepResult& last = r.steps.back();
+  const Uniform s = uniform_state(law, 1 + last.edge_displacement / H);
+  EXPECT_NEAR(s.P22 * 2 * W, 6, kPatch * 6);  // the found stretch carries the prescribed force
+  EXPECT_NEAR(last.edge_force, 6, kPatch * 6);
+  for (int n = 0; n < t.mesh.nodes(); ++n) {
+    const Vec2 X = t.mesh.X.col(n);
+    EXPECT_LT((last.u.segment<2>(2 * n) - Vec2((s.l1 - 1) * X(0), (s.l2 - 1) * X(1))).norm(), kPatch * H);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Q4AndQ8, Types, ::testing::Values(ElementType::Q4, ElementType::Q8),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+// ---------------------------------------------------------------------------------------------------
+
+// The free residual R_f(z) and its tangent, through the solver's own assembly.
+struct Global {
+  TestModel t;
+  detail::DofMap dofs;
+  std::unique_ptr<detail::Assembler> assembler;
+  explicit Global(TestModel m, const Law& law) : t(std::move(m)), dofs(detail::make_dof_map(t)) {
+    assembler = std::make_unique<detail::Assembler>(t, dofs, law);
+  }
+  detail::Assembled at(const Eigen::VectorXd& z, const detail::Load& L) const {
+    Eigen::VectorXd u;
+    detail::expand(dofs, z, L, u);
+    detail::Assembled a;
+    EXPECT_TRUE(assembler->assemble(u, {true, true}, a)) << int(a.status) << " element " << a.element << " detF " << a.min_detF;
+    return a;
+  }
+  Eigen::VectorXd residual(const Eigen::VectorXd& z, const detail::Load& L) const {
+    const detail::Assembled a = at(z, L);
+    Eigen::VectorXd R = Eigen::VectorXd::Zero(dofs.equations);
+    for (size_t k = 0; k < dofs.eq.size(); ++k)
+      if (dofs.eq[k] >= 0) R(dofs.eq[k]) += a.f(k);
+    if (dofs.master >= 0) R(dofs.master) -= 0.5 * L.F;
+    return R;
+  }
+};
+
+TEST(GlobalTangent, MatchesFiniteDifferencesOfTheResidual) {
+  const test::TestingLaw law(1.0, 2.0, 0.6);
+  for (GripControl control : {GripControl::displacement, GripControl::force}) {
+    TestModel t = model(distort(strip(ElementType::Q8, 2, 3, 10, 15), 5, 5), {1});
+    t.control = control;
+    t.side = SideEdge::guide;
+    t.guide = {-1};
+    t.material_angle = 30;
+    const Global g(t, law);
+    // A smooth non-uniform field plus noise, on the free dofs.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> r(-0.05, 0.05);
+    Eigen::VectorXd z(g.dofs.equations);
+    for (size_t k = 0; k < g.dofs.eq.size(); ++k) {
+      const Vec2 X = g.t.mesh.X.col(k / 2);
+      if (g.dofs.eq[k] >= 0) z(g.dofs.eq[k]) = (k % 2 ? 0.1 * X(1) + 0.01 * X(0) * X(1) : -0.05 * X(0)) + r(rng);
+    }
+    const detail::Load L{2.0, 0.5, -1.0};
+    const detail::Assembled a = g.at(z, L);
+    auto R = [&](const Eigen::VectorXd& zz) -> Eigen::VectorXd { return g.residual(zz, L); };
+    const Eigen::MatrixXd K = a.K;
+    const double err = test::jacobian_error(R, z, K);
+    record(control == GripControl::force ? "global_tangent_fd_error_force" : "global_tangent_fd_error_displacement", err);
+    EXPECT_TRUE(test::JacobianMatches(R, z, K, kFdTangent));
+    // ∂R_f/∂c of the guide and ∂(Σ_top f_y)/∂z, used by the predictor and the force sensitivity.
+    auto R_of_c = [&](const Eigen::VectorXd& c) -> Eigen::VectorXd { return g.residual(z, {L.d, L.F, c(0)}); };
+    EXPECT_TRUE(test::JacobianMatches(R_of_c, Eigen::VectorXd::Constant(1, L.c), Eigen::MatrixXd(a.g_guide), kFdTangent));
+    auto top = [&](const Eigen::VectorXd& zz) -> Eigen::VectorXd {
+      const detail::Assembled b = g.at(zz, L);
+      double s = 0;
+      for (int k : g.dofs.top_y) s += b.f(k);
+      return Eigen::VectorXd::Constant(1, s);
+    };
+    EXPECT_TRUE(test::JacobianMatches(top, z, Eigen::MatrixXd(a.h_top.transpose()), kFdTangent));
+    if (control == GripControl::displacement) {
+      auto R_of_d = [&](const Eigen::VectorXd& d) -> Eigen::VectorXd { return g.residual(z, {d(0), 0, L.c}); };
+      EXPECT_TRUE(test::JacobianMatches(R_of_d, Eigen::VectorXd::Constant(1, L.d), Eigen::MatrixXd(a.g_grip), kFdTangent));
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+
+TEST(Newton, ConvergesQuadraticallyOnAClampedStrip) {
+  const MooneyRivlin law(paper_mooney_rivlin_terms());
+  TestModel t = model(strip(ElementType::Q8, 4, 8, 10, 25), {10});  // one step to 40 % strain, clamped
+  SolveOptions o;
+  o.tolerance = 1e-13;
+  o.max_cutbacks = 0;  // one Newton run: its whole history is kept
+  const SimulationResult ok = simulate(t, law, o);
+  ASSERT_TRUE(ok.usable()) << ok.message;
+  const std::vector<double>& res = ok.steps[0].residuals;
+  ASSERT_GE(res.size(), 4u);
+  // Order from the last three residuals well above round-off (1e-9 of the first).
+  std::vector<double> v;
+  for (double x : res)
+    if (x > 1e-9 * res[0]) v.push_back(x);
+  ASSERT_GE(v.size(), 3u);
+  const size_t k = v.size() - 2;
+  const double p = std::log(v[k + 1] / v[k]) / std::log(v[k] / v[k - 1]);
+  record("newton_order", p);
+  std::ostringstream hist;
+  for (double x : res) hist << x << " ";
+  RecordProperty("newton_residual_history", hist.str());
+  EXPECT_GE(p, 1.8) << hist.str();
+}
+
+// ---------------------------------------------------------------------------------------------------
+
+// du/dc and d(edge force)/dc at every step against central differences of whole simulations.
+void check_sensitivities(TestModel t, const Law& law0, const char* tag) {
+  SolveOptions o = tight();
+  o.sensitivities = true;
+  const SimulationResult r = simulate(t, law0, o);
+  ASSERT_TRUE(r.usable()) << r.message;
+  const Eigen::VectorXd c = law0.coefficients();
+  o.sensitivities = false;
+  double worst_u = 0, worst_f = 0;
+  for (int k = 0; k < c.size(); ++k) {
+    const double h = 1e-5 * std::abs(c(k));
+    std::vector<SimulationResult> pm;
+    for (double s : {1.0, -1.0}) {
+      auto law = law0.clone();
+      Eigen::VectorXd cc = c;
+      cc(k) += s * h;
+      law->set_coefficients(cc);
+      pm.push_back(simulate(t, *law, o));
+      ASSERT_TRUE(pm.back().usable());
+    }
+    for (size_t step = 0; step < r.steps.size(); ++step) {
+      const Eigen::VectorXd du = (pm[0].steps[step].u - pm[1].steps[step].u) / (2 * h);
+      const double df = (pm[0].steps[step].edge_force - pm[1].steps[step].edge_force) / (2 * h);
+      const double eu = (r.steps[step].du_dc.col(k) - du).cwiseAbs().maxCoeff() / du.cwiseAbs().maxCoeff();
+      worst_u = std::max(worst_u, eu);
+      EXPECT_LT(eu, kFdSimulate) << tag << " coefficient " << k << " step " << step;
+      if (t.control == GripControl::displacement) {
+        const double ef = std::abs(r.steps[step].dforce_dc(k) - df) / std::abs(df);
+        worst_f = std::max(worst_f, ef);
+        EXPECT_LT(ef, kFdSimulate) << tag << " coefficient " << k << " step " << step;
+      } else {
+        EXPECT_EQ(r.steps[step].dforce_dc(k), 0);
+      }
+    }
+  }
+  record(std::string("sensitivity_du_fd_error_") + tag, worst_u);
+  record(std::string("sensitivity_force_fd_error_") + tag, worst_f);
+}
+
+TEST(Sensitivities, MatchFiniteDifferencesUnderDisplacementControl) {
+  TestModel t = model(strip(ElementType::Q8, 3, 5, 10, 25), {3, 6, 10});
+  t.material_angle = 20;
+  t.side = SideEdge::guide;
+  t.guide = {-1.5};
+  check_sensitivities(t, test::TestingLaw(1.0, 2.0, 0.5), "displacement");
+  check_sensitivities(t, MooneyRivlin(paper_mooney_rivlin_terms()), "displacement_mooney");
+}
+
+TEST(Sensitivities, MatchFiniteDifferencesUnderForceControl) {
+  TestModel t = model(strip(ElementType::Q8, 3, 5, 10, 25), {2, 5, 8});
+  t.control = GripControl::force;
+  check_sensitivities(t, test::TestingLaw(1.0, 2.0, 0.5), "force");
+}
+
+TEST(MeshConvergence, GripForceOfTheClampedStripConvergesFasterWithQ8) {
+  // Clamped uniaxial strip to 50 % strain, meshes 2×5, 4×10, 8×20, 16×40 (3 refinements). The clamp's
+  // corner singularity limits the rate; each refinement must still shrink the change ≥ 2.5× (measured
+  // ~3.1 for Q4, ~3.5 for Q8), and Q8's change must be below Q4's at every level.
+  const MooneyRivlin law(paper_mooney_rivlin_terms());
+  std::map<ElementType, std::vector<double>> force;
+  for (ElementType type : {ElementType::Q4, ElementType::Q8})
+    for (int r : {1, 2, 4, 8}) {
+      const SimulationResult res = simulate(model(strip(type, 2 * r, 5 * r, 10, 25), {2.5, 5, 7.5, 10, 12.5}), law);
+      ASSERT_TRUE(res.usable()) << res.message;
+      force[type].push_back(res.steps.back().edge_force);
+      record(std::string("grip_force_") + to_string(type) + "_" + std::to_string(2 * r) + "x" + std::to_string(5 * r),
+             res.steps.back().edge_force, 9);
+    }
+  for (size_t k = 1; k + 1 < 4; ++k)
+    for (ElementType type : {ElementType::Q4, ElementType::Q8}) {
+      const auto& f = force[type];
+      EXPECT_GT(std::abs(f[k] - f[k - 1]), 2.5 * std::abs(f[k + 1] - f[k])) << to_string(type) << " level " << k;
+    }
+  for (size_t k = 1; k < 4; ++k)
+    EXPECT_LT(std::abs(force[ElementType::Q8][k] - force[ElementType::Q8][k - 1]),
+              std::abs(force[ElementType::Q4][k] - force[ElementType::Q4][k - 1]));
+  EXPECT_NEAR(force[ElementType::Q4][3], force[ElementType::Q8][3], 1e-3 * force[ElementType::Q8][3]);
+}
+
+// ---------------------------------------------------------------------------------------------------
+
+TEST(LoadStepping, ALoadPastTheMaximumForceEndsNotConvergedWithoutThrowing) {
+  // A saturating law has a maximum force (about 0.6 N per mm of width here); 50 N cannot be carried.
+  const test::TestingLaw law(1.0, 2.0, 0.0, 0.5);
+  TestModel t = model(strip(ElementType::Q4, 2, 3, 1, 3), {0.1, 50});
+  t.control = GripControl::force;
+  SolveOptions o;
+  o.max_cutbacks = 4;
+  SimulationResult r;
+  ASSERT_NO_THROW(r = simulate(t, law, o));
+  EXPECT_EQ(r.termination, SolveTermination::not_converged) << r.message;
+  EXPECT_FALSE(r.usable());
+  ASSERT_EQ(r.steps.size(), 1u);
+  EXPECT_NE(r.message.find("step 2 of 2"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("4 cutbacks"), std::string::npos) << r.message;
+}
+
+TEST(LoadStepping, ALargeStepIsCutBackAndConverges) {
+  const MooneyRivlin law(paper_mooney_rivlin_terms());
+  TestModel t = model(strip(ElementType::Q8, 2, 4, 10, 25), {40});  // one step to 160 % strain
+  SolveOptions o;
+  o.max_iterations = 6;
+  const SimulationResult r = simulate(t, law, o);
+  ASSERT_TRUE(r.usable()) << r.message;
+  EXPECT_GT(r.steps[0].cutbacks, 0);
+}
+
+TEST(LoadStepping, AGuidePastTheOppositeEdgeIsAnInvalidState) {
+  const test::TestingLaw law(1.0, 2.0);
+  TestModel t = model(strip(ElementType::Q4, 2, 2, 10, 10), {1, 2});
+  t.side = SideEdge::guide;
+  t.guide = {-5, -15};  // the side edge would cross x = 0: elements must invert
+  const SimulationResult r = simulate(t, law);
+  EXPECT_EQ(r.termination, SolveTermination::invalid_state) << r.message;
+  EXPECT_EQ(r.steps.size(), 1u);
+  EXPECT_NE(r.message.find("inverted"), std::string::npos) << r.message;
+}
+
+TEST(SolveOptions, BadValuesThrowNamingTheKey) {
+  auto key_of = [](SolveOptions o) -> std::string {
+    try {
+      o.validate();
+    } catch (const InputError& e) {
+      return e.where().key;
+    }
+    return "";
+  };
+  SolveOptions o;
+  EXPECT_EQ(key_of(o), "");
+  o = {}, o.tolerance = 0;
+  EXPECT_EQ(key_of(o), "solver.tolerance");
+  o = {}, o.max_iterations = 0;
+  EXPECT_EQ(key_of(o), "solver.max_iterations");
+  o = {}, o.max_cutbacks = 31;
+  EXPECT_EQ(key_of(o), "solver.max_cutbacks");
+}
+
+TEST(Simulate, ReportsOneProgressPerStepAndTimings) {
+  const test::TestingLaw law;
+  const TestModel t = model(strip(ElementType::Q4, 2, 2), {1, 2, 3});
+  std::vector<Progress> seen;
+  Reporter rep;
+  rep.progress = [&](const Progress& p) { seen.push_back(p); };
+  const SimulationResult r = simulate(t, law, {}, rep);
+  ASSERT_TRUE(r.usable());
+  ASSERT_EQ(seen.size(), 3u);
+  EXPECT_EQ(seen.back().done, 3u);
+  EXPECT_EQ(seen.back().total, 3u);
+  EXPECT_GT(r.factorizations, 0);
+  EXPECT_GE(r.seconds, r.factorization_seconds);
+  EXPECT_STREQ(to_string(r.termination), "converged");
+}
+
+TEST(Simulate, InvalidModelThrowsBeforeAnyWork) {
+  const test::TestingLaw law;
+  const TestModel t = model(strip(ElementType::Q4, 2, 2), {1, 0.5});
+  EXPECT_THROW(simulate(t, law), InputError);
+}
+
+}  // namespace
+}  // namespace tricot::fem

@@ -1,0 +1,56 @@
+#include "tricot/ident/groups.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tricot/core/error.hpp"
+
+namespace tricot::ident {
+namespace {
+
+TEST(ScaledResiduals, ScalesEachGroupByItsRmsAndWeightAsEquationOne) {
+  ScaledResiduals d;
+  const Eigen::Vector2d a(3, 4);          // RMS = √12.5
+  const Eigen::Vector3d b(0.1, 0.2, 0.2); // RMS = 0.1732…
+  d.add("a", GroupKind::edge_force, 0, a, 2.0);
+  d.add("b", GroupKind::field_u, 0, b, 1.0);
+  ASSERT_EQ(d.size(), 5);
+  EXPECT_EQ(d.groups()[1].offset, 2);
+  Eigen::VectorXd y(5);
+  y << 3.3, 4, 0.1, 0.25, 0.2;
+  const Eigen::VectorXd r = d.residuals(y);
+  // f = ½ Σ_g w_g/N_g Σ ((y − y_exp)/s_g)².
+  const double sa2 = 12.5, sb2 = (0.01 + 0.04 + 0.04) / 3;
+  const double f = 0.5 * (2.0 / 2 * (0.09 / sa2) + 1.0 / 3 * (0.0025 / sb2));
+  EXPECT_NEAR(0.5 * r.squaredNorm(), f, 1e-15);
+  EXPECT_TRUE(d.sigma_variance().size() == 0);  // RMS scales are not σ
+}
+
+TEST(ScaledResiduals, UsesAGivenSigmaAsTheScale) {
+  ScaledResiduals d;
+  d.add("a", GroupKind::edge_force, 0, Eigen::Vector4d(1, 2, 3, 4), 3.0, 0.5);
+  EXPECT_EQ(d.groups()[0].scale, 0.5);
+  EXPECT_TRUE(d.groups()[0].sigma);
+  const Eigen::VectorXd var = d.sigma_variance();
+  ASSERT_EQ(var.size(), 4);
+  EXPECT_DOUBLE_EQ(var(0), 3.0 / 4);
+  Eigen::MatrixXd dy = Eigen::MatrixXd::Ones(4, 2);
+  d.scale_rows(dy);
+  EXPECT_DOUBLE_EQ(dy(2, 1), std::sqrt(3.0 / 4) / 0.5);
+}
+
+TEST(ScaledResiduals, AllZeroDataWithoutSigmaIsAnError) {
+  ScaledResiduals d;
+  try {
+    d.add("t/field_u", GroupKind::field_u, 0, Eigen::Vector3d::Zero());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "data.t/field_u");
+  }
+  EXPECT_THROW(d.add("n", GroupKind::field_u, 0, Eigen::Vector2d(1, NAN)), InputError);
+  EXPECT_NO_THROW(d.add("z", GroupKind::field_u, 0, Eigen::Vector3d::Zero(), 1, 0.01));
+}
+
+}  // namespace
+}  // namespace tricot::ident

@@ -1,0 +1,239 @@
+#include "tricot/ident/identify.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "analytic.hpp"
+#include "tricot/core/error.hpp"
+
+namespace tricot::ident {
+namespace {
+
+using test::AnalyticProblem;
+
+// Noise-free data, default δ = 1e-5: LM stops once its relative steps fall below δ, a little
+// short of the exact optimum.
+constexpr double kRecovered = 1e-4;
+// With δ = 1e-12 LM runs to round-off.
+constexpr double kRecoveredTight = 1e-9;
+
+const Eigen::Vector3d kTruth(2.0, 0.7, 0.3);
+
+TEST(Identify, DefaultOptionsAreValid) { EXPECT_NO_THROW(IdentifyOptions{}.validate()); }
+
+TEST(Identify, RejectsOutOfRangeOptionsNamingTheKey) {
+  IdentifyOptions o;
+  o.delta = 0;
+  try {
+    o.validate();
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "identify.delta");
+  }
+  o = {};
+  o.fd_step = 1;
+  EXPECT_THROW(o.validate(), InputError);
+}
+
+TEST(Identify, RecoversANoiseFreeCurveFromThreeStarts) {
+  for (const Eigen::Vector3d factor : {Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d(2, 2, 2), Eigen::Vector3d(0.5, 2, 1.5)}) {
+    const AnalyticProblem p = test::curve_fit(kTruth, kTruth.cwiseProduct(factor));
+    const IdentifyResult r = identify(p);
+    ASSERT_TRUE(r.converged()) << r.message;
+    EXPECT_TRUE(r.stability_passed);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.parameters(k) / kTruth(k), 1.0, kRecovered) << factor.transpose();
+    EXPECT_LT(r.objective, 1e-8);
+    EXPECT_GT(r.iterations, 1);
+    EXPECT_EQ(r.history.front().iteration, 0);
+    EXPECT_EQ(r.history.front().parameters, kTruth.cwiseProduct(factor));
+    EXPECT_LE(r.history.back().objective, r.history.front().objective);
+  }
+}
+
+TEST(Identify, RecoversTheTruthToRoundOffWithATightDelta) {
+  const AnalyticProblem p = test::curve_fit(kTruth, kTruth * 0.5);
+  IdentifyOptions o;
+  o.delta = 1e-12;
+  o.epsilon = 0;
+  const IdentifyResult r = identify(p, o);
+  ASSERT_TRUE(r.converged()) << r.message;
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.parameters(k) / kTruth(k), 1.0, kRecoveredTight);
+}
+
+TEST(Identify, FiniteDifferenceModeConvergesToTheSameAnswer) {
+  const AnalyticProblem p = test::curve_fit(kTruth, Eigen::Vector3d(1.5, 1.0, 0.2));
+  IdentifyOptions o;
+  o.jacobian = JacobianMode::finite_difference;
+  o.difference = Difference::central;
+  const IdentifyResult r = identify(p, o);
+  ASSERT_TRUE(r.converged()) << r.message;
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.parameters(k) / kTruth(k), 1.0, kRecovered);
+  EXPECT_EQ(r.jacobian, JacobianMode::finite_difference);
+  // Each Jacobian costs 2n trial evaluations on top of the LM trials.
+  EXPECT_GE(r.evaluations, r.jacobian_evaluations * 6);
+}
+
+TEST(Identify, StopsOnEpsilonWhenTheObjectiveIsBelowIt) {
+  const AnalyticProblem p = test::curve_fit(kTruth, kTruth * 0.8);
+  IdentifyOptions o;
+  o.epsilon = 1e-4;
+  o.stability_test = false;
+  const IdentifyResult r = identify(p, o);
+  EXPECT_EQ(r.termination, Termination::objective_below_epsilon) << r.message;
+  EXPECT_LT(r.objective, 1e-4);
+  EXPECT_GT(r.history[r.history.size() - 2].objective, 1e-4);  // the step before was not yet below ε
+}
+
+TEST(Identify, ReportsOneProgressLinePerIteration) {
+  const AnalyticProblem p = test::curve_fit(kTruth, kTruth * 0.6);
+  int reports = 0;
+  std::string last;
+  Reporter rep;
+  rep.progress = [&](const Progress& pr) {
+    ++reports;
+    last = pr.detail;
+    EXPECT_EQ(pr.stage, "identify");
+  };
+  IdentifyOptions o;
+  o.stability_test = false;
+  const IdentifyResult r = identify(p, o, rep);
+  EXPECT_EQ(reports, r.iterations + 1);  // iteration 0 (the start) and every LM iteration
+  EXPECT_NE(last.find("tau = "), std::string::npos);
+}
+
+// A problem with a local minimum near a = 1.001 (f ≈ 5e-5) and the global one at a = 1.1 (f = 0),
+// separated by a barrier: LM started at 0.9 stops in the local one; the stability test with
+// η = 0.1 probes a·1.1 ≈ 1.1, where f is lower, and restarts from there.
+AnalyticProblem two_minima() {
+  auto model = [](const Eigen::VectorXd& J) {
+    const double a = J(0);
+    return Eigen::Vector2d(10 * (a - 1) * (a - 1.1), 0.1 * (a - 1.1)).eval();
+  };
+  auto derivative = [](const Eigen::VectorXd& J) {
+    const double a = J(0);
+    Eigen::MatrixXd D(2, 1);
+    D << 10 * (2 * a - 2.1), 0.1;
+    return D;
+  };
+  // σ = 1 keeps the residuals unscaled: f = ½(r1² + r2²)/2.
+  return AnalyticProblem({Parameter{"a", 0.9}}, model, derivative, Eigen::Vector2d::Zero(), 1.0);
+}
+
+TEST(Identify, StabilityTestRestartsFromABetterPerturbation) {
+  const AnalyticProblem p = two_minima();
+  IdentifyOptions o;
+  o.stability_test = false;
+  const IdentifyResult local = identify(p, o);
+  ASSERT_TRUE(local.converged()) << local.message;
+  EXPECT_NEAR(local.parameters(0), 1.0, 0.01);  // trapped in the local minimum
+
+  o.stability_test = true;
+  o.stability_eta = 0.1;
+  const IdentifyResult global = identify(p, o);
+  ASSERT_TRUE(global.converged()) << global.message;
+  EXPECT_TRUE(global.stability_passed);
+  EXPECT_GE(global.restarts, 1);
+  EXPECT_NEAR(global.parameters(0), 1.1, 1.1 * kRecovered);
+  EXPECT_LT(global.objective, local.objective);
+
+  o.stability_eta = 0.03;  // a probe too small to cross the barrier: no restart
+  EXPECT_EQ(identify(p, o).restarts, 0);
+}
+
+TEST(Identify, RejectsATrialWhereTheModelFailsAndGoesOn) {
+  // r = a² − 4, truth a = 2; from a = 1 the Gauss–Newton step lands at 2.5, where the model fails.
+  auto model = [](const Eigen::VectorXd& J) { return Eigen::VectorXd::Constant(1, J(0) * J(0)); };
+  auto derivative = [](const Eigen::VectorXd& J) { return Eigen::MatrixXd::Constant(1, 1, 2 * J(0)); };
+  AnalyticProblem p({Parameter{"a", 1.0}}, model, derivative, Eigen::VectorXd::Constant(1, 4.0), 1.0);
+  p.fails = [](const Eigen::VectorXd& J) { return J(0) > 2.2 && J(0) < 3; };
+  IdentifyOptions o;
+  o.initial_trust_region_radius = 1e4;  // an undamped first step, straight into the failing region
+  const IdentifyResult r = identify(p, o);
+  ASSERT_TRUE(r.converged()) << r.message;
+  EXPECT_GE(r.failed_evaluations, 1);
+  EXPECT_NEAR(r.parameters(0), 2.0, 2 * kRecovered);
+}
+
+TEST(Identify, AModelThatFailsAtTheStartIsATerminationNotAnException) {
+  AnalyticProblem p = test::curve_fit(kTruth, kTruth);
+  p.fails = [](const Eigen::VectorXd&) { return true; };
+  const IdentifyResult r = identify(p);
+  EXPECT_EQ(r.termination, Termination::fe_failure);
+  EXPECT_FALSE(r.converged());
+  EXPECT_NE(r.message.find("fails here"), std::string::npos) << r.message;
+}
+
+TEST(Identify, AZeroStartWithoutAScaleThrowsNamingTheParameter) {
+  AnalyticProblem p({Parameter{"A", 1.0}, Parameter{"tau", 0.0}, Parameter{"B", 0.3}}, test::curve,
+                    test::curve_derivative, test::curve(kTruth));
+  try {
+    identify(p);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "parameters.tau.scale");
+  }
+}
+
+TEST(Identify, AZeroStartWithAScaleIsIdentified) {
+  std::vector<Parameter> params = test::curve_parameters(Eigen::Vector3d(1.5, 0.5, 0.0));
+  params[2].scale = 0.1;
+  AnalyticProblem p(params, test::curve, test::curve_derivative, test::curve(kTruth));
+  const IdentifyResult r = identify(p);
+  ASSERT_TRUE(r.converged()) << r.message;
+  EXPECT_NEAR(r.parameters(2), kTruth(2), kRecovered * kTruth(2));
+}
+
+TEST(Identify, KeepsParametersWithinTheirBounds) {
+  std::vector<Parameter> params = test::curve_parameters(Eigen::Vector3d(1.0, 0.5, 0.1));
+  params[0].upper = 1.8;  // the truth (2.0) lies beyond
+  AnalyticProblem p(params, test::curve, test::curve_derivative, test::curve(kTruth));
+  const IdentifyResult r = identify(p);
+  ASSERT_TRUE(r.converged()) << r.message;
+  EXPECT_LE(r.parameters(0), 1.8);
+  EXPECT_NEAR(r.parameters(0), 1.8, 1e-6);  // the constrained optimum sits on the bound
+}
+
+TEST(Identify, ResumedFromACheckpointReachesTheSameAnswer) {
+  const AnalyticProblem p = test::curve_fit(kTruth, Eigen::Vector3d(1.2, 1.4, 0.5));
+  std::vector<Checkpoint> saved;
+  IdentifyOptions o;
+  o.on_checkpoint = [&](const Checkpoint& c) { saved.push_back(c); };
+  const IdentifyResult full = identify(p, o);
+  ASSERT_TRUE(full.converged()) << full.message;
+  ASSERT_GE(saved.size(), 4u);
+  EXPECT_EQ(saved.front().iterations, 0);
+
+  // A run killed after its third accepted step, continued from the checkpoint it left.
+  IdentifyOptions resume;
+  resume.resume_from = saved[3];
+  const IdentifyResult rest = identify(p, resume);
+  EXPECT_EQ(rest.termination, full.termination);
+  EXPECT_EQ(rest.parameters, full.parameters);  // LM's state is all in the checkpoint: bit for bit
+  EXPECT_EQ(rest.iterations, full.iterations);
+  EXPECT_EQ(rest.history.size(), full.history.size());
+  // The resumed run evaluates the checkpoint's point once more (the killed one had it in memory).
+  EXPECT_EQ(rest.evaluations, full.evaluations + 1);
+}
+
+TEST(Identify, RefusesACheckpointOfAnotherProblem) {
+  const AnalyticProblem p = test::curve_fit(kTruth, kTruth * 0.9);
+  Checkpoint c;
+  c.names = {"A", "tau"};
+  IdentifyOptions o;
+  o.resume_from = c;
+  EXPECT_THROW(identify(p, o), InputError);
+}
+
+TEST(Identify, ReportsUncertaintyAtTheOptimum) {
+  const AnalyticProblem p = test::curve_fit(kTruth, kTruth * 0.7);
+  const IdentifyResult r = identify(p);
+  ASSERT_EQ(r.uncertainty.std_error.size(), 3);
+  EXPECT_TRUE(r.uncertainty.full_rank);
+  EXPECT_GT(r.uncertainty.condition_number, 1);
+  EXPECT_NEAR(r.uncertainty.least_identifiable.norm(), 1.0, 1e-12);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.uncertainty.correlation(k, k), 1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace tricot::ident

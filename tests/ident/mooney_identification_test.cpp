@@ -1,0 +1,46 @@
+// The paper's §3.3 validation in small: identify C10, C20, C21, C03 of a uniaxial Mooney–Rivlin
+// strip from noise-free FE data generated on a finer mesh.
+#include <gtest/gtest.h>
+
+#include "tricot/ident/identify.hpp"
+#include "tricot/ident/objective.hpp"
+#include "tricot/ident/synthetic.hpp"
+#include "uniaxial.hpp"
+
+namespace tricot::ident {
+namespace {
+
+// Sliding grip: the field is homogeneous and Q8 reproduces it exactly on any mesh, so the only
+// gap between data and model is Newton's tolerance (1e-10): the truth comes back to ~1e-6, and
+// the 0.1 % of the paper's Table 1 is a loose bound.
+constexpr double kTable1 = 1e-3;
+
+TEST(MooneyIdentification, RecoversTheFourCoefficientsFromEdgeAndFieldDataFromThreeStarts) {
+  const auto truth = fem::paper_mooney_rivlin_terms();
+  fem::TestModel fine = test::uniaxial(4, 8, 10, fem::GripControl::force);
+  fem::TestModel coarse = test::uniaxial(2, 4, 10, fem::GripControl::force);
+  fine.grip_holds_x = coarse.grip_holds_x = false;
+  const fem::SimulationResult sim = fem::simulate(fine, fem::MooneyRivlin(truth));
+  ASSERT_TRUE(sim.usable()) << sim.message;
+  Experiment data;
+  data.tests.push_back(measure(fine, sim, test::field_points(3, 5)));
+
+  for (const Eigen::Vector4d factor : {Eigen::Vector4d(0.5, 0.5, 0.5, 0.5), Eigen::Vector4d(2, 2, 2, 2),
+                                       Eigen::Vector4d(1.5, 0.7, 0.5, 1.8)}) {
+    std::vector<Parameter> params;
+    for (int k = 0; k < 4; ++k)
+      params.push_back(Parameter{"C" + std::to_string(truth[k].i) + std::to_string(truth[k].j), factor(k) * truth[k].C});
+    const Objective objective({coarse}, data, fem::MooneyRivlin(truth), params);
+    const IdentifyResult r = identify(objective);
+    ASSERT_TRUE(r.converged()) << r.message;
+    for (int k = 0; k < 4; ++k)
+      EXPECT_NEAR(r.parameters(k) / truth[k].C, 1.0, kTable1) << params[k].name << " from " << factor.transpose();
+    // The paper's finding: C03 is the coefficient the data see least.
+    Eigen::Index weakest;
+    r.uncertainty.least_identifiable.cwiseAbs().maxCoeff(&weakest);
+    EXPECT_EQ(weakest, 3);
+  }
+}
+
+}  // namespace
+}  // namespace tricot::ident

@@ -1,0 +1,146 @@
+#include "tricot/ident/objective.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "testing/fd_check.hpp"
+#include "tricot/core/error.hpp"
+#include "tricot/ident/synthetic.hpp"
+#include "uniaxial.hpp"
+
+namespace tricot::ident {
+namespace {
+
+using test::field_points;
+using test::uniaxial;
+
+// Newton converged to 1e-13 and central differences with h = 1e-6 (relative ~1e-5 of C_ij):
+// truncation ~h², FE round-off ~1e-13/h.
+constexpr double kFdAgreement = 1e-5;
+
+const std::vector<fem::MooneyRivlinTerm> kTruth = fem::paper_mooney_rivlin_terms();
+
+std::vector<Parameter> all_four(double factor = 1) {
+  std::vector<Parameter> p;
+  for (const auto& t : kTruth) p.push_back(Parameter{"C" + std::to_string(t.i) + std::to_string(t.j), factor * t.C});
+  return p;
+}
+
+Experiment experiment_from(const fem::TestModel& model, const Eigen::Matrix2Xd& points, FieldKind kind) {
+  const fem::SimulationResult sim = fem::simulate(model, fem::MooneyRivlin(kTruth));
+  EXPECT_TRUE(sim.usable()) << sim.message;
+  Experiment e;
+  e.tests.push_back(measure(model, sim, points, {}, kind));
+  return e;
+}
+
+ObjectiveOptions tight() {
+  ObjectiveOptions o;
+  o.solver.tolerance = 1e-13;
+  return o;
+}
+
+void expect_jacobian_matches_fd(const Objective& objective) {
+  Eigen::VectorXd J(4);
+  J << 0.11, -0.022, 0.016, 0.0095;  // near the truth, not at it
+  const Evaluation e = objective.evaluate(J, true);
+  ASSERT_TRUE(e.ok) << e.message;
+  ASSERT_EQ(e.jacobian.rows(), objective.residuals());
+  auto r = [&](const Eigen::VectorXd& x) {
+    const Evaluation ex = objective.evaluate(x, false);
+    EXPECT_TRUE(ex.ok) << ex.message;
+    return ex.r;
+  };
+  EXPECT_TRUE(tricot::test::JacobianMatches(r, J, e.jacobian, kFdAgreement, 1e-6));
+  char err[32];
+  std::snprintf(err, sizeof err, "%.2e", tricot::test::jacobian_error(r, J, e.jacobian, 1e-6));
+  ::testing::Test::RecordProperty("jacobian_fd_error", err);
+}
+
+TEST(Objective, JacobianMatchesFiniteDifferencesForEdgeDisplacementAndCumulativeField) {
+  const fem::TestModel model = uniaxial(2, 4, 3, fem::GripControl::force);
+  const Objective objective({model}, experiment_from(model, field_points(3, 4), FieldKind::cumulative),
+                            fem::MooneyRivlin(kTruth), all_four(), tight());
+  ASSERT_EQ(objective.data().groups().size(), 3u);  // edge displacement, u, v
+  EXPECT_EQ(objective.data().groups()[0].kind, GroupKind::edge_displacement);
+  expect_jacobian_matches_fd(objective);
+}
+
+TEST(Objective, JacobianMatchesFiniteDifferencesForEdgeForceAndIncrementalField) {
+  const fem::TestModel model = uniaxial(2, 4, 3, fem::GripControl::displacement);
+  ObjectiveOptions o = tight();
+  o.weights.field_uv = true;
+  const Objective objective({model}, experiment_from(model, field_points(3, 4, 5), FieldKind::incremental),
+                            fem::MooneyRivlin(kTruth), all_four(), o);
+  ASSERT_EQ(objective.data().groups().size(), 2u);  // edge force, uv
+  EXPECT_EQ(objective.data().groups()[1].kind, GroupKind::field_uv);
+  expect_jacobian_matches_fd(objective);
+}
+
+TEST(Objective, IsZeroAtTheTruthOnTheSameMesh) {
+  const fem::TestModel model = uniaxial(2, 4, 3, fem::GripControl::force);
+  const Objective objective({model}, experiment_from(model, field_points(3, 4, 5), FieldKind::incremental),
+                            fem::MooneyRivlin(kTruth), all_four(), tight());
+  const Evaluation e = objective.evaluate(Eigen::Vector4d(0.1, -0.025, 0.015, 0.01), false);
+  ASSERT_TRUE(e.ok);
+  EXPECT_LT(e.objective(), 1e-24);
+}
+
+TEST(Objective, PointsOutsideTheSpecimenAreAnInputErrorCountingThem) {
+  const fem::TestModel model = uniaxial(2, 4, 3, fem::GripControl::force);
+  Experiment e = experiment_from(model, field_points(3, 4), FieldKind::cumulative);
+  e.tests[0].source = "points.csv";
+  e.tests[0].points(0, 5) = 12;  // beyond the quarter's width (10 mm)
+  e.tests[0].points(1, 7) = -1;  // below the axis of symmetry
+  try {
+    Objective({model}, e, fem::MooneyRivlin(kTruth), all_four());
+    FAIL();
+  } catch (const InputError& err) {
+    EXPECT_EQ(err.where().file, "points.csv");
+    EXPECT_EQ(err.where().key, "experiment.uniaxial.points");
+    const std::string what = err.what();
+    EXPECT_NE(what.find("2 of 12 points"), std::string::npos) << what;
+    EXPECT_NE(what.find("id 5 at (12, "), std::string::npos) << what;
+  }
+}
+
+TEST(Objective, RejectsAParameterTheLawDoesNotHave) {
+  const fem::TestModel model = uniaxial(2, 4, 3, fem::GripControl::force);
+  try {
+    Objective({model}, experiment_from(model, field_points(3, 4), FieldKind::cumulative), fem::MooneyRivlin(kTruth),
+              {Parameter{"C11", 0.1}});
+    FAIL();
+  } catch (const InputError& err) {
+    EXPECT_EQ(err.where().key, "parameters.C11");
+    EXPECT_NE(std::string(err.what()).find("C10, C20, C21, C03"), std::string::npos) << err.what();
+  }
+}
+
+TEST(Objective, RejectsDataWhoseStepsDifferFromTheModel) {
+  const fem::TestModel model = uniaxial(2, 4, 3, fem::GripControl::force);
+  Experiment e = experiment_from(model, field_points(3, 4), FieldKind::cumulative);
+  fem::TestModel other = model;
+  other.loads.back() *= 1.01;
+  EXPECT_THROW(Objective({other}, e, fem::MooneyRivlin(kTruth), all_four()), InputError);
+}
+
+TEST(Objective, ANaNStartTakesTheLawsValue) {
+  const fem::TestModel model = uniaxial(2, 4, 3, fem::GripControl::force);
+  const Objective objective({model}, experiment_from(model, field_points(3, 4), FieldKind::cumulative),
+                            fem::MooneyRivlin(kTruth), {Parameter{"C20"}});
+  EXPECT_EQ(objective.parameters()[0].start, -0.025);
+}
+
+TEST(Objective, ADivergingTrialIsAFailedEvaluationNotAnException) {
+  const fem::TestModel model = uniaxial(2, 4, 3, fem::GripControl::force);
+  const Objective objective({model}, experiment_from(model, field_points(3, 4), FieldKind::cumulative),
+                            fem::MooneyRivlin(kTruth), all_four());
+  // A law without stiffness: the FE cannot even start.
+  const Evaluation e = objective.evaluate(Eigen::Vector4d::Zero(), false);
+  EXPECT_FALSE(e.ok);
+  EXPECT_NE(e.message.find("test uniaxial"), std::string::npos) << e.message;
+}
+
+}  // namespace
+}  // namespace tricot::ident

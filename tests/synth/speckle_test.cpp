@@ -1,0 +1,115 @@
+#include "tricot/synth/speckle.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tricot/core/error.hpp"
+
+using namespace tricot;
+using namespace tricot::synth;
+
+namespace {
+
+/// Pixels are float sums of exp(): two renderings of the same point agree to float round-off.
+constexpr double kFloatTol = 1e-5;
+
+SpeckleOptions one_sample() {
+  SpeckleOptions o;
+  o.subsamples = 1;
+  return o;
+}
+
+}  // namespace
+
+TEST(SpeckleOptions, DefaultsAreValidAndBadRadiusIsRejectedWithItsKey) {
+  EXPECT_NO_THROW(SpeckleOptions{}.validate());
+  SpeckleOptions o;
+  o.radius = 0;
+  try {
+    o.validate();
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "speckle.radius");
+  }
+}
+
+TEST(SpecklePattern, IntensityStaysBetweenBackgroundAndBackgroundPlusContrast) {
+  SpeckleOptions o;
+  o.background = 0.2, o.contrast = 0.5;
+  const SpecklePattern P(o, 0, 0, 100, 100);
+  double lo = 1, hi = 0;
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 100; ++x) {
+      const double v = P.intensity(Vec2(x + 0.3, y + 0.7));
+      lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+  EXPECT_GE(lo, 0.2);
+  EXPECT_LE(hi, 0.7);
+  EXPECT_LT(lo, 0.25);  // there is background between the blobs ...
+  EXPECT_GT(hi, 0.6);   // ... and saturated blobs
+}
+
+TEST(SpecklePattern, SameSeedGivesTheSamePatternAndAnotherSeedAnotherOne) {
+  SpeckleOptions a, b;
+  b.seed = 2;
+  const SpecklePattern P(a, 0, 0, 50, 50), Q(a, 0, 0, 50, 50), R(b, 0, 0, 50, 50);
+  EXPECT_EQ(P.intensity(Vec2(20.5, 30.25)), Q.intensity(Vec2(20.5, 30.25)));
+  double diff = 0;
+  for (int k = 0; k < 50; ++k) diff += std::abs(P.intensity(Vec2(k, 25)) - R.intensity(Vec2(k, 25)));
+  EXPECT_GT(diff, 1.0);
+}
+
+TEST(Render, OneSamplePerPixelIsThePatternSeenThroughTheMotion) {
+  const SpecklePattern P(one_sample(), -50, -50, 150, 150);
+  const InverseMotion motion = [](const Vec2& x) { return Vec2(10 + (x(0) - 10) / 1.7, 0.3 * x(0) + x(1) / 0.8); };
+  const image::Image img = render(P, 60, 40, motion);
+  ASSERT_EQ(img.width, 60);
+  ASSERT_EQ(img.height, 40);
+  EXPECT_EQ(img.full_scale, 1.0);
+  for (int y = 0; y < 40; y += 7)
+    for (int x = 0; x < 60; x += 5) EXPECT_NEAR(img.at(x, y), P.intensity(motion(Vec2(x, y))), kFloatTol) << x << "," << y;
+}
+
+TEST(Render, AnIntegerTranslationShiftsTheImageExactly) {
+  SpeckleOptions o;  // 4×4 sub-samples: the area average moves with the pixel grid
+  const SpecklePattern P(o, -20, -20, 120, 120);
+  const image::Image ref = render(P, 80, 60, no_motion);
+  const image::Image cur = render(P, 80, 60, [](const Vec2& x) { return Vec2(x(0) - 3, x(1) + 2); });
+  for (int y = 0; y < 50; ++y)
+    for (int x = 3; x < 80; ++x) ASSERT_NEAR(cur.at(x, y), ref.at(x - 3, y + 2), kFloatTol) << x << "," << y;
+}
+
+TEST(Render, AreaAveragingSmoothsTheSampledPattern) {
+  // Averaging over the pixel can only lower the pixel-to-pixel variation of a point-sampled pattern.
+  SpeckleOptions fine;
+  fine.radius = 1.2;
+  SpeckleOptions point = fine;
+  point.subsamples = 1;
+  const image::Image a = render(SpecklePattern(fine, 0, 0, 64, 64), 64, 64, no_motion);
+  const image::Image b = render(SpecklePattern(point, 0, 0, 64, 64), 64, 64, no_motion);
+  double va = 0, vb = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 1; x < 64; ++x) {
+      va += std::pow(a.at(x, y) - a.at(x - 1, y), 2);
+      vb += std::pow(b.at(x, y) - b.at(x - 1, y), 2);
+    }
+  EXPECT_LT(va, 0.9 * vb);
+}
+
+TEST(Render, ThreadCountDoesNotChangeTheImage) {
+  const SpecklePattern P(SpeckleOptions{}, 0, 0, 70, 50);
+  EXPECT_EQ(render(P, 70, 50, no_motion, 1).pixels, render(P, 70, 50, no_motion, 3).pixels);
+}
+
+TEST(AddNoise, HasTheRequestedStandardDeviationAndZeroMean) {
+  const image::Image flat(200, 200, 0.5f, 1.0);
+  const image::Image noisy = add_noise(flat, 0.02, 7);
+  double sum = 0, sum2 = 0;
+  for (float v : noisy.pixels) sum += v - 0.5, sum2 += (v - 0.5) * (v - 0.5);
+  const double n = double(noisy.pixels.size());
+  // 40 000 samples: the sample mean is within 4σ/√n = 4e-4 and the deviation within about 1.5 %
+  EXPECT_NEAR(sum / n, 0.0, 4e-4);
+  EXPECT_NEAR(std::sqrt(sum2 / n), 0.02, 0.02 * 0.015);
+  EXPECT_EQ(add_noise(flat, 0.02, 7).pixels, noisy.pixels);  // the seed fixes the noise
+}
