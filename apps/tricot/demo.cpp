@@ -481,10 +481,18 @@ Exit codes: 0 ok, 4 a Table 1 run did not converge.
   cmd->add_flag("--full", args->full, "Also the robustness studies (starting points, noise, finite differences)");
   cmd->add_flag("-v,--verbose", args->verbose, "Log lines of the engines");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress lines");
+  cmd->add_flag_callback(
+      "--print-config",
+      [] {
+        std::cout << "# tricot demo takes no config file. This is the experiment it synthesises (tricot synth);\n"
+                     "# `tricot demo --print-example project` prints its both-data project (tricot identify).\n\n"
+                  << demo_experiment_toml();
+        throw CLI::Success();
+      },
+      "Print the demo's built-in experiment file and exit");
   cmd->add_option("--print-example", args->print_example,
                   "Print the built-in experiment or project file (examples/uniaxial-mooney/*.toml) and exit")
-      ->check(CLI::IsMember({"experiment", "project"}))
-      ->group("");
+      ->check(CLI::IsMember({"experiment", "project"}));
   return [args]() {
     if (args->print_example.empty()) return run_demo(*args);
     std::cout << (args->print_example == "experiment" ? demo_experiment_toml() : demo_project_toml({}));

@@ -33,6 +33,8 @@ namespace {
 /// Wide seed searches (seed.hpp) per image pair: each costs about a second on a large image, and a
 /// pair where two of them fail (a blank or unrelated image) will not be saved by a third.
 constexpr int kMaxWideSearches = 2;
+/// IC-GN iterations allowed from a caller's guess (see correlate_pair).
+constexpr int kGuessIterations = 12;
 
 /// Per-point bookkeeping of the propagation.
 enum class State : unsigned char { open, done, given_up };
@@ -68,6 +70,8 @@ class Propagation {
   /// Never attempted: the only points a seed may be placed on.
   bool untried(int k) const { return state_[k] == State::open && tries_[k] == 0; }
   bool ok(int k) const { return state_[k] == State::done; }
+  /// How many points are good so far.
+  int good() const { return static_cast<int>(std::count(state_.begin(), state_.end(), State::done)); }
 
   /// Pops the most reliable points in rounds of `batch` and computes their open neighbours in parallel,
   /// each from the shape of the parent that reached it (shifted to the neighbour's centre).
@@ -145,10 +149,14 @@ PairResult correlate_pair(const Frame& ref, const Frame& cur, const std::vector<
 
   // 1. Points with a guess: all at once, in parallel.
   if (!guesses.empty()) {
+    // A good guess converges in a few iterations; one that has not after kGuessIterations is far off,
+    // and propagation from a good neighbour will do better than the full iteration budget.
+    IcgnOptions quick = o.icgn;
+    quick.max_iterations = std::min(quick.max_iterations, kGuessIterations);
     std::vector<PointMatch> out(n);
 #pragma omp parallel for schedule(dynamic, 8)
     for (int k = 0; k < n; ++k)
-      if (guesses[k]) out[k] = icgn(ref, cur, centres[k], *guesses[k], o.icgn);
+      if (guesses[k]) out[k] = icgn(ref, cur, centres[k], *guesses[k], quick);
     // A guess far from the truth may converge on a look-alike subset elsewhere (self-similar speckle
     // matches at ZNCC ≈ 0.9): a point is kept only when a good neighbour's shape, carried over to it,
     // agrees with it. The others are left to propagation from the consistent ones.
@@ -211,9 +219,11 @@ PairResult correlate_pair(const Frame& ref, const Frame& cur, const std::vector<
       m.status = PointStatus::low_correlation;
     }
     bool wide = false;
+    // Nothing measured yet in this pair and the local search failed: look over the whole image with
+    // stretched templates (a large one-step motion). Once one point is good, propagation does the rest.
     if (m.status != PointStatus::ok && m.status != PointStatus::no_texture && m.status != PointStatus::out_of_image &&
-        wide_tries < kMaxWideSearches) {
-      ++wide_tries;  // the local search failed: look over the whole image with stretched templates
+        wide_tries < kMaxWideSearches && prop.good() == 0) {
+      ++wide_tries;
       if (const SeedGuess w = wide_seed_guess(ref, cur, centres[k], o.icgn.subset_size); w.found) {
         const PointMatch mw = icgn(ref, cur, centres[k], w.p, o.icgn);
         if (mw.status == PointStatus::ok || mw.zncc > m.zncc) m = mw, wide = mw.status == PointStatus::ok;

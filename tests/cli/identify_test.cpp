@@ -1,0 +1,225 @@
+// tricot identify PROJECT.toml -o DIR [--resume] (apps/tricot/identify.cpp): synth + identify round
+// trip, the result files, resume after a kill, and bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "experiment_case.hpp"
+#include "experiment_files.hpp"
+#include "testing/cli.hpp"
+#include "testing/paths.hpp"
+#include "tricot/io/files.hpp"
+
+namespace tricot::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using test::run_tricot;
+using test::scratch_dir;
+using test::small_project;
+using test::write_file;
+
+// Same mesh for the data and the model (an inverse crime, on purpose): LM stops on δ = 1e-5
+// (eq. 3), a little short of the exact optimum.
+constexpr double kRecovered = 1e-4;
+// A resumed run repeats the same arithmetic: only the JSON round trip (exact) separates them.
+constexpr double kSameAnswer = 1e-12;
+
+// Noise-free data on the model's own mesh reach f ≈ 1e-12 (the paper's ε) while C03 is still 1e-4
+// away; ε = 0 lets LM go on until δ (eq. 3).
+constexpr const char* kStopOnDelta = "[identify]\nepsilon = 0.0\n";
+
+const std::vector<std::string> kNames{"C10", "C20", "C21", "C03"};
+const std::vector<double> kTruth{0.1, -0.025, 0.015, 0.01};
+
+class Identify : public ::testing::Test {
+ protected:
+  // One synthetic experiment for every test: DIR/exp.
+  static void SetUpTestSuite() {
+    root_ = scratch_dir("identify_experiment");
+    write_file(root_ / "experiment.toml", test::small_experiment());
+    const auto r = run_tricot("synth " + (root_ / "experiment.toml").string() + " -o " + (root_ / "exp").string() + " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+
+  // Writes a project (experiment dir relative to it) into a fresh folder and runs identify.
+  static test::CliRun identify(const std::string& name, const std::string& project, const std::string& flags = "") {
+    const fs::path dir = root_ / name;
+    fs::remove_all(dir);
+    write_file(dir / "project.toml", project);
+    return run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " -q --no-plots " +
+                      flags);
+  }
+  static json result(const std::string& name) {
+    return json::parse(io::read_text(root_ / name / "out" / "result.json"));
+  }
+
+  static fs::path root_;
+};
+fs::path Identify::root_;
+
+TEST_F(Identify, RecoversTheTruthFromSynthesisedData) {
+  const auto r = identify("round_trip", small_project("../exp", kStopOnDelta));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = result("round_trip");
+  for (std::size_t k = 0; k < kNames.size(); ++k)
+    EXPECT_NEAR(j["parameters"][kNames[k]].get<double>() / kTruth[k], 1.0, kRecovered) << kNames[k];
+  EXPECT_EQ(j["termination"], "step_below_delta");
+  EXPECT_TRUE(j["stability_passed"].get<bool>());
+  EXPECT_EQ(j["jacobian"], "exact");
+  // truth.json is found and compared.
+  for (std::size_t k = 0; k < kNames.size(); ++k)
+    EXPECT_NEAR(j["relative_error"][kNames[k]].get<double>(), 0.0, kRecovered);
+  EXPECT_NE(r.out.find("converged"), std::string::npos);
+}
+
+TEST_F(Identify, ResultJsonHasEveryKeyOfTheContract) {
+  ASSERT_EQ(identify("keys", small_project("../exp")).exit_code, 0);
+  const json j = result("keys");
+  for (const char* key : {"parameters", "std_error", "correlation", "objective", "iterations", "evaluations",
+                          "termination", "message", "wall_seconds", "jacobian"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  for (const char* key : {"condition_number", "least_identifiable", "restarts", "failed_evaluations",
+                          "stability_passed", "start"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  ASSERT_EQ(j["correlation"].size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(j["correlation"][i][i].get<double>(), 1.0, 1e-12);
+  EXPECT_GT(j["std_error"]["C03"].get<double>(), 0);
+  EXPECT_EQ(j["start"]["C10"].get<double>(), 0.05);
+
+  // history.csv: iteration, objective, one column per parameter; from the start to the answer.
+  const io::Table h = io::read_csv(root_ / "keys" / "out" / "history.csv");
+  EXPECT_EQ(h.columns, (std::vector<std::string>{"iteration", "objective", "C10", "C20", "C21", "C03"}));
+  ASSERT_GE(h.rows.size(), 2u);
+  EXPECT_EQ(h.rows.front()[0], 0);
+  EXPECT_EQ(h.rows.front()[2], 0.05);
+  EXPECT_LT(h.rows.back()[1], h.rows.front()[1]);
+}
+
+TEST_F(Identify, WritesTheHistoryPlot) {
+  const fs::path dir = root_ / "plot";
+  fs::remove_all(dir);
+  write_file(dir / "project.toml", small_project("../exp"));
+  const auto r = run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_GT(fs::file_size(dir / "out" / "plots" / "history.png"), 1000u);
+  EXPECT_GT(fs::file_size(dir / "out" / "plots" / "fit_tension.png"), 1000u);
+}
+
+TEST_F(Identify, AResumedRunReachesTheSameAnswerAsAnUninterruptedOne) {
+  ASSERT_EQ(identify("whole", small_project("../exp")).exit_code, 0);
+  const json whole = result("whole");
+
+  // Killed (SIGKILL) after the third checkpoint: a checkpoint, no result.
+  const auto killed = identify("killed", small_project("../exp"), "--kill-after 3");
+  EXPECT_NE(killed.exit_code, 0);
+  const fs::path out = root_ / "killed" / "out";
+  ASSERT_TRUE(fs::exists(out / "checkpoint.json"));
+  EXPECT_FALSE(fs::exists(out / "result.json"));
+
+  const auto resumed = run_tricot("identify " + (root_ / "killed" / "project.toml").string() + " -o " + out.string() +
+                                  " -q --no-plots --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const json j = result("killed");
+  EXPECT_TRUE(j["resumed"].get<bool>());
+  for (const auto& n : kNames)
+    EXPECT_NEAR(j["parameters"][n].get<double>() / whole["parameters"][n].get<double>(), 1.0, kSameAnswer) << n;
+  EXPECT_EQ(j["iterations"], whole["iterations"]);
+  EXPECT_EQ(j["termination"], whole["termination"]);
+  EXPECT_EQ(io::read_csv(out / "history.csv").rows, io::read_csv(root_ / "whole" / "out" / "history.csv").rows);
+}
+
+TEST_F(Identify, ResumeRefusesACheckpointOfOtherData) {
+  ASSERT_NE(identify("other", small_project("../exp"), "--kill-after 2").exit_code, 0);
+  const fs::path dir = root_ / "other";
+  write_file(dir / "project.toml", small_project("../exp", "[data]\nfield = 0.5\n"));
+  const auto r = run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " --resume");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("checkpoint.json"), std::string::npos) << r.err;
+}
+
+TEST_F(Identify, ResumeWithoutACheckpointIsAMissingFile) {
+  const auto r = identify("nothing_to_resume", small_project("../exp"), "--resume");
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("nothing to resume"), std::string::npos) << r.err;
+}
+
+TEST_F(Identify, ARunThatDoesNotConvergeExitsFourWithItsResult) {
+  const auto r = identify("cut", small_project("../exp", "[identify]\nmax_iterations = 2\n"));
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  const json j = result("cut");
+  EXPECT_EQ(j["termination"], "max_iterations");
+  EXPECT_FALSE(j["converged"].get<bool>());
+}
+
+TEST_F(Identify, FiniteDifferencesReachTheSameAnswer) {
+  ASSERT_EQ(identify("fd", small_project("../exp", std::string(kStopOnDelta) + "jacobian = \"finite_difference\"\n")).exit_code, 0);
+  const json j = result("fd");
+  EXPECT_EQ(j["jacobian"], "finite_difference");
+  for (std::size_t k = 0; k < kNames.size(); ++k)
+    EXPECT_NEAR(j["parameters"][kNames[k]].get<double>() / kTruth[k], 1.0, kRecovered) << kNames[k];
+}
+
+// --- bad input ---------------------------------------------------------------------------------------
+
+TEST_F(Identify, PointsOutsideTheSpecimenAreNamed) {
+  // A copy of the experiment with one more point, at x = 50 mm: the quarter is 10 mm wide.
+  const fs::path exp = root_ / "exp_outside";
+  fs::remove_all(exp);
+  fs::copy(root_ / "exp", exp, fs::copy_options::recursive);
+  std::string field = io::read_text(exp / "tension" / kFieldFile);
+  for (int k = 1; k <= 10; ++k) field += std::to_string(k) + ",99,50,10,0,0\n";
+  write_file(exp / "tension" / kFieldFile, field);
+  const auto r = identify("outside", small_project("../exp_outside"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("id 99 at (50, 10)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("field.csv"), std::string::npos) << r.err;
+}
+
+TEST_F(Identify, AZeroStartWithoutScaleNamesTheParameter) {
+  const auto r = identify("zero_start", small_project("../exp", "", "[[parameter]]\nname = \"C10\"\n"
+                                                                      "[[parameter]]\nname = \"C03\"\nstart = 0.0\n"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("].scale: parameter C03 starts at 0 and has no scale"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("project.toml:"), std::string::npos) << r.err;
+}
+
+TEST_F(Identify, AnUnknownCoefficientIsNamedWithAHint) {
+  const auto r = identify("unknown", small_project("../exp", "", "[[parameter]]\nname = \"C30\"\n"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("].name: not a coefficient of the mooney_rivlin law in [law]; did you mean 'C10'?"), std::string::npos) << r.err;
+}
+
+TEST_F(Identify, ANanInTheDataNamesFileLineAndColumn) {
+  const fs::path exp = root_ / "exp_nan";
+  fs::remove_all(exp);
+  fs::copy(root_ / "exp", exp, fs::copy_options::recursive);
+  io::Table f = io::read_csv(exp / "tension" / kForcesFile);
+  std::string text = io::to_csv(f);
+  // Line 4 is step 3: its edge displacement becomes NaN.
+  const std::size_t line4 = text.find('\n', text.find('\n', text.find('\n') + 1) + 1) + 1;
+  const std::size_t c1 = text.find(',', text.find(',', line4) + 1) + 1, c2 = text.find(',', c1);
+  text.replace(c1, c2 - c1, "NaN");
+  write_file(exp / "tension" / kForcesFile, text);
+  const auto r = identify("nan", small_project("../exp_nan"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("forces.csv:4: edge_displacement: not a finite number"), std::string::npos) << r.err;
+}
+
+TEST_F(Identify, AMissingExperimentFolderIsAMissingFile) {
+  const auto r = identify("missing", small_project("../no_such_experiment"));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("experiment.dir: experiment folder not found"), std::string::npos) << r.err;
+}
+
+TEST_F(Identify, HelpTeachesTheProjectFormat) {
+  const auto r = run_tricot("identify --help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* s : {"[experiment]", "[[parameter]]", "[data]", "[identify]", "--resume", "result.json"})
+    EXPECT_NE(r.out.find(s), std::string::npos) << s;
+}
+
+}  // namespace
+}  // namespace tricot::cli
