@@ -57,6 +57,7 @@ io::SectionSpec dic_schema() {
       key("seeds", Reals{}, "Seed points [x0, y0, x1, y1, ...] px in the reference image; [] = the point nearest the ROI centre."),
       key("search_radius", std::int64_t{50}, "px: how far the FFT cross-correlation seed search looks.", 1, 10000),
       key("max_seeds", std::int64_t{8}, "Seed attempts per image pair before unreached points are given up.", 1, 1000),
+      key("seed_min_zncc", 0.9, "A seed must correlate at least this well (the points it spreads to need min_zncc).", 0, 1),
       key("max_iterations", std::int64_t{50}, "IC-GN iterations per subset.", 1, 1000),
       key("tolerance", 1e-3, "px: IC-GN stops when the update moves the subset by less than this.", 1e-9, 1),
       key("min_zncc", 0.7, "A point whose ZNCC is below this is `low_correlation` (not ok).", 0, 1),
@@ -155,6 +156,7 @@ DicSettings build_dic_settings(const io::Node& root, const image::Image& referen
     o.step = static_cast<int>(d.integer("step"));
     o.search_radius = static_cast<int>(d.integer("search_radius"));
     o.max_seeds = static_cast<int>(d.integer("max_seeds"));
+    o.seed_min_zncc = d.real("seed_min_zncc");
     o.prefilter_sigma = d.real("prefilter_sigma");
     o.batch = static_cast<int>(d.integer("batch"));
     o.threads = static_cast<int>(d.integer("threads"));

@@ -23,6 +23,7 @@ void DicOptions::validate() const {
   if (max_seeds < 1 || max_seeds > 1000) bad("dic.max_seeds", std::to_string(max_seeds), "1 to 1000");
   if (!(prefilter_sigma >= 0 && prefilter_sigma <= 5)) bad("dic.prefilter_sigma", std::to_string(prefilter_sigma), "0 to 5 px");
   if (batch < 1 || batch > 4096) bad("dic.batch", std::to_string(batch), "1 to 4096");
+  if (!(seed_min_zncc >= 0 && seed_min_zncc <= 1)) bad("dic.seed_min_zncc", std::to_string(seed_min_zncc), "0 to 1");
   if (threads < 0 || threads > 1024) bad("dic.threads", std::to_string(threads), "0 to 1024");
   for (const Vec2& s : seeds)
     if (!s.allFinite()) bad("dic.seeds", "a non-finite coordinate", "finite px");
@@ -218,6 +219,11 @@ PairResult correlate_pair(const Frame& ref, const Frame& cur, const std::vector<
     } else {
       m.status = PointStatus::low_correlation;
     }
+    // Everything else starts from a seed: it must correlate clearly better than a look-alike subset.
+    const auto weak = [&](PointMatch& pm) {
+      if (pm.status == PointStatus::ok && pm.zncc < o.seed_min_zncc) pm.status = PointStatus::low_correlation;
+    };
+    weak(m);
     bool wide = false;
     // Nothing measured yet in this pair and the local search failed: look over the whole image with
     // stretched templates (a large one-step motion). Once one point is good, propagation does the rest.
@@ -225,7 +231,8 @@ PairResult correlate_pair(const Frame& ref, const Frame& cur, const std::vector<
         wide_tries < kMaxWideSearches && prop.good() == 0) {
       ++wide_tries;
       if (const SeedGuess w = wide_seed_guess(ref, cur, centres[k], o.icgn.subset_size); w.found) {
-        const PointMatch mw = icgn(ref, cur, centres[k], w.p, o.icgn);
+        PointMatch mw = icgn(ref, cur, centres[k], w.p, o.icgn);
+        weak(mw);
         if (mw.status == PointStatus::ok || mw.zncc > m.zncc) m = mw, wide = mw.status == PointStatus::ok;
       }
     }

@@ -75,6 +75,7 @@ struct State {
   double objective = 0;
   double radius = 0;
   int iterations = 0, evaluations = 0, jacobian_evaluations = 0, failed = 0, restarts = 0;
+  int failed_since_accepted = 0;  // trial points where the model failed since the last accepted step
   double wall_before = 0;  // seconds spent by the run this one resumes
   std::vector<HistoryEntry> history;
 };
@@ -126,6 +127,7 @@ class LmCost final : public ceres::CostFunction {
     }
     if (!e.ok) {
       ++state_.failed;
+      ++state_.failed_since_accepted;
       last_failure = e.message;
       valid_ = false;
       return nullptr;
@@ -172,6 +174,7 @@ class Monitor final : public ceres::IterationCallback {
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     const int iteration = base_iterations_ + s.iteration;
     if (s.iteration == 0 || s.step_is_successful) {
+      state_.failed_since_accepted = 0;
       state_.x = x_;
       state_.objective = s.cost;
       state_.radius = s.trust_region_radius;
@@ -375,6 +378,15 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
     } else {
       result.termination = from_ceres(summary);
       result.message = summary.message;
+      // The trust region collapsed because the model failed at every step LM tried from the last
+      // accepted point: that point is not a minimum, LM was walled in (e.g. a force the trial
+      // law cannot carry). Not a convergence.
+      if (result.termination == Termination::step_below_delta && state.failed_since_accepted > 0) {
+        result.termination = Termination::fe_failure;
+        result.message = "LM was stopped by model failures: the last " +
+                         std::to_string(state.failed_since_accepted) + " trial steps failed (" + cost.last_failure +
+                         ")";
+      }
       if (result.termination == Termination::fe_failure && !cost.last_failure.empty())
         result.message = cost.last_failure;
     }

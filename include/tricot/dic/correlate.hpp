@@ -20,6 +20,9 @@ struct DicOptions {
   int search_radius = 50;      ///< px, 1–10000: seed search window half-width (FFT cross-correlation)
   std::vector<Vec2> seeds;     ///< seed points in the reference image (px); empty = the point nearest the ROI centroid
   int max_seeds = 8;           ///< 1–1000: seed attempts per image pair before the unreached points are given up
+  /// 0–1: a seed must reach this ZNCC (propagated points only need icgn.min_zncc). A Boolean-model speckle
+  /// subset matches a look-alike elsewhere at ZNCC ≈ 0.9 and IC-GN can settle there from a poor start.
+  double seed_min_zncc = 0.9;
   double prefilter_sigma = 0;  ///< px, 0–5: Gaussian pre-filter of every image (0 = none; ~0.5–1 reduces noise bias)
   int batch = 32;              ///< 1–4096: points propagated per round (in parallel); 1 = strict reliability order
   int threads = 0;             ///< OpenMP threads, 0 = OpenMP's default

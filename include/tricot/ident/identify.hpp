@@ -86,7 +86,8 @@ enum class Termination {
   max_iterations,            ///< not converged: max_iterations LM iterations used
   unstable,                  ///< the stability test still found a lower f after max_restarts
   fe_failure,                ///< the model could not be evaluated at the start or at an accepted
-                             ///< point (the FE did not converge); `message` has its reason
+                             ///< point (the FE did not converge), or LM stopped because every step
+                             ///< it tried from the last accepted point failed; `message` has why
 };
 const char* to_string(Termination t);  ///< the enumerator's name
 
