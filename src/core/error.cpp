@@ -1,5 +1,7 @@
 #include "tricot/core/error.hpp"
 
+#include <cstdio>
+
 namespace tricot {
 
 std::string format_error(const Location& where, const std::string& problem, const std::string& got,
@@ -7,7 +9,7 @@ std::string format_error(const Location& where, const std::string& problem, cons
   std::string s;
   if (!where.file.empty()) {
     s += where.file;
-    if (where.line > 0) s += ":" + std::to_string(where.line);
+    if (where.line > 0) (s += ':') += std::to_string(where.line);
     s += ": ";
   }
   if (!where.key.empty()) s += where.key + ": ";
@@ -20,6 +22,12 @@ std::string format_error(const Location& where, const std::string& problem, cons
     s += ")";
   }
   return s;
+}
+
+std::string format_number(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
 }
 
 InputError::InputError(Location where, const std::string& problem, const std::string& got,

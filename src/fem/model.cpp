@@ -9,15 +9,6 @@
 
 namespace tricot::fem {
 
-namespace {
-
-std::string num(double v) {
-  std::string s = std::to_string(v);
-  return std::isfinite(v) ? s : (std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf"));
-}
-
-}  // namespace
-
 void TestModel::validate() const {
   const std::string who = "test '" + name + "': ";
   auto bad = [&](const char* key, const std::string& problem, const std::string& got = {},
@@ -25,7 +16,7 @@ void TestModel::validate() const {
     throw InputError(Location{"", 0, key}, who + problem, got, expected);
   };
   if (name.empty()) throw InputError(Location{"", 0, "test.name"}, "empty test name", "\"\"", "a name");
-  if (!std::isfinite(material_angle)) bad("test.material_angle", "not a finite angle", num(material_angle), "degrees");
+  if (!std::isfinite(material_angle)) bad("test.material_angle", "not a finite angle", format_number(material_angle), "degrees");
 
   // Mesh: non-empty, consistent connectivity, four edges, no element inverted in the reference state.
   const int n = mesh.nodes();
@@ -50,7 +41,7 @@ void TestModel::validate() const {
     const double det = element_geometry(mesh, e).min_detJ0;
     if (!(det > 0))
       bad("test.mesh", "element " + std::to_string(e) + " is inverted or degenerate in the reference mesh",
-          "det(dX/dxi) = " + num(det), "> 0");
+          "det(dX/dxi) = " + format_number(det), "> 0");
   }
 
   // Steps: strictly increasing from > 0.
@@ -58,12 +49,12 @@ void TestModel::validate() const {
   for (size_t k = 0; k < loads.size(); ++k) {
     const double prev = k == 0 ? 0.0 : loads[k - 1];
     if (!std::isfinite(loads[k]))
-      bad("test.loads", "step " + std::to_string(k + 1) + " is not a finite number", num(loads[k]));
+      bad("test.loads", "step " + std::to_string(k + 1) + " is not a finite number", format_number(loads[k]));
     if (!(loads[k] > prev))
       bad("test.loads",
           k == 0 ? "the first load must be > 0"
                  : "loads must increase strictly (step " + std::to_string(k + 1) + " goes backwards)",
-          num(loads[k]) + (k == 0 ? "" : " after " + num(prev)), "strictly increasing values > 0");
+          format_number(loads[k]) + (k == 0 ? "" : " after " + format_number(prev)), "strictly increasing values > 0");
   }
 
   // Guide: one value, or one per step; only with a guided side edge.
@@ -72,7 +63,7 @@ void TestModel::validate() const {
       bad("test.guide", "a guide needs one value or one per step", std::to_string(guide.size()) + " values",
           "1 or " + std::to_string(loads.size()));
     for (double c : guide)
-      if (!std::isfinite(c)) bad("test.guide", "not a finite displacement", num(c), "mm");
+      if (!std::isfinite(c)) bad("test.guide", "not a finite displacement", format_number(c), "mm");
   } else if (!guide.empty()) {
     bad("test.guide", "guide values given but the side edge is free", std::to_string(guide.size()) + " values",
         "none (or side = guide)");

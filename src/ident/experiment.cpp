@@ -11,16 +11,6 @@ namespace tricot::ident {
 
 const char* to_string(FieldKind k) { return k == FieldKind::cumulative ? "cumulative" : "incremental"; }
 
-namespace {
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
-
-}  // namespace
-
 void TestData::validate() const {
   const std::string key = "experiment." + (name.empty() ? std::string("?") : name) + ".";
   auto fail = [&](const std::string& field, const std::string& problem, const std::string& got = {},
@@ -31,17 +21,17 @@ void TestData::validate() const {
   const int n = steps();
   if (n == 0) fail("loads", "no steps");
   for (int k = 0; k < n; ++k) {
-    if (!std::isfinite(loads[k])) fail("loads", "non-finite load at step " + std::to_string(k), num(loads[k]));
+    if (!std::isfinite(loads[k])) fail("loads", "non-finite load at step " + std::to_string(k), format_number(loads[k]));
     if (k > 0 && !(loads[k] > loads[k - 1]))
       fail("loads", "loads must increase strictly (step " + std::to_string(k) + ")",
-           num(loads[k]), "> " + num(loads[k - 1]));
+           format_number(loads[k]), "> " + format_number(loads[k - 1]));
   }
   auto per_step = [&](const std::vector<double>& v, const char* field) {
     if (v.empty()) return;
     if (static_cast<int>(v.size()) != n)
       fail(field, "one value per step", std::to_string(v.size()) + " values", std::to_string(n));
     for (int k = 0; k < n; ++k)
-      if (!std::isfinite(v[k])) fail(field, "non-finite value at step " + std::to_string(k), num(v[k]));
+      if (!std::isfinite(v[k])) fail(field, "non-finite value at step " + std::to_string(k), format_number(v[k]));
   };
   per_step(edge_displacement, "edge_displacement");
   per_step(edge_force, "edge_force");
@@ -65,14 +55,14 @@ void TestData::validate() const {
         for (int k = 0; k < n; ++k)
           if (!std::isfinite(F(k, p)))
             fail(f, "non-finite value at step " + std::to_string(k) + ", point " + std::to_string(point_ids[p]),
-                 num(F(k, p)));
+                 format_number(F(k, p)));
     };
     field(u, "u");
     field(v, "v");
   }
   for (auto [s, f] : {std::pair{sigma.edge_displacement, "sigma.edge_displacement"},
                       std::pair{sigma.edge_force, "sigma.edge_force"}, std::pair{sigma.field, "sigma.field"}})
-    if (!(s >= 0) || !std::isfinite(s)) fail(f, "out of range", num(s), ">= 0 (0 = unknown)");
+    if (!(s >= 0) || !std::isfinite(s)) fail(f, "out of range", format_number(s), ">= 0 (0 = unknown)");
 }
 
 void Experiment::validate() const {

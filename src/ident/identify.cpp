@@ -42,14 +42,9 @@ std::vector<double> IdentifyResult::std_error() const {
 
 namespace {
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
 
 void check(bool ok, const char* field, double got, const std::string& expected) {
-  if (!ok) throw InputError(Location{"", 0, std::string("identify.") + field}, "out of range", num(got), expected);
+  if (!ok) throw InputError(Location{"", 0, std::string("identify.") + field}, "out of range", format_number(got), expected);
 }
 
 }  // namespace
@@ -188,7 +183,7 @@ class Monitor final : public ceres::IterationCallback {
     if (!(s.iteration == 0 || s.step_is_successful)) return ceres::SOLVER_CONTINUE;
     if (s.cost < options_.epsilon) {
       reason = Termination::objective_below_epsilon;
-      message = "f = " + num(s.cost) + " < epsilon = " + num(options_.epsilon) + " (eq. 2)";
+      message = "f = " + format_number(s.cost) + " < epsilon = " + format_number(options_.epsilon) + " (eq. 2)";
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
     if (s.iteration > 0) {
@@ -200,7 +195,7 @@ class Monitor final : public ceres::IterationCallback {
       }
       if (t < options_.delta) {
         reason = Termination::step_below_delta;
-        message = "relative step max|t| = " + num(t) + " < delta = " + num(options_.delta) + " (eq. 3)";
+        message = "relative step max|t| = " + format_number(t) + " < delta = " + format_number(options_.delta) + " (eq. 3)";
         return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
       }
     }
@@ -230,9 +225,9 @@ class Monitor final : public ceres::IterationCallback {
   }
 
   void report(int iteration, const ceres::IterationSummary& s) const {
-    std::string detail = "f = " + num(state_.objective);
+    std::string detail = "f = " + format_number(state_.objective);
     if (s.iteration > 0 && !s.step_is_successful) detail += " (step rejected)";
-    for (size_t k = 0; k < names_.size(); ++k) detail += ", " + names_[k] + " = " + num(scales_(k) * state_.x(k));
+    for (size_t k = 0; k < names_.size(); ++k) detail += ", " + names_[k] + " = " + format_number(scales_(k) * state_.x(k));
     reporter_.report({"identify", static_cast<size_t>(iteration), static_cast<size_t>(options_.max_iterations), detail});
   }
 

@@ -18,14 +18,9 @@ namespace tricot::ident {
 
 namespace {
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
 
 void check_weight(double w, const char* key) {
-  if (!(w >= 0) || !std::isfinite(w)) throw InputError(Location{"", 0, key}, "out of range", num(w), ">= 0");
+  if (!(w >= 0) || !std::isfinite(w)) throw InputError(Location{"", 0, key}, "out of range", format_number(w), ">= 0");
 }
 
 }  // namespace

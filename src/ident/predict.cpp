@@ -10,16 +10,6 @@
 
 namespace tricot::ident::detail {
 
-namespace {
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
-
-}  // namespace
-
 Eigen::VectorXd stack(const Eigen::MatrixXd& F) {
   Eigen::VectorXd y(F.size());
   for (Eigen::Index k = 0, i = 0; k < F.rows(); ++k)
@@ -52,8 +42,8 @@ std::vector<fem::Location> locate_points(const fem::TestModel& model, const Test
     throw InputError(Location{d.source, 0, "experiment." + d.name + ".points"},
                      std::to_string(outside) + " of " + std::to_string(d.point_count()) +
                          " points are outside the specimen mesh; the first is id " +
-                         std::to_string(d.point_ids[first]) + " at (" + num(d.points(0, first)) + ", " +
-                         num(d.points(1, first)) + ") mm",
+                         std::to_string(d.point_ids[first]) + " at (" + format_number(d.points(0, first)) + ", " +
+                         format_number(d.points(1, first)) + ") mm",
                      "", "points within the quarter model's mesh (x >= 0, y >= 0 from the axes of symmetry)");
   return at;
 }
@@ -120,7 +110,7 @@ bool predict(const fem::TestModel& model, const TestData& d, const std::vector<f
         const auto l = deformed->locate(d.points.col(p));
         if (!l) {
           message = "test " + d.name + ": point " + std::to_string(d.point_ids[p]) + " at (" +
-                    num(d.points(0, p)) + ", " + num(d.points(1, p)) + ") mm is outside the deformed mesh of step " +
+                    format_number(d.points(0, p)) + ", " + format_number(d.points(1, p)) + ") mm is outside the deformed mesh of step " +
                     std::to_string(k - 1);
           return false;
         }

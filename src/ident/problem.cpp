@@ -12,16 +12,6 @@
 
 namespace tricot::ident {
 
-namespace {
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
-
-}  // namespace
-
 double Parameter::resolved_scale() const { return scale > 0 ? scale : std::abs(start); }
 
 void validate(const std::vector<Parameter>& parameters) {
@@ -35,11 +25,11 @@ void validate(const std::vector<Parameter>& parameters) {
     };
     if (p.name.empty()) throw InputError(Location{"", 0, "parameters"}, "a parameter without a name");
     if (!seen.insert(p.name).second) fail("", "listed twice", p.name, "each coefficient once");
-    if (!std::isfinite(p.start)) fail("start", "start value must be finite", num(p.start), "a number");
-    if (!(p.scale >= 0) || !std::isfinite(p.scale)) fail("scale", "out of range", num(p.scale), ">= 0");
-    if (!(p.lower < p.upper)) fail("lower", "lower bound not below upper bound", num(p.lower), "< " + num(p.upper));
+    if (!std::isfinite(p.start)) fail("start", "start value must be finite", format_number(p.start), "a number");
+    if (!(p.scale >= 0) || !std::isfinite(p.scale)) fail("scale", "out of range", format_number(p.scale), ">= 0");
+    if (!(p.lower < p.upper)) fail("lower", "lower bound not below upper bound", format_number(p.lower), "< " + format_number(p.upper));
     if (p.start < p.lower || p.start > p.upper)
-      fail("start", "start value outside the bounds", num(p.start), "[" + num(p.lower) + ", " + num(p.upper) + "]");
+      fail("start", "start value outside the bounds", format_number(p.start), "[" + format_number(p.lower) + ", " + format_number(p.upper) + "]");
     if (p.start == 0 && p.scale == 0)
       fail("scale", "a zero start value needs an explicit scale (LM works in J/scale)", "0", "> 0");
   }
@@ -50,7 +40,7 @@ const char* to_string(Difference d) { return d == Difference::forward ? "forward
 
 void JacobianOptions::validate() const {
   if (!(step > 0 && step <= 0.1))
-    throw InputError(Location{"", 0, "identify.fd_step"}, "out of range", num(step), "(0, 0.1]");
+    throw InputError(Location{"", 0, "identify.fd_step"}, "out of range", format_number(step), "(0, 0.1]");
   if (threads < 0 || threads > 1024)
     throw InputError(Location{"", 0, "identify.threads"}, "out of range", std::to_string(threads), "0 to 1024");
 }

@@ -50,4 +50,7 @@ class FileError : public InputError {
 std::string format_error(const Location& where, const std::string& problem, const std::string& got,
                          const std::string& expected);
 
+/// How messages show a number: 6 significant digits (`%.6g`), "nan"/"inf" spelled out.
+std::string format_number(double v);
+
 }  // namespace tricot
