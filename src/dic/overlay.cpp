@@ -127,17 +127,23 @@ cv::Mat panel(const cv::Mat& base, double scale, OverlayField field, const std::
   out.copyTo(framed(cv::Rect(0, 0, out.cols, out.rows)));
   const int font = cv::FONT_HERSHEY_SIMPLEX, baseline_y = out.rows + 23;
   const cv::Scalar white(235, 235, 235);
-  cv::putText(framed, "frame " + std::to_string(f.frame) + "  " + to_string(field), cv::Point(8, baseline_y), font, 0.55,
-              white, 1, cv::LINE_AA);
-  const std::string lo_text = number(lo), hi_text = number(hi);
+  const std::string title = "frame " + std::to_string(f.frame) + "  " + to_string(field);
   int bl = 0;
-  const int hi_w = cv::getTextSize(hi_text, font, 0.5, 1, &bl).width, lo_w = cv::getTextSize(lo_text, font, 0.5, 1, &bl).width;
-  const int bar_w = std::min(200, out.cols / 3), bar_x1 = out.cols - hi_w - 16, bar_x0 = bar_x1 - bar_w;
+  const int title_w = cv::getTextSize(title, font, 0.55, 1, &bl).width;
+  cv::putText(framed, title, cv::Point(8, baseline_y), font, 0.55, white, 1, cv::LINE_AA);
   if (finite.empty() && field != OverlayField::zncc) {
     const std::string none = "no values";
     const int w = cv::getTextSize(none, font, 0.5, 1, &bl).width;
     cv::putText(framed, none, cv::Point(out.cols - w - 10, baseline_y), font, 0.5, white, 1, cv::LINE_AA);
-  } else if (bar_x0 - lo_w - 8 > out.cols / 2) {
+    return framed;
+  }
+  // the colour bar between its two end values, right-aligned, as wide as the title leaves room for
+  const std::string lo_text = number(lo), hi_text = number(hi);
+  const int hi_w = cv::getTextSize(hi_text, font, 0.5, 1, &bl).width, lo_w = cv::getTextSize(lo_text, font, 0.5, 1, &bl).width;
+  const int bar_x1 = out.cols - hi_w - 16;
+  const int bar_w = std::min(240, bar_x1 - (8 + title_w + 16 + lo_w + 6));
+  if (bar_w >= 30) {
+    const int bar_x0 = bar_x1 - bar_w;
     for (int i = 0; i < bar_w; ++i)
       cv::line(framed, cv::Point(bar_x0 + i, out.rows + 9), cv::Point(bar_x0 + i, out.rows + 25),
                colour(double(i) / (bar_w - 1)));

@@ -123,7 +123,9 @@ TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays)
     EXPECT_NEAR(u, 1.5 * frame, kShiftTol) << i;
     EXPECT_NEAR(v, -0.5 * frame, kShiftTol) << i;
     EXPECT_NEAR(std::stod(c[4]) - std::stod(c[2]), u, 1e-4);  // u = x − x0
-    if (frame == 0) EXPECT_EQ(c[8], "1.000000");
+    if (frame == 0) {
+      EXPECT_EQ(c[8], "1.000000");
+    }
   }
   const auto frames = read_rows(out / "frames.csv");
   ASSERT_EQ(frames.size(), 4u);
@@ -274,6 +276,29 @@ TEST(CliDic, IncrementsAndSpecimenCoordinatesAreWrittenOnRequest) {
     // 0.1 mm/px; specimen Y up: image v = −1 px is +0.1 mm
     EXPECT_NEAR(std::stod(sp[i][6]), 0.3, 0.1 * kShiftTol);
     EXPECT_NEAR(std::stod(sp[i][7]), 0.1, 0.1 * kShiftTol);
+  }
+}
+
+TEST(CliDic, APolygonOrAMaskFromTheConfigLimitsTheGrid) {
+  const Frames f("cli_dic_shapes");
+  // the mask (relative to the config file) keeps x ≥ 80; the polygon a triangle
+  image::Image mask(kW, kH, 0.0f, 255.0);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 80; x < kW; ++x) mask.at(x, y) = 255;
+  std::ofstream(f.dir / "mask.png", std::ios::binary) << image::encode_gray(mask, ".png");
+  std::ofstream(f.dir / "mask.toml") << "[dic]\nstep = 10\nroi_mask = \"mask.png\"\n[output]\noverlays = false\n";
+  std::ofstream(f.dir / "poly.toml") << "[dic]\nstep = 10\nroi_polygon = [20, 20, 140, 20, 20, 100]\n[output]\noverlays = false\n";
+  const auto m = run_tricot("dic " + q(f.dir / "mask.toml") + " -q -o " + q(f.dir / "m") + f.args());
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  const auto p = run_tricot("dic " + q(f.dir / "poly.toml") + " -q -o " + q(f.dir / "p") + f.args());
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  const auto mask_rows = read_rows(f.dir / "m" / "points.csv"), poly_rows = read_rows(f.dir / "p" / "points.csv");
+  ASSERT_GT(mask_rows.size(), 1u);
+  ASSERT_GT(poly_rows.size(), 1u);
+  for (std::size_t i = 1; i < mask_rows.size(); ++i) EXPECT_GE(std::stod(mask_rows[i][2]), 80.0);
+  for (std::size_t i = 1; i < poly_rows.size(); ++i) {
+    const double x = std::stod(poly_rows[i][2]), y = std::stod(poly_rows[i][3]);
+    EXPECT_LE((x - 20) / 120 + (y - 20) / 80, 1.0 + 1e-9) << x << "," << y;  // inside the triangle
   }
 }
 

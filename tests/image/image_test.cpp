@@ -57,6 +57,18 @@ TEST(LoadImage, Reads16BitTiffWithoutLosingDepth) {
   EXPECT_EQ(r.image.pixels, img.pixels);
 }
 
+TEST(LoadImage, Reads8BitBmpAndTiffExactly) {
+  const auto dir = test::scratch_dir("image_bmp_tif8");
+  const Image img = ramp(37, 19, 255);
+  for (const char* ext : {".bmp", ".tif"}) {
+    const auto path = dir / (std::string("a") + ext);
+    write_bytes(path, encode_gray(img, ext, 8));
+    const LoadedImage r = load_image(path);
+    EXPECT_EQ(r.bit_depth, 8) << ext;
+    EXPECT_EQ(r.image.pixels, img.pixels) << ext;
+  }
+}
+
 TEST(LoadImage, ConvertsColourToGrayWithAWarning) {
   const auto dir = test::scratch_dir("image_colour");
   RgbImage rgb(8, 6);

@@ -43,9 +43,12 @@ struct PairResult {
 
 /// Correlates subsets centred at `centres` in `reference` with `current`. `neighbours[k]` lists the
 /// points next to k (−1 = none), which propagation follows. `guesses` (optional, per point) are
-/// starting shapes, e.g. the previous frame's: points with a guess are computed in parallel from it,
-/// and the failures are then re-done by propagation from their good neighbours. Without guesses the
-/// pair starts from seeds (DicOptions::seeds) found by FFT cross-correlation.
+/// starting shapes, e.g. the previous frame's: points with a guess are computed in parallel from it
+/// (at most 12 iterations), a result is kept only when a good neighbour's shape agrees with it
+/// (`inconsistent` otherwise), and the rest is re-done by propagation from the kept points. Points no
+/// guess reached start from seeds (DicOptions::seeds, else the untried point nearest the centroid):
+/// FFT cross-correlation within search_radius, then, while no point of the pair is good, the wide
+/// search of seed.hpp (at most twice). A seed must reach seed_min_zncc.
 PairResult correlate_pair(const Frame& reference, const Frame& current, const std::vector<Vec2>& centres,
                           const std::vector<std::array<int, 4>>& neighbours, const DicOptions& options,
                           const std::vector<std::optional<Shape>>& guesses = {});

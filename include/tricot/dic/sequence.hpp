@@ -40,7 +40,10 @@ struct SequenceOptions {
   void validate() const;
 };
 
-/// The tracked points in one frame. Index k is the same material point in every frame.
+/// The tracked points in one frame. Index k is the same material point in every frame. A point
+/// rejected in frame 0 (`no_texture`, `out_of_image`) keeps that status in every frame; a point that
+/// fails later reports why in that frame and `lost` in the frames after it (incremental and auto
+/// modes; reference mode retries it in every frame).
 struct TrackedFrame {
   int frame = 0;              ///< 0 = reference image
   int reference_frame = 0;    ///< the image this frame was correlated against
