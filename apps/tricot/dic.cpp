@@ -158,9 +158,9 @@ ExitCode run_dic(const DicArgs& a) {
   if (images.empty())
     throw InputError({"command line", 0, "IMAGE"}, "no image given", {}, "the reference image, then the frames");
 
-  // The config, then the flags over it. `root` is ours, so its sections may be modified in place.
+  // The config, then the flags over it.
   io::Node root = config.empty() ? io::default_config(dic_schema()) : io::read_config(dic_schema(), config);
-  io::Node& d = const_cast<io::Node&>(root.section("dic"));
+  io::Node& d = root.section("dic");
   FlagKeys flags;
   if (a.subset) d.set("subset_size", std::int64_t{a.subset}), flags["dic.subset_size"] = "--subset";
   if (a.step) d.set("step", std::int64_t{a.step}), flags["dic.step"] = "--step";

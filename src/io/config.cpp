@@ -1,5 +1,6 @@
 #include "tricot/io/config.hpp"
 
+#include <utility>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -125,6 +126,10 @@ const Node& Node::section(std::string_view name) const {
   auto it = sections_.find(name);
   if (it == sections_.end()) throw std::logic_error("config: no section '" + join(path_, name) + "'");
   return it->second;
+}
+
+Node& Node::section(std::string_view name) {
+  return const_cast<Node&>(std::as_const(*this).section(name));
 }
 
 const std::vector<Node>& Node::array(std::string_view name) const {

@@ -57,6 +57,7 @@ class Node {
   const Strings& strings(std::string_view key) const;
 
   const Node& section(std::string_view name) const;
+  Node& section(std::string_view name);  ///< for overrides through set()
   const std::vector<Node>& array(std::string_view name) const;
 
   /// True when the user wrote the key (or it was overridden) rather than taking the default.
