@@ -2,6 +2,8 @@
 // trip, the result files, resume after a kill, and bad input.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -38,7 +40,8 @@ class Identify : public ::testing::Test {
  protected:
   // One synthetic experiment for every test: DIR/exp.
   static void SetUpTestSuite() {
-    root_ = scratch_dir("identify_experiment");
+    // ctest runs each test in its own process, two at a time: one folder per process.
+    root_ = scratch_dir("identify_experiment_" + std::to_string(::getpid()));
     write_file(root_ / "experiment.toml", test::small_experiment());
     const auto r = run_tricot("synth " + (root_ / "experiment.toml").string() + " -o " + (root_ / "exp").string() + " -q");
     ASSERT_EQ(r.exit_code, 0) << r.err;
