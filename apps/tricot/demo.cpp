@@ -3,7 +3,7 @@
 //   (b) identify C10, C20, C21, C03 from the three data choices of the paper's Table 1 (edge only,
 //       field only, both) and print Table 1 with the paper's CPU times beside ours;
 //   (c) the ε study of the paper's Fig. 10, read off the both-data run (see epsilon_study()).
-// --full adds the robustness studies of docs/validation/demo.md: two more starting points, 0.5 %
+// --full adds the robustness studies of docs/validation.md: two more starting points, 0.5 %
 // noise with measurement σ, and the finite-difference Jacobian.
 #include "demo.hpp"
 
@@ -347,7 +347,7 @@ std::string jacobian_check(const fs::path& out) {
   return md;
 }
 
-// --full: the robustness studies of docs/validation/demo.md.
+// --full: the robustness studies of docs/validation.md.
 void studies(const fs::path& out, const Run& both, Console& console, const DemoArgs& args) {
   const auto T = truth();
   std::vector<Run> runs;
@@ -356,7 +356,7 @@ void studies(const fs::path& out, const Run& both, Console& console, const DemoA
   p.start = {2 * T[0], 2 * T[1], 2 * T[2], 2 * T[3]};
   runs.push_back(identify_case(out, "start-x2", "both data, start = targets × 2", p, console, args));
   // Mixed: × (0.5, 0.5, 2, 2). (From × (2, 0.5, 0.5, 2) LM walks into parameters for which the
-  // force-controlled strip has no equilibrium and stops there: docs/validation/demo.md.)
+  // force-controlled strip has no equilibrium and stops there: docs/validation.md.)
   p.start = {0.5 * T[0], 0.5 * T[1], 2 * T[2], 2 * T[3]};
   runs.push_back(identify_case(out, "start-mixed", "both data, start = targets × (0.5, 0.5, 2, 2)", p, console, args));
   p.start = {0.5 * T[0], 0.5 * T[1], 0.5 * T[2], 0.5 * T[3]};

@@ -1,7 +1,7 @@
 // Accuracy of subset matching on synthetic speckle with analytic motion and 2 % Gaussian noise
 // (issue 5, "Must show"): bias and random error over sub-pixel shifts 0–1 px, uniform strain up to 5 %
 // and rotation in one step. Images are rendered from the continuous pattern (no bitmap is warped), so
-// the only errors are the correlation's own. Prints the tables of docs/validation/dic.md.
+// the only errors are the correlation's own. Prints the tables of docs/validation.md.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>

@@ -1,7 +1,7 @@
 // Real DIC benchmark images that nobody on this project made (../shared/data, see its README.md):
 // DIC Challenge 1.0 Samples 14 and 15, the DIC Challenge 2.0 star pair, and OpenCorr's 45 % tension
 // series. Each test asserts only what the data's README justifies, and prints what it measured
-// (docs/validation/dic.md).
+// (docs/validation.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>

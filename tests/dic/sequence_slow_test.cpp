@@ -1,5 +1,5 @@
 // The paper's case at full length (issue 5): a 100-frame sequence to 120 % stretch along x and 40 %
-// along y, tracked in incremental mode. Prints the error per frame (docs/validation/dic.md).
+// along y, tracked in incremental mode. Prints the error per frame (docs/validation.md).
 #include <gtest/gtest.h>
 
 #include <cstdio>

@@ -56,7 +56,7 @@ Eigen::VectorXd deformed_state(const Mesh& m) {
   return u;
 }
 
-// Measured errors go to the gtest XML/JSON report (docs/validation/fem.md reads them there).
+// Measured errors go to the gtest XML/JSON report (docs/validation.md reads them there).
 void record(const std::string& key, double value) {
   std::ostringstream o;
   o.precision(3);

@@ -27,7 +27,7 @@ std::vector<MooneyRivlinTerm> rich_terms() {
           {2, 1, 0.012}, {0, 3, 0.008}, {3, 0, 0.001}};
 }
 
-/// Measured errors go to the gtest XML/JSON report (docs/validation/laws-iso.md reads them there).
+/// Measured errors go to the gtest XML/JSON report (docs/validation.md reads them there).
 void record(const std::string& key, double value) {
   std::ostringstream o;
   o.precision(3);

@@ -20,7 +20,7 @@ using tricot::test::JacobianMatches;
 
 namespace {
 
-/// Records a measured figure in the gtest report (docs/validation/fabric.md reads it from --gtest_output).
+/// Records a measured figure in the gtest report (docs/validation.md reads it from --gtest_output).
 void record(const char* key, double value) {
   std::ostringstream s;
   s << std::scientific << std::setprecision(2) << value;
