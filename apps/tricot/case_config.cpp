@@ -233,6 +233,9 @@ io::SectionSpec test_section() {
           -kInf, kInf, {"displacement", "force"}),
       key("grip_holds_x", true,
           "The grip also holds u_x = 0 (a clamp); false = a sliding grip. homogeneous needs false."),
+      key("grip_follows_guide", false,
+          "Biaxial with a clamp: the clamp's width opens with the guide (u_x = c·x/(width/2) on the grip,\n"
+          "a pantograph clamp), so the clamp and a moving guide agree at the corner."),
       key("side", std::string("free"),
           "Side edge x = width/2: free, or guide (u_x prescribed, u_y free). uniaxial needs free and\n"
           "biaxial guide; homogeneous takes either.",
@@ -348,6 +351,7 @@ fem::TestModel build_test(const io::Node& test, const io::Node& mesh) {
 
   t.control = test.string("control") == "force" ? fem::GripControl::force : fem::GripControl::displacement;
   t.grip_holds_x = test.boolean("grip_holds_x");
+  t.grip_follows_guide = test.boolean("grip_follows_guide");
   const std::string& side = test.string("side");
   switch (kind) {
     case TestKind::uniaxial:

@@ -54,7 +54,9 @@ A case file (TOML) holds the specimen, the law, the solver and one or more tests
   steps = 35
 
 Each test writes DIR/<name>/steps.csv (step, load, edge_displacement, edge_force, force_per_width,
-side_force, iterations, cutbacks; simple_shear: gamma, s11, s22, s12), one step_NNNN.vtu per step
+side_force, iterations, cutbacks; simple_shear: gamma, s11, s22, s12), DIR/<name>/newton.csv (step,
+iteration, residual_N: the free residual norm after the predictor, iteration 0, and after each Newton
+step of the step's last, converged attempt), one step_NNNN.vtu per step
 (ParaView: open steps.pvd for the series) and force.png. `tricot simulate --print-config` prints
 every key with its default, range and help.
 
@@ -124,6 +126,8 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
   io::Table t;
   t.columns = {"step", "load", "edge_displacement", "edge_force", "force_per_width", "side_force", "iterations",
                "cutbacks"};
+  io::Table newton;  // the residual norm after the predictor (iteration 0) and after each Newton step
+  newton.columns = {"step", "iteration", "residual_N"};
   int iterations = 0, cutbacks = 0;
   std::vector<Eigen::VectorXd> u;
   std::vector<double> time;
@@ -131,6 +135,7 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
     const auto& s = r.steps[k];
     t.rows.push_back({double(k + 1), s.load, s.edge_displacement, s.edge_force, s.force_per_width, s.side_force,
                       double(s.iterations), double(s.cutbacks)});
+    for (std::size_t i = 0; i < s.residuals.size(); ++i) newton.rows.push_back({double(k + 1), double(i), s.residuals[i]});
     iterations += s.iterations;
     cutbacks += s.cutbacks;
     u.push_back(s.u);
@@ -140,6 +145,7 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
   if (!args.no_vtu) write_vtus(dir, test, law, u, time);
   remove_stale_steps(dir, args.no_vtu ? 0 : u.size());
   io::write_atomic(dir / "steps.csv", io::to_csv(t));
+  io::write_atomic(dir / "newton.csv", io::to_csv(newton));
 
   if (!r.steps.empty()) {
     const bool force = test.control == fem::GripControl::force;

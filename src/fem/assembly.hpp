@@ -26,11 +26,13 @@ struct DofMap {
   std::vector<int> eq;           ///< per node dof: its equation, or −1 when prescribed
   int equations = 0;
   int master = -1;               ///< the shared grip u_y (force control), else −1
-  std::vector<char> grip, guide; ///< per node dof: u = d (top u_y, displacement control) / u = c
+  std::vector<char> grip;        ///< per node dof: u = d (top u_y, displacement control)
+  std::vector<double> guide;     ///< per node dof: u = guide·c (1 on the side edge, X/W on a pantograph clamp)
   std::vector<int> top_y;        ///< u_y dofs of the top edge (the grip reaction)
   std::vector<int> right_x;      ///< u_x dofs of the right edge (the guide reaction)
 };
-/// The guide wins over a clamped grip at the top-right corner node: the guide sets the width.
+/// The guide wins over a clamped grip at the top-right corner node: the guide sets the width. A grip that
+/// follows the guide (TestModel::grip_follows_guide) prescribes u_x = c·X/W on the top edge.
 DofMap make_dof_map(const TestModel& test);
 
 /// Node displacements from the unknowns z and the load.

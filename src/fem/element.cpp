@@ -114,18 +114,21 @@ Mat2 material_axes(double angle_deg) {
 namespace {
 
 // B maps element dofs to flatten(δF): B(2i+j, 2a+i) = ∂N_a/∂X_j (row-major F, as in core/types.hpp).
-// B is never formed: with G = ∂N/∂X (nodes × 2), Bᵀ v for a flattened tensor v = flatten(V) is
-// G Vᵀ read row-major, i.e. (Bᵀ v)(2a+i) = Σ_j G(a, j) V(i, j).
+// B is never formed. With G = ∂N/∂X (nodes × 2):
+// - f = Bᵀ flatten(P) is G Pᵀ read row-major, i.e. f(2a+i) = Σ_j G(a, j) P(i, j);
+// - K = Bᵀ A B splits into four node × node blocks K^{ik}(a, b) = K(2a+i, 2b+k) = G A^{ik} Gᵀ with
+//   A^{ik}(j, l) = A(2i+j, 2k+l): dense NN × NN products that vectorize, accumulated over the points
+//   and interleaved into K once per element. Where A is major-symmetric, K^{10} = (K^{01})ᵀ.
 template <int NN>
 ElementStatus response(const ElementGeometry& g, const ElementVector& ue, const Law& law,
                        const Mat2& Q, const LawRequest& req, LawOutput& lo, ElementResponse& out) {
   constexpr int D = 2 * NN;
   using NodeMat = Eigen::Matrix<double, NN, 2, Eigen::RowMajor>;  // (a, i) -> dof 2a+i
-  auto BT = [](const Eigen::Matrix<double, NN, 2>& G, const Mat2& V) -> NodeMat {
-    return G.lazyProduct(V.transpose());
-  };
-  out.f.setZero();
-  if (req.tangent) out.K.setZero();
+  using Block = Eigen::Matrix<double, NN, NN>;
+  using Grad = Eigen::Matrix<double, NN, 2>;
+  NodeMat f = NodeMat::Zero();
+  Block K00, K01s, K01n, K10n, K11;  // K^{01} = K01s + K01n, K^{10} = K01sᵀ + K10n (n: non-symmetric points)
+  if (req.tangent) K00.setZero(), K01s.setZero(), K01n.setZero(), K10n.setZero(), K11.setZero();
   out.symmetric_tangent = true;
   out.min_detF = INFINITY;
   int nc = 0;
@@ -133,36 +136,54 @@ ElementStatus response(const ElementGeometry& g, const ElementVector& ue, const 
     nc = static_cast<int>(law.coefficients().size());
     out.df_dc.setZero(D, nc);
   }
+  Eigen::Matrix<double, 2, NN> U;  // nodal displacements, column a = u_a
+  for (int a = 0; a < NN; ++a) U.col(a) = ue.template segment<2>(2 * a);
   LawInput in;
   in.Q = Q;
   for (int q = 0; q < g.points; ++q) {
-    in.F = deformation_gradient(g, q, ue);
+    const Grad G = g.dN_dX[q].template topRows<NN>();
+    in.F = Mat2::Identity() + U * G;
     const double detF = in.F.determinant();
     out.min_detF = std::min(out.min_detF, detF);
     if (!(detF > 0)) return ElementStatus::inverted;
     law.evaluate(in, req, lo);
     if (!lo.P.allFinite() || (req.tangent && !lo.A.allFinite())) return ElementStatus::non_finite;
-    const Eigen::Matrix<double, NN, 2> G = g.dN_dX[q].template topRows<NN>();
     const double w = g.dA0[q];
-    Eigen::Map<NodeMat>(out.f.data()) += w * BT(G, lo.P);
+    f.noalias() += G * (w * lo.P.transpose());
     if (req.tangent) {
-      const double scale = lo.A.cwiseAbs().maxCoeff();
-      if ((lo.A - lo.A.transpose()).cwiseAbs().maxCoeff() > 1e-10 * scale) out.symmetric_tangent = false;
-      // Column 2b+k of K: Bᵀ (A B)(:, 2b+k), with (A B)(:, 2b+k) = Σ_l A(:, 2k+l) G(b, l).
-      const Eigen::Matrix<double, 4, 2> A0 = w * lo.A.template leftCols<2>(), A1 = w * lo.A.template rightCols<2>();
-      for (int b = 0; b < NN; ++b) {
-        const Vec4 v0 = A0 * G.row(b).transpose(), v1 = A1 * G.row(b).transpose();
-        Eigen::Map<NodeMat>(out.K.col(2 * b).data()) += BT(G, unflatten(v0));
-        Eigen::Map<NodeMat>(out.K.col(2 * b + 1).data()) += BT(G, unflatten(v1));
+      const Mat4 A = w * lo.A;
+      const double scale = A.cwiseAbs().maxCoeff();
+      const bool symmetric = (A - A.transpose()).cwiseAbs().maxCoeff() <= 1e-10 * scale;
+      out.symmetric_tangent = out.symmetric_tangent && symmetric;
+      auto block = [&](int i, int k) -> Grad { return G * A.template block<2, 2>(2 * i, 2 * k); };
+      K00.noalias() += block(0, 0) * G.transpose();
+      K11.noalias() += block(1, 1) * G.transpose();
+      if (symmetric) {
+        K01s.noalias() += block(0, 1) * G.transpose();
+      } else {
+        K01n.noalias() += block(0, 1) * G.transpose();
+        K10n.noalias() += block(1, 0) * G.transpose();
       }
     }
     if (req.sensitivities) {
       if (static_cast<int>(lo.dP_dc.size()) != nc) return ElementStatus::non_finite;
       for (int k = 0; k < nc; ++k) {
         if (!lo.dP_dc[k].allFinite()) return ElementStatus::non_finite;
-        Eigen::Map<NodeMat>(out.df_dc.col(k).data()) += w * BT(G, lo.dP_dc[k]);
+        Eigen::Map<NodeMat>(out.df_dc.col(k).data()) += G * (w * lo.dP_dc[k].transpose());
       }
     }
+  }
+  if (NN < kMaxElementDofs / 2) out.f.setZero();
+  Eigen::Map<NodeMat>(out.f.data()) = f;
+  if (req.tangent) {
+    if (NN < kMaxElementDofs / 2) out.K.setZero();
+    for (int b = 0; b < NN; ++b)
+      for (int a = 0; a < NN; ++a) {
+        out.K(2 * a, 2 * b) = K00(a, b);
+        out.K(2 * a, 2 * b + 1) = K01s(a, b) + K01n(a, b);
+        out.K(2 * a + 1, 2 * b) = K01s(b, a) + K10n(a, b);
+        out.K(2 * a + 1, 2 * b + 1) = K11(a, b);
+      }
   }
   return ElementStatus::ok;
 }

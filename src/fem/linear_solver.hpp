@@ -1,39 +1,51 @@
-// Sparse direct solution of the free-free tangent (THEORY §4, §7), private to fem: CHOLMOD's
-// Cholesky (LDLᵀ) when the tangent is symmetric, UMFPACK LU when it is not or LDLᵀ breaks down. The symbolic analysis is done
-// once per simulation (the pattern is fixed); each Newton iteration only factorizes numerically.
+// Sparse direct solution of the free-free tangent (THEORY §4, §7), private to fem. Symmetric tangents:
+// LDLᵀ without pivoting, by Eigen's SimplicialLDLT (the default) or CHOLMOD's simplicial LDLᵀ
+// (SolveOptions::linear_solver); UMFPACK LU when the tangent is not symmetric or LDLᵀ breaks down.
+// The ordering and symbolic analysis are done once per simulation (the pattern is fixed); each
+// factorization is numeric only, and the matrix handed to it is filled through a precomputed map.
 #pragma once
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Core>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <Eigen/UmfPackSupport>
 #include <memory>
 #include <vector>
 
+#include "tricot/fem/solver.hpp"
+
 namespace tricot::fem::detail {
 
 class LinearSolver {
  public:
-  /// Symbolic analysis of the pattern for CHOLMOD (UMFPACK's is done the first time it is needed).
-  explicit LinearSolver(const Eigen::SparseMatrix<double>& pattern);
-  /// Numeric factorization of K: LDLᵀ when `symmetric` (K's lower triangle), else or on a zero pivot LU.
-  /// False when both fail (singular tangent).
+  /// Ordering and symbolic analysis of the (full, symmetric) pattern for the chosen backend.
+  LinearSolver(const Eigen::SparseMatrix<double>& pattern, LinearSolverKind kind);
+  /// Numeric factorization of K (same pattern as at construction): LDLᵀ when `symmetric` (K's
+  /// lower triangle is read), else or on a zero pivot LU. False when both fail (singular tangent).
   bool factorize(const Eigen::SparseMatrix<double>& K, bool symmetric);
-  /// Solves K x = b with the last factorization (b may have several columns).
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const;
+  /// x = K⁻¹ b with the last factorization (b may have several columns; x may not alias b).
+  void solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const;
   bool used_lu() const { return lu_active_; }
 
-  double seconds = 0;    ///< wall time in numeric factorizations
+  double seconds = 0;  ///< wall time in numeric factorizations
   int factorizations = 0;
 
  private:
-  using Cholesky = Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>;
-  std::unique_ptr<Cholesky> cholesky_;
-  Eigen::SparseMatrix<double> lower_;  ///< the lower triangle handed to CHOLMOD
-  std::vector<int> lower_from_;        ///< lower_.valuePtr()[k] = K.valuePtr()[lower_from_[k]]
+  using Ldlt = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>>;
+  using Cholmod = Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>;
+  LinearSolverKind kind_;
+  Eigen::Index n_ = 0;
+  /// The triangle the LDLᵀ backend reads: Eigen: the upper triangle of P K Pᵀ (AMD ordering P);
+  /// CHOLMOD: K's lower triangle (CHOLMOD orders it itself). tri_.valuePtr()[k] = K.valuePtr()[from_[k]].
+  Eigen::SparseMatrix<double> tri_;
+  std::vector<int> from_;
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> P_, Pinv_;
+  std::unique_ptr<Ldlt> ldlt_;
+  std::unique_ptr<Cholmod> cholmod_;
   std::unique_ptr<Eigen::UmfPackLU<Eigen::SparseMatrix<double>>> lu_;
   bool lu_active_ = false;
-  Eigen::Index n_ = 0;
+  mutable Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> work_;
 };
 
 }  // namespace tricot::fem::detail

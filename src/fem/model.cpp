@@ -68,6 +68,9 @@ void TestModel::validate() const {
     bad("test.guide", "guide values given but the side edge is free", std::to_string(guide.size()) + " values",
         "none (or side = guide)");
   }
+  if (grip_follows_guide && (side != SideEdge::guide || !grip_holds_x))
+    bad("test.grip_follows_guide", "a grip that follows the guide needs a guide and a clamp (grip_holds_x)", "true",
+        "false, or side = guide with grip_holds_x = true");
 }
 
 }  // namespace tricot::fem

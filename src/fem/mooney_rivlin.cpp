@@ -41,19 +41,21 @@ EnergyDerivatives term_derivatives(const MooneyRivlinTerm& t, double x1, double 
 }
 
 EnergyDerivatives derivatives(const std::vector<MooneyRivlinTerm>& terms, double I1, double I2) {
+  // Powers of x1 = I1 − 3 and x2 = I2 − 3 up to the largest exponent (9), shared by every term.
+  double p1[10], p2[10];
+  p1[0] = p2[0] = 1;
+  for (int k = 1; k < 10; ++k) p1[k] = p1[k - 1] * (I1 - 3), p2[k] = p2[k - 1] * (I2 - 3);
   EnergyDerivatives sum;
   for (const auto& t : terms) {
-    const EnergyDerivatives d = term_derivatives(t, I1 - 3, I2 - 3);
-    sum.W1 += t.C * d.W1;
-    sum.W2 += t.C * d.W2;
-    sum.W11 += t.C * d.W11;
-    sum.W12 += t.C * d.W12;
-    sum.W22 += t.C * d.W22;
+    const int i = t.i, j = t.j;
+    if (i >= 1) sum.W1 += t.C * i * p1[i - 1] * p2[j];
+    if (j >= 1) sum.W2 += t.C * j * p1[i] * p2[j - 1];
+    if (i >= 2) sum.W11 += t.C * i * (i - 1) * p1[i - 2] * p2[j];
+    if (i >= 1 && j >= 1) sum.W12 += t.C * i * j * p1[i - 1] * p2[j - 1];
+    if (j >= 2) sum.W22 += t.C * j * (j - 1) * p1[i] * p2[j - 2];
   }
   return sum;
 }
-
-double dot(const Mat2& a, const Mat2& b) { return (a.array() * b.array()).sum(); }
 
 }  // namespace
 
@@ -94,7 +96,11 @@ void MooneyRivlin::set_coefficients(const Eigen::VectorXd& c) {
 // THEORY §5. With C₂ = FᵀF, J2 = det C₂ and C₂⁻¹:
 //   ∂I1/∂C₂ = G1 = I − C₂⁻¹/J2,   ∂I2/∂C₂ = G2 = I/J2 + (J2 − tr C₂/J2) C₂⁻¹,
 //   S₂ = 2 (W1 G1 + W2 G2),  P = F S₂.
-// The tangent is the exact directional derivative of P along each unit dF (four columns of A).
+// Tangent in closed form: dS₂ = 𝕃 : dC₂ with
+//   𝕃/2 = G1⊗(W11 G1 + W12 G2) + G2⊗(W12 G1 + W22 G2) + c C₂⁻¹⊗C₂⁻¹ − (W2/J2)(I⊗C₂⁻¹ + C₂⁻¹⊗I) + β C₂⁻¹⊙C₂⁻¹,
+//   c = W1/J2 + W2 (J2 + tr C₂/J2),  β = W1/J2 − W2 (J2 − tr C₂/J2),  (X⊙X)[dC] = X dC X,
+// and dC₂ = dFᵀF + FᵀdF, so that A_ijkl = δ_ik S_lj + 2 Σ (F X)_ij (F Y)_kl over the X⊗Y terms
+// + 2β [(F C₂⁻¹)_il (F C₂⁻¹)_kj + (F C₂⁻¹ Fᵀ)_ik C₂⁻¹_lj].
 void MooneyRivlin::evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const {
   const Mat2& F = in.F;
   const double detF = F.determinant();
@@ -116,33 +122,32 @@ void MooneyRivlin::evaluate(const LawInput& in, const LawRequest& req, LawOutput
   const Mat2 G1 = I - Ci / J2;
   const Mat2 G2 = I / J2 + (J2 - trC / J2) * Ci;
   const EnergyDerivatives d = derivatives(terms_, I1, I2);
+  const Mat2 FCi = F * Ci;
+  const Mat2 FG1 = F - FCi / J2, FG2 = F / J2 + (J2 - trC / J2) * FCi;
   const Mat2 S = 2 * (d.W1 * G1 + d.W2 * G2);
-  out.P = F * S;
+  out.P = 2 * (d.W1 * FG1 + d.W2 * FG2);
   out.lambda3 = 1 / detF;
 
   if (req.tangent) {
-    for (int k = 0; k < 2; ++k)
-      for (int l = 0; l < 2; ++l) {
-        Mat2 dF = Mat2::Zero();
-        dF(k, l) = 1;
-        const Mat2 dC = dF.transpose() * F + F.transpose() * dF;
-        const double a = dot(Ci, dC);  // dJ2 / J2
-        const double b = dC.trace();
-        const Mat2 CdC = Ci * dC * Ci;  // −dC₂⁻¹
-        const double dI1 = dot(G1, dC), dI2 = dot(G2, dC);
-        const Mat2 dG1 = (a * Ci + CdC) / J2;
-        const Mat2 dG2 = -a / J2 * I + (J2 * a - b / J2 + trC * a / J2) * Ci - (J2 - trC / J2) * CdC;
-        const double dW1 = d.W11 * dI1 + d.W12 * dI2;
-        const double dW2 = d.W12 * dI1 + d.W22 * dI2;
-        const Mat2 dS = 2 * (dW1 * G1 + d.W1 * dG1 + dW2 * G2 + d.W2 * dG2);
-        out.A.col(2 * k + l) = flatten(dF * S + F * dS);
-      }
+    const Vec4 g1 = flatten(FG1), g2 = flatten(FG2), ci = flatten(FCi), f = flatten(F);
+    const double c = d.W1 / J2 + d.W2 * (J2 + trC / J2), beta = d.W1 / J2 - d.W2 * (J2 - trC / J2);
+    Mat4& A = out.A;
+    A.noalias() = g1 * (4 * (d.W11 * g1 + d.W12 * g2)).transpose();
+    A.noalias() += g2 * (4 * (d.W12 * g1 + d.W22 * g2)).transpose();
+    A.noalias() += (4 * c) * ci * ci.transpose();
+    A.noalias() -= (4 * d.W2 / J2) * (f * ci.transpose() + ci * f.transpose());
+    const Mat2 B = FCi * F.transpose();
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        for (int k = 0; k < 2; ++k)
+          for (int l = 0; l < 2; ++l)
+            A(2 * i + j, 2 * k + l) += 2 * beta * (FCi(i, l) * FCi(k, j) + B(i, k) * Ci(l, j)) + (i == k ? S(l, j) : 0.0);
   }
   if (req.sensitivities) {
     out.dP_dc.resize(terms_.size());
     for (std::size_t k = 0; k < terms_.size(); ++k) {
       const EnergyDerivatives b = term_derivatives(terms_[k], I1 - 3, I2 - 3);
-      out.dP_dc[k] = F * (2 * (b.W1 * G1 + b.W2 * G2));
+      out.dP_dc[k] = 2 * (b.W1 * FG1 + b.W2 * FG2);
     }
   } else {
     out.dP_dc.clear();

@@ -7,6 +7,7 @@
 
 #include "testing/cli.hpp"
 #include "testing/meshio.hpp"
+#include "testing/newton.hpp"
 #include "tricot/fem/reference_fabric.hpp"
 #include "tricot/io/files.hpp"
 
@@ -72,8 +73,9 @@ TEST(SimulateExamples, BiaxialFabricReachesTheFullStrainRangeWithoutCutbacks) {
       const io::Table t = io::read_csv(out / name / "steps.csv");
       ASSERT_EQ(t.rows.size(), 21u) << name;
       for (double k : t.values("cutbacks")) EXPECT_EQ(k, 0.0) << name;
-      // Sliding grips: a homogeneous state, so the force per width is the law's force at the
-      // imposed strains (along y: the grip; along x: the guide, moved in proportion).
+      // Clamps that follow the guide: a homogeneous state (the reference fabric has no transverse
+      // shrinkage), so the force per width is the law's force at the imposed strains (along y: the
+      // grip; along x: the guide, moved in proportion).
       for (const auto& row : t.rows) {
         const double d = row[t.column("edge_displacement")], s = d / 40.0;
         const double e_y = 0.5 * (std::pow(1 + d / kHalf, 2) - 1), e_x = 0.5 * (std::pow(1 + s * c / kHalf, 2) - 1);
@@ -88,6 +90,38 @@ TEST(SimulateExamples, BiaxialFabricReachesTheFullStrainRangeWithoutCutbacks) {
       }
     }
   EXPECT_TRUE(fs::exists(out / "forces.png"));
+
+  // The clamp that keeps its width (course-clamp-c03): not homogeneous, and Newton quadratic. Every
+  // contraction above round-off is r_k+1 ≤ C r_k² (measured C ≤ 7 /N; a linear rate of 0.1 would
+  // break it below r = 5e-3 N), and the order of the last three residuals is ≥ 1.8 where three lie
+  // above round-off.
+  {
+    constexpr double kQuadraticConstant = 20;  // 1/N
+    constexpr double kRoundOff = 1e-12;        // of the grip force: the floor Newton ends on is ≤ 5e-15 of it
+    const io::Table steps = io::read_csv(out / "course-clamp-c03" / "steps.csv");
+    const io::Table newton = io::read_csv(out / "course-clamp-c03" / "newton.csv");
+    ASSERT_EQ(steps.rows.size(), 21u);
+    for (double k : steps.values("cutbacks")) EXPECT_EQ(k, 0.0);
+    const double d = 40, eC = 0.5 * (std::pow(1 + d / kHalf, 2) - 1), eW = 0.5 * (std::pow(1 + 3 / kHalf, 2) - 1);
+    const double uniform = fabric.forces(eC, eW)(0);
+    EXPECT_GT(std::abs(steps.rows.back()[steps.column("force_per_width")] - uniform), 1e-3 * uniform)
+        << "the clamp and the guide disagree at the corner: the field is not uniform";
+    int ordered = 0;
+    for (std::size_t k = 0; k < steps.rows.size(); ++k) {
+      const double floor = kRoundOff * std::abs(steps.rows[k][steps.column("edge_force")]);
+      std::vector<double> r;
+      for (const auto& row : newton.rows)
+        if (row[newton.column("step")] == double(k + 1)) r.push_back(row[newton.column("residual_N")]);
+      ASSERT_GE(r.size(), 2u) << "step " << k + 1;
+      for (std::size_t i = 1; i < r.size(); ++i)
+        if (r[i] > floor) EXPECT_LE(r[i], kQuadraticConstant * r[i - 1] * r[i - 1]) << "step " << k + 1;
+      const double p = test::convergence_order(r, floor);
+      if (std::isnan(p)) continue;
+      ++ordered;
+      EXPECT_GE(p, 1.8) << "step " << k + 1;
+    }
+    EXPECT_GE(ordered, 1);
+  }
 
   if (!test::have_meshio()) GTEST_SKIP() << "python3 lacks meshio: VTU not read back";
   // The cell strains of the last step agree with the imposed homogeneous stretch.

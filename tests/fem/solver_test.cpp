@@ -9,9 +9,11 @@
 
 #include "assembly.hpp"  // white-box: the global residual and tangent
 #include "testing/fd_check.hpp"
+#include "testing/newton.hpp"
 #include "testing_law.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/fem/mooney_rivlin.hpp"
+#include "tricot/fem/reference_fabric.hpp"
 
 namespace tricot::fem {
 namespace {
@@ -20,6 +22,7 @@ constexpr double kPatch = 1e-10;       // issue 2: a uniform strain is reproduce
 constexpr double kFdTangent = 1e-6;    // central differences, h = 1e-6: round-off ~1e-10 of the entries
 constexpr double kFdSimulate = 1e-5;   // brief: sensitivities match FD of whole simulations to 1e-5
 constexpr double kTightNewton = 1e-13; // Newton tolerance for runs that are differenced
+constexpr double kRoundOff = 1e-12;    // residual floor / grip force: round-off ends ≤ 5e-15 × the force
 
 void record(const std::string& key, double value, int digits = 3) {
   std::ostringstream o;
@@ -148,6 +151,27 @@ TEST_P(Types, ForceControlledPatchTestKeepsTheGripStraight) {
   }
 }
 
+TEST_P(Types, PatchTestWithAClampThatFollowsTheGuideIsHomogeneous) {
+  // A clamp whose width opens with the guide (u_x = c·X/W on the grip) agrees with the homogeneous
+  // biaxial state, so a distorted mesh must reproduce it (THEORY §6).
+  const test::TestingLaw law(1.0, 2.0, 0.5);
+  const double W = 10, H = 25, d = 5, c = 3;
+  TestModel t = model(distort(strip(GetParam(), 3, 4, W, H), W / 3, H / 4), {2, d});
+  t.side = SideEdge::guide;
+  t.guide = {c};
+  t.grip_follows_guide = true;
+  const SimulationResult r = simulate(t, law, tight());
+  ASSERT_TRUE(r.usable()) << r.message;
+  const Uniform s = uniform_state(law, 1 + d / H, 1 + c / W);
+  const StepResult& last = r.steps.back();
+  for (int n = 0; n < t.mesh.nodes(); ++n) {
+    const Vec2 X = t.mesh.X.col(n);
+    EXPECT_LT((last.u.segment<2>(2 * n) - Vec2((s.l1 - 1) * X(0), (s.l2 - 1) * X(1))).norm(), kPatch * d);
+  }
+  EXPECT_NEAR(last.edge_force, s.P22 * 2 * W, kPatch * std::abs(s.P22 * W));
+  EXPECT_NEAR(last.side_force, s.P11 * 2 * H, kPatch * std::abs(s.P22 * W));
+}
+
 INSTANTIATE_TEST_SUITE_P(Q4AndQ8, Types, ::testing::Values(ElementType::Q4, ElementType::Q8),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
@@ -180,11 +204,13 @@ struct Global {
 
 TEST(GlobalTangent, MatchesFiniteDifferencesOfTheResidual) {
   const test::TestingLaw law(1.0, 2.0, 0.6);
-  for (GripControl control : {GripControl::displacement, GripControl::force}) {
+  for (int config = 0; config < 3; ++config) {
+    const GripControl control = config == 1 ? GripControl::force : GripControl::displacement;
     TestModel t = model(distort(strip(ElementType::Q8, 2, 3, 10, 15), 5, 5), {1});
     t.control = control;
     t.side = SideEdge::guide;
     t.guide = {-1};
+    t.grip_follows_guide = config == 2;  // the guide also moves the clamp: ∂R/∂c has X/W weights
     t.material_angle = 30;
     const Global g(t, law);
     // A smooth non-uniform field plus noise, on the free dofs.
@@ -200,7 +226,9 @@ TEST(GlobalTangent, MatchesFiniteDifferencesOfTheResidual) {
     auto R = [&](const Eigen::VectorXd& zz) -> Eigen::VectorXd { return g.residual(zz, L); };
     const Eigen::MatrixXd K = a.K;
     const double err = test::jacobian_error(R, z, K);
-    record(control == GripControl::force ? "global_tangent_fd_error_force" : "global_tangent_fd_error_displacement", err);
+    record(config == 1 ? "global_tangent_fd_error_force"
+                       : (config == 2 ? "global_tangent_fd_error_pantograph" : "global_tangent_fd_error_displacement"),
+           err);
     EXPECT_TRUE(test::JacobianMatches(R, z, K, kFdTangent));
     // ∂R_f/∂c of the guide and ∂(Σ_top f_y)/∂z, used by the predictor and the force sensitivity.
     auto R_of_c = [&](const Eigen::VectorXd& c) -> Eigen::VectorXd { return g.residual(z, {L.d, L.F, c(0)}); };
@@ -232,17 +260,79 @@ TEST(Newton, ConvergesQuadraticallyOnAClampedStrip) {
   const std::vector<double>& res = ok.steps[0].residuals;
   ASSERT_GE(res.size(), 4u);
   // Order from the last three residuals well above round-off (1e-9 of the first).
-  std::vector<double> v;
-  for (double x : res)
-    if (x > 1e-9 * res[0]) v.push_back(x);
-  ASSERT_GE(v.size(), 3u);
-  const size_t k = v.size() - 2;
-  const double p = std::log(v[k + 1] / v[k]) / std::log(v[k] / v[k - 1]);
+  const double p = test::convergence_order(res, 1e-9 * res[0]);
+  ASSERT_FALSE(std::isnan(p));
   record("newton_order", p);
   std::ostringstream hist;
   for (double x : res) hist << x << " ";
   RecordProperty("newton_residual_history", hist.str());
   EXPECT_GE(p, 1.8) << hist.str();
+}
+
+TEST(Newton, ConvergesQuadraticallyOnAClampedBiaxialFabricTest) {
+  // The biaxial-fabric example's specimen and steps (quarter 55 × 55 mm², 10 × 12 Q8, 21 steps to a
+  // 40 mm grip displacement, loaded along the course) with a clamp that keeps its width (u_x = 0) and a
+  // guide opened to 3 mm: the clamp and the guide disagree at the corner, so the field is not
+  // homogeneous (a 4 mm guide inverts the corner element at step 19). Tangent not symmetric: LU.
+  const ReferenceFabric law;
+  MeshOptions m;
+  m.width = m.height = 55, m.nx = 10, m.ny = 12;
+  TestModel t = model(make_quarter_mesh(m), {});
+  for (int k = 1; k <= 21; ++k) t.loads.push_back(40.0 * k / 21);
+  t.side = SideEdge::guide;
+  t.guide = {3};
+  t.material_angle = 90;
+  const SimulationResult r = simulate(t, law);
+  ASSERT_TRUE(r.usable()) << r.message;
+  ASSERT_EQ(r.steps.size(), 21u);
+  int checked = 0;
+  std::ostringstream table;
+  for (size_t k = 0; k < r.steps.size(); ++k) {
+    const StepResult& s = r.steps[k];
+    EXPECT_EQ(s.cutbacks, 0) << "step " << k + 1;
+    table << "step " << k + 1 << ":";
+    for (double x : s.residuals) table << " " << x;
+    table << "; ";
+    // Every contraction above round-off is quadratic: r_k+1 ≤ C r_k² (measured C ≤ 7 /N here).
+    constexpr double kQuadraticConstant = 20;  // 1/N; a linear rate 0.1 would break it below r = 5e-3 N
+    const double floor = kRoundOff * std::abs(s.edge_force);
+    for (size_t i = 1; i < s.residuals.size(); ++i)
+      if (s.residuals[i] > floor)
+        EXPECT_LE(s.residuals[i], kQuadraticConstant * s.residuals[i - 1] * s.residuals[i - 1]) << "step " << k + 1;
+    const double p = test::convergence_order(s.residuals, floor);
+    if (std::isnan(p)) continue;
+    ++checked;
+    EXPECT_GE(p, 1.8) << "step " << k + 1 << ": " << table.str();
+    record("newton_order_fabric_step_" + std::to_string(k + 1), p);
+  }
+  EXPECT_GE(checked, 1) << table.str();
+  RecordProperty("newton_residuals_fabric", table.str());
+  // Not homogeneous: the grip force differs from the law's force at the mean imposed strains.
+  const double eC = 0.5 * (std::pow(1 + 40.0 / 55, 2) - 1), eW = 0.5 * (std::pow(1 + 3.0 / 55, 2) - 1);
+  EXPECT_GT(std::abs(r.steps.back().force_per_width - law.forces(eC, eW)(0)), 1e-3 * law.forces(eC, eW)(0));
+}
+
+TEST(Simulate, BothSparseSolversGiveTheSameSolution) {
+  // Eigen's SimplicialLDLT (default) and CHOLMOD's LDLᵀ: the converged states and sensitivities agree
+  // to the Newton tolerance.
+  const MooneyRivlin law(paper_mooney_rivlin_terms());
+  TestModel t = model(strip(ElementType::Q8, 3, 12, 10, 50), {});
+  for (int k = 1; k <= 12; ++k) t.loads.push_back(50.0 * k / 12);
+  std::vector<SimulationResult> runs;
+  for (LinearSolverKind kind : {LinearSolverKind::eigen_ldlt, LinearSolverKind::cholmod_ldlt}) {
+    SolveOptions o = tight();
+    o.linear_solver = kind;
+    o.sensitivities = true;
+    runs.push_back(simulate(t, law, o));
+    ASSERT_TRUE(runs.back().usable()) << runs.back().message;
+  }
+  constexpr double kSame = 1e-9;  // Newton tolerance 1e-13 of the reactions, conditioning ~1e3
+  for (size_t k = 0; k < t.loads.size(); ++k) {
+    const StepResult &a = runs[0].steps[k], &b = runs[1].steps[k];
+    EXPECT_LT((a.u - b.u).cwiseAbs().maxCoeff(), kSame * a.u.cwiseAbs().maxCoeff()) << "step " << k;
+    EXPECT_NEAR(a.edge_force, b.edge_force, kSame * std::abs(a.edge_force));
+    EXPECT_LT((a.du_dc - b.du_dc).cwiseAbs().maxCoeff(), kSame * a.du_dc.cwiseAbs().maxCoeff());
+  }
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -342,6 +432,25 @@ TEST(LoadStepping, ALoadPastTheMaximumForceEndsNotConvergedWithoutThrowing) {
   ASSERT_EQ(r.steps.size(), 1u);
   EXPECT_NE(r.message.find("step 2 of 2"), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("4 cutbacks"), std::string::npos) << r.message;
+}
+
+TEST(LoadStepping, AForceControlledLawWithoutTensileEquilibriumIsInvalidNotCompressed) {
+  // C10 < 0: the initial stiffness is negative, and Newton finds only compressed equilibria (grip
+  // displacement < 0 under a tensile force). Such a state is not usable: invalid_state, no throw.
+  TestModel t = model(strip(ElementType::Q8, 3, 6, 10, 25), {0.1, 0.2});
+  t.control = GripControl::force;
+  SimulationResult r;
+  ASSERT_NO_THROW(r = simulate(t, MooneyRivlin({{1, 0, -0.1}})));
+  EXPECT_EQ(r.termination, SolveTermination::invalid_state) << r.message;
+  EXPECT_TRUE(r.steps.empty());
+  EXPECT_NE(r.message.find("compressed"), std::string::npos) << r.message;
+  // C10 = 0.01, C20 = −0.05: the force peaks near 0.1 N and falls after; past the peak no step may be
+  // returned with the grip pulled inward.
+  t.loads = {0.02, 0.04, 0.06, 0.08, 0.12, 0.2, 0.4};
+  ASSERT_NO_THROW(r = simulate(t, MooneyRivlin({{1, 0, 0.01}, {2, 0, -0.05}})));
+  EXPECT_FALSE(r.usable()) << r.message;
+  EXPECT_LT(r.steps.size(), t.loads.size());
+  for (const StepResult& s : r.steps) EXPECT_GT(s.edge_displacement, 0) << "load " << s.load;
 }
 
 TEST(LoadStepping, ALargeStepIsCutBackAndConverges) {

@@ -17,6 +17,7 @@ using test::AnalyticProblem;
 constexpr double kRecovered = 1e-4;
 // With δ = 1e-12 LM runs to round-off.
 constexpr double kRecoveredTight = 1e-9;
+constexpr double kRoundOff = 1e-11;  // one LM path run twice: differences from the last bits only
 
 const Eigen::Vector3d kTruth(2.0, 0.7, 0.3);
 
@@ -209,7 +210,10 @@ TEST(Identify, ResumedFromACheckpointReachesTheSameAnswer) {
   resume.resume_from = saved[3];
   const IdentifyResult rest = identify(p, resume);
   EXPECT_EQ(rest.termination, full.termination);
-  EXPECT_EQ(rest.parameters, full.parameters);  // LM's state is all in the checkpoint: bit for bit
+  // LM's state is all in the checkpoint: the same path to round-off. Not bit for bit: Eigen's AVX
+  // code peels a vector's first entries to a 32-byte boundary, and the heap is 16-byte aligned
+  // (CMakeLists.txt), so the last bit of an entry can depend on where its vector was allocated.
+  EXPECT_LT((rest.parameters - full.parameters).cwiseAbs().maxCoeff(), kRoundOff * full.parameters.norm());
   EXPECT_EQ(rest.iterations, full.iterations);
   EXPECT_EQ(rest.history.size(), full.history.size());
   // The resumed run evaluates the checkpoint's point once more (the killed one had it in memory).

@@ -37,7 +37,8 @@ TEST(Problem, FiniteDifferenceJacobiansAgreeWithTheExactOne) {
     EXPECT_EQ(fd.evaluations, d == Difference::central ? 7 : 4);
     EXPECT_LT((fd.jacobian - exact.jacobian).cwiseAbs().maxCoeff() / exact.jacobian.cwiseAbs().maxCoeff(), tol)
         << to_string(d);
-    EXPECT_EQ(fd.r, exact.r);
+    // The same residuals to round-off (not bit for bit: see Identify.ResumedFromACheckpoint…).
+    EXPECT_LT((fd.r - exact.r).cwiseAbs().maxCoeff(), 1e-14 * exact.r.cwiseAbs().maxCoeff()) << to_string(d);
   }
 }
 

@@ -31,6 +31,9 @@ struct TestModel {
   GripControl control = GripControl::displacement;
   /// Grip: also hold u_x = 0 on the top edge (a clamp); false = sliding grip (homogeneous states).
   bool grip_holds_x = true;
+  /// Pantograph clamp (needs grip_holds_x and a guide): the clamp's width opens with the guide, u_x =
+  /// c(t)·X/W on the top edge instead of 0, so a clamped grip and a moving guide agree at the corner.
+  bool grip_follows_guide = false;
   SideEdge side = SideEdge::free;
   /// Step loads, strictly increasing from > 0: the grip displacement d(t) in mm (quarter model, so
   /// the full specimen stretches by 2d) or the full-specimen force in N.
