@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "case_config.hpp"
+#include "synth_images.hpp"
 #include "tricot/fem/locate.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/ident/synthetic.hpp"
@@ -58,6 +59,7 @@ io::SectionSpec synth_section() {
           0, 1e5),
       key("inset", 1.0, "Distance of the outermost points from the quarter's edges, mm, ≥ 0.", 0, 1e5),
   };
+  s.sections.push_back(synth_images_section());  // [synth.images]
   return s;
 }
 
@@ -147,9 +149,21 @@ mesh than the identification's, so that identifying the law is not an inverse cr
   nx = 6                        # field points across the quarter
   ny = 20                       # and along it
 
+With a [synth.images] table (enabled = true) it also renders camera images of the deformed full
+specimen, the fabric's speckle seen by a camera aimed at the specimen centre:
+
+  [synth.images]
+  enabled = true
+  pixel_size = 0.1              # mm/px
+  width = 600                   # px
+  height = 600
+  noise = 2.0                   # σ, gray levels of 255
+
 It writes DIR/<test>/forces.csv (step, load, edge_displacement, edge_force), DIR/<test>/field.csv
 (step, id, x, y, u, v in mm, model coordinates of the quarter specimen) and DIR/truth.json (law,
-true coefficients, σ per test, seed, generating mesh). `tricot identify` reads the folder.
+true coefficients, σ per test, seed, generating mesh) and, with images, DIR/<test>/images/
+frame_NNNN.png (frame 0 unloaded) and camera.json (pixel size, centre pixel, axes, step of each
+frame). `tricot identify` reads the folder; `tricot dic` reads the images.
 
 Examples:
   tricot synth examples/uniaxial-mooney/experiment.toml -o examples/uniaxial-mooney/experiment
@@ -181,6 +195,9 @@ Truth synthesize(const io::Node& root, const fs::path& dir, Console& console) {
         s.fail(k, "give either absolute σ or noise_relative, not both", io::to_toml(s.real(k)), "0 with noise_relative");
   const auto kind = s.string("field_kind") == "incremental" ? ident::FieldKind::incremental
                                                             : ident::FieldKind::cumulative;
+  const io::Node& images = s.section("images");
+  const bool with_images = images.boolean("enabled");
+  if (with_images) build_image_options(images, 0);  // a bad [synth.images] stops before any work
 
   // Build every test first: a config error stops before any work.
   std::vector<fem::TestModel> models;
@@ -249,6 +266,10 @@ Truth synthesize(const io::Node& root, const fs::path& dir, Console& console) {
     std::string field = d.has_field() ? fmt::format("{} {} field points", d.point_count(), ident::to_string(kind))
                                       : std::string("no field");
     if (dropped > 0) field += fmt::format(" ({} left the specimen and were left out)", dropped);
+    if (with_images) {  // the speckle of test i is seeded with seed + i, like its noise
+      const int frames = write_images(images, model, sim, truth.seed + i, dir / model.name, console);
+      field += fmt::format("; {} images in {}", frames, (dir / model.name / kImagesFolder / "").string());
+    }
     console.print(fmt::format("{}: {} steps on {} {} dofs in {}; last step {:.5g} N at {:.5g} mm; {}; {}", model.name,
                               d.steps(), tt.dofs, fem::to_string(tt.mesh.type), format_duration(sim.seconds),
                               last.edge_force, last.edge_displacement, field, noise));

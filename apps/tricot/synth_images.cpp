@@ -1,0 +1,156 @@
+// `tricot synth` images (see synth_images.hpp).
+#include "synth_images.hpp"
+
+#include <fmt/format.h>
+
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <regex>
+
+#include "tricot/core/error.hpp"
+#include "tricot/image/image.hpp"
+#include "tricot/io/files.hpp"
+
+namespace tricot::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+using io::KeySpec;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+KeySpec key(std::string name, io::Value def, std::string help, double min = -kInf, double max = kInf) {
+  return KeySpec{std::move(name), std::move(def), std::move(help), min, max, {}, false};
+}
+
+std::string frame_name(int j) { return fmt::format("frame_{:04d}.png", j); }
+
+// Frames of an earlier run beyond the `kept` just written would be taken for this run's by a glob.
+void remove_stale_frames(const fs::path& dir, int kept) {
+  static const std::regex pattern(R"(frame_(\d{4,})\.png)");
+  std::error_code ec;
+  for (const auto& f : fs::directory_iterator(dir, ec)) {
+    std::smatch m;
+    const std::string name = f.path().filename().string();
+    if (std::regex_match(name, m, pattern) && std::stoi(m[1]) >= kept) fs::remove(f.path(), ec);
+  }
+}
+
+}  // namespace
+
+io::SectionSpec synth_images_section() {
+  io::SectionSpec s{"images",
+                    "Camera images of the deformed full specimen (the paper's set-up: the camera on its pantograph\n"
+                    "aims at the specimen centre, which stays at the image centre; the fabric's roughness is the\n"
+                    "speckle). DIR/<test>/images/frame_0000.png is the unloaded reference, frame_NNNN.png shows\n"
+                    "step NNNN · every_n_steps; camera.json gives the pixel size, centre pixel and axes (X right,\n"
+                    "Y up, the keys of `tricot dic`'s [physical]) and each frame's step. The speckle pattern and\n"
+                    "the noise are seeded from [synth] seed.",
+                    false, {}, {}};
+  s.keys = {
+      key("enabled", false, "Write the images (about 1 s of CPU per 600 × 600 px frame with 4 × 4 subsamples)."),
+      key("pixel_size", 0.1, "Pixel size on the specimen, mm/px, > 0.", 1e-6, 1e4),
+      key("width", std::int64_t{600}, "Image width, px.", 8, 20000),
+      key("height", std::int64_t{600}, "Image height, px.", 8, 20000),
+      key("speckle_size", 5.0, "Speckle size in px of the reference image (twice the mean blob radius).", 0.2, 2000),
+      key("coverage", 0.6, "Speckle density: blobs per unit area × π r² (0.6: bright blobs cover about 45 % of the area).", 0.01, 99),
+      key("subsamples", std::int64_t{4}, "Samples per pixel and direction that integrate each pixel's area.", 1, 16),
+      key("background", 0.5, "Flat gray beside the specimen and beyond the grips, fraction of full scale.", 0, 1),
+      key("noise", 0.0, "σ of Gaussian camera noise in gray levels of the output (8 bit: of 255), ≥ 0.", 0, 1e5),
+      key("bits", std::int64_t{8}, "Bit depth of the PNG files: 8 or 16.", 8, 16),
+      key("every_n_steps", std::int64_t{1}, "A frame every n steps (frame j shows step j · n).", 1, 100000),
+  };
+  return s;
+}
+
+synth::SpecimenImageOptions build_image_options(const io::Node& s, std::uint64_t seed) {
+  synth::SpecimenImageOptions o;
+  o.camera.mm_per_px = s.real("pixel_size");
+  o.camera.width = static_cast<int>(s.integer("width"));
+  o.camera.height = static_cast<int>(s.integer("height"));
+  o.speckle.radius = 0.5 * s.real("speckle_size");
+  o.speckle.coverage = s.real("coverage");
+  o.speckle.subsamples = static_cast<int>(s.integer("subsamples"));
+  o.speckle.seed = seed;
+  o.background = s.real("background");
+  o.noise = s.real("noise");
+  o.bits = static_cast<int>(s.integer("bits"));
+  if (o.bits != 8 && o.bits != 16) s.fail("bits", "PNG files are 8 or 16 bit", std::to_string(o.bits), "8 or 16");
+  o.validate();  // everything else is in the schema's ranges
+  return o;
+}
+
+int write_images(const io::Node& s, const fem::TestModel& model, const fem::SimulationResult& sim, std::uint64_t seed,
+                 const fs::path& test_dir, Console& console) {
+  const synth::SpecimenImageOptions o = build_image_options(s, seed);
+  const synth::SpecimenRenderer renderer(model.mesh, o);
+  const int every = static_cast<int>(s.integer("every_n_steps"));
+  const int steps = static_cast<int>(sim.steps.size());
+  const int frames = 1 + steps / every;
+  const fs::path dir = test_dir / kImagesFolder;
+
+  json list = json::array();
+  const Reporter reporter = console.reporter();
+  for (int j = 0; j < frames; ++j) {
+    const int step = j * every;  // 0 = unloaded
+    const fem::StepResult* k = step > 0 ? &sim.steps[step - 1] : nullptr;
+    const image::Image img = renderer.render(k ? k->u : Eigen::VectorXd(), seed * 1000003 + std::uint64_t(j));
+    io::write_atomic(dir / frame_name(j), image::encode_gray(img, ".png", o.bits));
+    list.push_back(json{{"frame", j},
+                        {"file", frame_name(j)},
+                        {"step", step},
+                        {"load", k ? k->load : 0.0},
+                        {"edge_displacement", k ? k->edge_displacement : 0.0}});
+    reporter.report({"images " + model.name, std::size_t(j + 1), std::size_t(frames), frame_name(j)});
+  }
+  remove_stale_frames(dir, frames);
+
+  const synth::Camera& c = o.camera;
+  const json camera{
+      {"mm_per_px", c.mm_per_px},
+      {"centre_px", {c.centre_px()(0), c.centre_px()(1)}},
+      {"angle_deg", 0.0},
+      {"y_up", true},
+      {"axes", "X = mm_per_px * (x - centre_px[0]) to the right, Y = -mm_per_px * (y - centre_px[1]) up, mm, "
+               "from the full specimen's centre; the FE quarter is X >= 0, Y >= 0"},
+      {"width", c.width},
+      {"height", c.height},
+      {"bits", o.bits},
+      {"speckle_size_px", 2 * o.speckle.radius},
+      {"noise", o.noise},
+      {"seed", seed},
+      {"frames", list},
+  };
+  io::write_atomic(dir / kCameraFile, camera.dump(2) + "\n");
+  return frames;
+}
+
+CameraFile read_camera(const fs::path& images_dir) {
+  const fs::path path = images_dir / kCameraFile;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw FileError({path.string(), 0, ""}, "camera file not found");
+  CameraFile out;
+  std::string at;
+  try {
+    const json j = json::parse(io::read_text(path));
+    at = "mm_per_px", out.camera.mm_per_px = j.at(at).get<double>();
+    at = "width", out.camera.width = j.at(at).get<int>();
+    at = "height", out.camera.height = j.at(at).get<int>();
+    at = "frames";
+    for (const json& f : j.at(at))
+      out.frames.push_back({f.at("file").get<std::string>(), f.at("step").get<int>(), f.at("load").get<double>(),
+                            f.at("edge_displacement").get<double>()});
+  } catch (const json::exception& e) {
+    throw InputError({path.string(), 0, at}, std::string("malformed camera file: ") + e.what());
+  }
+  try {
+    out.camera.validate();
+  } catch (const InputError& e) {
+    throw InputError({path.string(), 0, e.where().key}, e.problem());
+  }
+  return out;
+}
+
+}  // namespace tricot::cli

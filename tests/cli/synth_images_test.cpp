@@ -1,0 +1,107 @@
+// `tricot synth` with [synth.images] (apps/tricot/synth_images.cpp): the frames, camera.json, and the
+// errors of a bad table.
+#include "synth_images.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "experiment_case.hpp"
+#include "experiment_files.hpp"
+#include "testing/cli.hpp"
+#include "testing/paths.hpp"
+#include "tricot/image/image.hpp"
+#include "tricot/io/files.hpp"
+
+namespace tricot::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using test::run_tricot;
+using test::scratch_dir;
+using test::small_experiment;
+using test::write_file;
+
+// The small case's strip is 20 mm wide; 100 px at 0.5 mm/px show 50 mm, so the corners are background.
+std::string images_table(const std::string& extra) {
+  return "nx = 3\nny = 5\n\n[synth.images]\nenabled = true\npixel_size = 0.5\nwidth = 100\nheight = 80\n"
+         "subsamples = 1\n" +
+         extra;
+}
+
+test::CliRun synth(const fs::path& dir, const std::string& extra) {
+  write_file(dir / "experiment.toml", small_experiment(images_table(extra)));
+  return run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "exp").string() + " -q");
+}
+
+TEST(SynthImages, WritesTheReferenceAndEveryNthStepWithTheirCamera) {
+  const fs::path dir = scratch_dir("synth_images_frames");
+  const auto r = synth(dir, "every_n_steps = 3\n");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const fs::path images = dir / "exp" / "tension" / kImagesFolder;
+  const CameraFile cam = read_camera(images);
+  EXPECT_EQ(cam.camera.mm_per_px, 0.5);
+  EXPECT_EQ(cam.camera.centre_px(), Vec2(49.5, 39.5));
+  ASSERT_EQ(cam.frames.size(), 4u);  // the reference, then steps 3, 6, 9 of 10
+  const io::Table forces = io::read_csv(dir / "exp" / "tension" / kForcesFile);
+  for (std::size_t j = 0; j < cam.frames.size(); ++j) {
+    EXPECT_EQ(cam.frames[j].file, fmt::format("frame_{:04d}.png", j));
+    EXPECT_EQ(cam.frames[j].step, int(3 * j));
+    if (j > 0) {
+      EXPECT_EQ(cam.frames[j].load, forces.rows[3 * j - 1][1]);
+      EXPECT_EQ(cam.frames[j].edge_displacement, forces.rows[3 * j - 1][2]);
+    }
+  }
+  EXPECT_FALSE(fs::exists(images / "frame_0004.png"));
+
+  const image::LoadedImage f0 = image::load_image(images / "frame_0000.png");
+  const image::LoadedImage f3 = image::load_image(images / "frame_0003.png");
+  EXPECT_EQ(f0.bit_depth, 8);
+  EXPECT_EQ(f0.image.width, 100);
+  EXPECT_EQ(f0.image.height, 80);
+  EXPECT_EQ(f0.image.at(0, 0), 128.0f);  // the flat background, 0.5 of 255, rounded
+  EXPECT_EQ(f3.image.at(99, 79), 128.0f);
+  double changed = 0;  // the strip stretches: the speckle under the centre moves
+  for (int x = 40; x < 60; ++x) changed += std::abs(f0.image.at(x, 10) - f3.image.at(x, 10));
+  EXPECT_GT(changed / 20, 10.0);
+}
+
+TEST(SynthImages, SixteenBitFramesLoadAsSixteenBit) {
+  const fs::path dir = scratch_dir("synth_images_16");
+  ASSERT_EQ(synth(dir, "bits = 16\nevery_n_steps = 10\n").exit_code, 0);
+  const image::LoadedImage f = image::load_image(dir / "exp" / "tension" / kImagesFolder / "frame_0001.png");
+  EXPECT_EQ(f.bit_depth, 16);
+  EXPECT_EQ(f.image.at(0, 0), 32768.0f);  // 0.5 of 65535, rounded
+}
+
+TEST(SynthImages, FramesOfAnEarlierLongerRunAreRemoved) {
+  const fs::path dir = scratch_dir("synth_images_stale");
+  ASSERT_EQ(synth(dir, "every_n_steps = 2\n").exit_code, 0);
+  const fs::path images = dir / "exp" / "tension" / kImagesFolder;
+  EXPECT_TRUE(fs::exists(images / "frame_0005.png"));
+  ASSERT_EQ(synth(dir, "every_n_steps = 5\n").exit_code, 0);
+  EXPECT_TRUE(fs::exists(images / "frame_0002.png"));
+  EXPECT_FALSE(fs::exists(images / "frame_0003.png"));
+  EXPECT_EQ(read_camera(images).frames.size(), 3u);
+}
+
+TEST(SynthImages, ABitDepthOtherThan8Or16IsAConfigErrorAtItsLine) {
+  const fs::path dir = scratch_dir("synth_images_bits");
+  const auto r = synth(dir, "bits = 12\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("experiment.toml:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("synth.images.bits"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "exp" / "tension")) << "nothing is written before the table is checked";
+}
+
+TEST(SynthImages, NoImagesUnlessEnabled) {
+  const fs::path dir = scratch_dir("synth_images_off");
+  write_file(dir / "experiment.toml", small_experiment());
+  ASSERT_EQ(run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "exp").string() + " -q")
+                .exit_code,
+            0);
+  EXPECT_TRUE(fs::exists(dir / "exp" / "tension" / kForcesFile));
+  EXPECT_FALSE(fs::exists(dir / "exp" / "tension" / kImagesFolder));
+}
+
+}  // namespace
+}  // namespace tricot::cli

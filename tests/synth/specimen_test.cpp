@@ -1,0 +1,237 @@
+#include "tricot/synth/specimen.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "tricot/core/error.hpp"
+
+using namespace tricot;
+using namespace tricot::synth;
+
+namespace {
+
+/// Pixels are stored as float: two renderings of the same material points agree to float round-off
+/// (the inverse isoparametric map is exact to 1e-13 mm, which moves a gray level by ~1e-12).
+constexpr double kFloatTol = 1e-6;
+/// Material points recovered by Newton on the deformed Q8 map (stopping at |Δξ| < 1e-13).
+constexpr double kPointTol = 1e-9;
+
+constexpr double kW = 20, kH = 30;  // quarter, mm
+
+fem::Mesh quarter(fem::ElementType type = fem::ElementType::Q8) {
+  fem::MeshOptions m;
+  m.width = kW, m.height = kH, m.nx = 4, m.ny = 5, m.type = type, m.grading = 0.5;
+  return fem::make_quarter_mesh(m);
+}
+
+/// The nodal values of a displacement field u(X) of the quarter.
+template <class F>
+Eigen::VectorXd nodal(const fem::Mesh& mesh, F u) {
+  Eigen::VectorXd v(mesh.dofs());
+  for (int n = 0; n < mesh.nodes(); ++n) v.segment<2>(2 * n) = u(Vec2(mesh.X.col(n)));
+  return v;
+}
+
+SpecimenImageOptions float_images(int width, int height) {
+  SpecimenImageOptions o;
+  o.camera = {0.1, width, height};
+  o.speckle.subsamples = 2;
+  o.bits = 32;
+  return o;
+}
+
+/// Pixels whose whole square lies inside (or outside) |x| < a, |y| < b in specimen mm.
+bool square_inside(const Camera& c, int x, int y, double a, double b) {
+  const Vec2 X = c.to_specimen(Vec2(x, y));
+  const double h = 0.5 * c.mm_per_px + 1e-9;
+  return std::abs(X(0)) + h < a && std::abs(X(1)) + h < b;
+}
+bool square_outside(const Camera& c, int x, int y, double a, double b) {
+  const Vec2 X = c.to_specimen(Vec2(x, y));
+  const double h = 0.5 * c.mm_per_px + 1e-9;
+  return std::abs(X(0)) - h > a || std::abs(X(1)) - h > b;
+}
+
+}  // namespace
+
+TEST(Camera, PutsTheSpecimenCentreAtTheImageCentreWithYUp) {
+  const Camera c{0.05, 600, 401};
+  EXPECT_EQ(c.centre_px(), Vec2(299.5, 200));
+  EXPECT_TRUE(c.to_specimen(Vec2(299.5, 200)).isZero());
+  EXPECT_TRUE(c.to_specimen(Vec2(309.5, 190)).isApprox(Vec2(0.5, 0.5)));  // right and up on screen
+  const Vec2 X(-3.25, 7.5);
+  EXPECT_TRUE(c.to_specimen(c.to_pixel(X)).isApprox(X));
+}
+
+TEST(SpecimenImageOptions, DefaultsAreValidAndABadBitDepthIsRejectedWithItsKey) {
+  EXPECT_NO_THROW(SpecimenImageOptions{}.validate());
+  SpecimenImageOptions o;
+  o.bits = 12;
+  try {
+    o.validate();
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "images.bits");
+  }
+  o = {};
+  o.camera.mm_per_px = 0;
+  EXPECT_THROW(o.validate(), InputError);
+}
+
+TEST(FullSpecimen, MirrorsTheQuarterIntoEveryQuadrantBothWays) {
+  const fem::Mesh mesh = quarter();
+  // A quadratic field with the quarter's symmetries (u_x = 0 on X = 0, u_y = 0 on Y = 0): Q8
+  // serendipity elements (straight sides) reproduce it exactly.
+  const auto u = [](const Vec2& X) {
+    return Vec2(-0.1 * X(0) + 0.002 * X(0) * X(1), 0.2 * X(1) + 0.004 * X(0) * X(0));
+  };
+  const FullSpecimen body(mesh, nodal(mesh, u));
+  const auto u_full = [&](const Vec2& X) {  // u(−X, Y) = (−u_X, u_Y)(X, Y), u(X, −Y) = (u_X, −u_Y)(X, Y)
+    const Vec2 s(X(0) < 0 ? -1 : 1, X(1) < 0 ? -1 : 1);
+    return Vec2(u(X.cwiseAbs()).cwiseProduct(s));
+  };
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> ux(-kW, kW), uy(-kH, kH);
+  fem::Location hint;
+  for (int k = 0; k < 200; ++k) {
+    const Vec2 X(ux(rng), uy(rng));
+    const auto d = body.displacement(X);
+    ASSERT_TRUE(d.has_value());
+    EXPECT_LT((*d - u_full(X)).norm(), kPointTol);
+    const auto back = body.material_point(X + u_full(X), k % 2 ? &hint : nullptr);
+    ASSERT_TRUE(back.has_value()) << X.transpose();
+    EXPECT_LT((*back - X).norm(), kPointTol) << X.transpose();
+  }
+  // Outside: beside the narrowed strip and beyond the grips.
+  EXPECT_FALSE(body.material_point(Vec2(-0.95 * kW, 0)).has_value());  // u_X(W) = −2 mm at Y = 0
+  EXPECT_FALSE(body.material_point(Vec2(0, -1.25 * kH)).has_value());
+  EXPECT_FALSE(body.displacement(Vec2(kW + 0.1, 0)).has_value());
+}
+
+TEST(SpecimenRenderer, HomogeneousStretchShowsTheSpeckleAtXOverLambda) {
+  for (auto type : {fem::ElementType::Q8, fem::ElementType::Q4}) {
+    const fem::Mesh mesh = quarter(type);
+    const double lx = 0.9, ly = 1.25;  // a sliding grip's uniform state: x = λ X
+    const Eigen::VectorXd u = nodal(mesh, [&](const Vec2& X) { return Vec2((lx - 1) * X(0), (ly - 1) * X(1)); });
+    const SpecimenImageOptions o = float_images(420, 300);  // 42 mm wide: background beside the 36 mm strip
+    const SpecimenRenderer r(mesh, o);
+    const image::Image img = r.render(u);
+    const Camera& c = o.camera;
+    // The same pattern through the analytic inverse motion X = x / λ (speckle.hpp's renderer).
+    const image::Image expected = render(r.pattern(), c.width, c.height, [&](const Vec2& x_px) {
+      const Vec2 x = c.to_specimen(x_px);
+      return c.to_pixel(Vec2(x(0) / lx, x(1) / ly));
+    });
+    int inside = 0, outside = 0;
+    for (int y = 0; y < c.height; ++y)
+      for (int x = 0; x < c.width; ++x) {
+        if (square_inside(c, x, y, lx * kW, ly * kH)) {
+          ++inside;
+          ASSERT_NEAR(img.at(x, y), expected.at(x, y), kFloatTol) << x << ", " << y;
+        } else if (square_outside(c, x, y, lx * kW, ly * kH)) {
+          ++outside;
+          ASSERT_EQ(img.at(x, y), static_cast<float>(o.background)) << x << ", " << y;
+        } else {  // the edge: part speckle, part background
+          ASSERT_GE(img.at(x, y), std::min(o.background, o.speckle.background) - kFloatTol);
+        }
+      }
+    EXPECT_GT(inside, 100000);
+    EXPECT_GT(outside, 10000);
+  }
+}
+
+TEST(SpecimenRenderer, FastPathsGiveTheLocatorsImageAcrossANeckedEdgeAndTheGrips) {
+  // The renderer starts Newton in the previous sub-sample's element and calls a point beyond the free
+  // edge or the grip background without searching the mesh; the locator alone must give the same image.
+  const fem::Mesh mesh = quarter();
+  const Eigen::VectorXd u = nodal(mesh, [](const Vec2& X) {
+    const double eta = X(1) / kH;  // the strip necks at mid-height, not at the clamped grip
+    return Vec2(-0.15 * X(0) * (1 - eta * eta), 0.3 * X(1) + 0.002 * X(0) * X(0) * eta);
+  });
+  SpecimenImageOptions o = float_images(180, 280);
+  o.camera.mm_per_px = 0.3;  // 54 × 84 mm: background beside the 40 mm strip and beyond its 78 mm length
+  const SpecimenRenderer r(mesh, o);
+  const image::Image img = r.render(u);
+  const FullSpecimen body(mesh, u);
+  const Camera& c = o.camera;
+  const int s = o.speckle.subsamples;
+  int edge = 0;
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      double sum = 0;
+      int on = 0;
+      for (int b = 0; b < s; ++b)
+        for (int a = 0; a < s; ++a) {
+          const Vec2 xs(x - 0.5 + (a + 0.5) / s, y - 0.5 + (b + 0.5) / s);
+          const auto X = body.material_point(c.to_specimen(xs));
+          sum += X ? r.pattern().intensity(c.to_pixel(*X)) : o.background;
+          on += X.has_value();
+        }
+      edge += on > 0 && on < s * s;
+      ASSERT_NEAR(img.at(x, y), sum / (s * s), kFloatTol) << x << ", " << y;
+    }
+  // Pixels whose sub-samples the boundary separates (408 of the ~780 along the four edges) were compared too.
+  EXPECT_GT(edge, 300);
+}
+
+TEST(SpecimenRenderer, ReferenceImageShowsThePatternWhereItIsAndFlatGrayBeyondTheGrips) {
+  const fem::Mesh mesh = quarter();
+  const SpecimenImageOptions o = float_images(300, 700);  // 70 mm tall: the 60 mm specimen and grips
+  const SpecimenRenderer r(mesh, o);
+  const image::Image img = r.render(Eigen::VectorXd());
+  const image::Image expected = render(r.pattern(), 300, 700, no_motion);
+  int inside = 0, outside = 0;
+  for (int y = 0; y < 700; ++y)
+    for (int x = 0; x < 300; ++x) {
+      if (square_inside(o.camera, x, y, kW, kH)) {
+        ++inside;
+        ASSERT_NEAR(img.at(x, y), expected.at(x, y), kFloatTol);
+      } else if (square_outside(o.camera, x, y, kW, kH)) {
+        ++outside;
+        ASSERT_EQ(img.at(x, y), static_cast<float>(o.background));
+      }
+    }
+  EXPECT_EQ(inside, 300 * 598);  // rows within 30 mm of the centre row 349.5, less the edge rows
+  EXPECT_EQ(outside, 300 * 98);   // rows more than 30 mm + ½ px away
+}
+
+TEST(SpecimenRenderer, PatternIsNotTheQuartersMirrored) {
+  // Mirroring X back to its own quadrant keeps the speckle of the whole specimen: the left half of the
+  // image is not the right half flipped (it would be, gray for gray, if the quarter's X were used).
+  const fem::Mesh mesh = quarter();
+  const SpecimenRenderer r(mesh, float_images(200, 200));
+  const Eigen::VectorXd u = nodal(mesh, [](const Vec2& X) { return Vec2(-0.1 * X(0), 0.3 * X(1)); });
+  const image::Image img = r.render(u);
+  double diff = 0;
+  for (int y = 0; y < 200; ++y)
+    for (int x = 0; x < 100; ++x) diff += std::abs(img.at(x, y) - img.at(199 - x, y));
+  EXPECT_GT(diff / (100 * 200), 0.1);  // mean |difference| of two independent speckles (contrast 0.8)
+}
+
+TEST(SpecimenRenderer, QuantisesToTheBitDepthAndAddsNoiseOfTheGivenSigma) {
+  const fem::Mesh mesh = quarter();
+  SpecimenImageOptions o = float_images(160, 160);
+  const image::Image exact = SpecimenRenderer(mesh, o).render(Eigen::VectorXd());
+  for (int bits : {8, 16}) {
+    o.bits = bits;
+    o.noise = 0;
+    const double levels = bits == 8 ? 255 : 65535;
+    const image::Image img = SpecimenRenderer(mesh, o).render(Eigen::VectorXd());
+    EXPECT_EQ(img.full_scale, levels);
+    for (std::size_t i = 0; i < img.pixels.size(); ++i)
+      ASSERT_EQ(img.pixels[i], std::round(exact.pixels[i] * levels));
+
+    o.noise = 3;  // gray levels
+    o.threads = 1;
+    const image::Image noisy = SpecimenRenderer(mesh, o).render(Eigen::VectorXd(), 7);
+    o.threads = 2;
+    const image::Image again = SpecimenRenderer(mesh, o).render(Eigen::VectorXd(), 7);
+    EXPECT_EQ(noisy.pixels, again.pixels);  // the noise does not depend on the thread count
+    double s2 = 0;
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) s2 += std::pow(noisy.pixels[i] - img.pixels[i], 2);
+    // 25 600 samples: the sample σ is within 3 % of 3 (plus 1/12 level² of variance per rounding).
+    EXPECT_NEAR(std::sqrt(s2 / double(img.pixels.size())), std::sqrt(9 + 2.0 / 12), 0.09);
+  }
+}
