@@ -26,10 +26,7 @@ using io::Strings;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-KeySpec key(std::string name, io::Value def, std::string help, double min = -kInf, double max = kInf,
-            Strings choices = {}, bool increasing = false) {
-  return KeySpec{std::move(name), std::move(def), std::move(help), min, max, std::move(choices), increasing};
-}
+using io::key;
 
 std::string num(double x) { return io::to_toml(x); }
 

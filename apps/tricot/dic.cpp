@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <regex>
 
 #include "console.hpp"
 #include "dic_config.hpp"
@@ -137,17 +136,6 @@ std::string specimen_csv(const dic::SequenceResult& r, const dic::PhysicalFrame&
 
 std::string overlay_name(int frame) { return fmt::format("frame_{:04d}.png", frame); }
 
-/// Removes overlays of an earlier run beyond the `kept` frames just written.
-void remove_stale_overlays(const fs::path& dir, int kept) {
-  static const std::regex pattern(R"(frame_(\d{4,})\.png)");
-  std::error_code ec;
-  for (const auto& f : fs::directory_iterator(dir, ec)) {
-    std::smatch m;
-    const std::string name = f.path().filename().string();
-    if (std::regex_match(name, m, pattern) && std::stoi(m[1]) >= kept) fs::remove(f.path(), ec);
-  }
-}
-
 ExitCode run_dic(const DicArgs& a) {
   std::string config;
   std::vector<std::string> images;
@@ -231,7 +219,7 @@ ExitCode run_dic(const DicArgs& a) {
   if (s.outputs.increments) io::write_atomic(out_dir / "increments.csv", increments_csv(r)), written += ", increments.csv";
   if (s.outputs.physical) io::write_atomic(out_dir / "specimen.csv", specimen_csv(r, *s.outputs.physical)), written += ", specimen.csv";
   if (s.outputs.overlays) {
-    remove_stale_overlays(out_dir / "overlays", static_cast<int>(r.frames.size()));
+    io::remove_numbered_files(out_dir / "overlays", "frame_", ".png", static_cast<long>(r.frames.size()));
     written += fmt::format(", {} overlays in {}", r.frames.size(), (out_dir / "overlays").string());
   }
   const dic::TrackedFrame& last = r.frames.back();

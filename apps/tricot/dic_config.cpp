@@ -18,10 +18,7 @@ using io::Strings;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-KeySpec key(std::string name, io::Value def, std::string help, double min = -kInf, double max = kInf,
-            Strings choices = {}) {
-  return KeySpec{std::move(name), std::move(def), std::move(help), min, max, std::move(choices), false};
-}
+using io::key;
 
 const Strings kPanels = {"displacement", "u", "v", "exx", "eyy", "exy", "zncc"};
 

@@ -29,10 +29,7 @@ using json = nlohmann::ordered_json;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr const char* kCheckpointFile = "checkpoint.json";
 
-KeySpec key(std::string name, io::Value def, std::string help, double min = -kInf, double max = kInf,
-            io::Strings choices = {}) {
-  return KeySpec{std::move(name), std::move(def), std::move(help), min, max, std::move(choices), false};
-}
+using io::key;
 
 SectionSpec experiment_section() {
   SectionSpec s{"experiment",

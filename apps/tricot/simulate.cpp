@@ -5,7 +5,6 @@
 #include <Eigen/LU>
 #include <chrono>
 #include <filesystem>
-#include <regex>
 
 #include "case_config.hpp"
 #include "console.hpp"
@@ -80,14 +79,9 @@ std::string step_file(std::size_t k) { return fmt::format("step_{:04d}.vtu", k);
 // Removes step_NNNN.vtu files of an earlier run beyond the `kept` steps just written (and its
 // steps.pvd when none was written).
 void remove_stale_steps(const fs::path& dir, std::size_t kept) {
-  static const std::regex pattern(R"(step_(\d{4,})\.vtu)");
   std::error_code ec;
   if (kept == 0) fs::remove(dir / "steps.pvd", ec);
-  for (const auto& f : fs::directory_iterator(dir, ec)) {
-    std::smatch m;
-    const std::string name = f.path().filename().string();
-    if (std::regex_match(name, m, pattern) && std::stoul(m[1]) > kept) fs::remove(f.path(), ec);
-  }
+  io::remove_numbered_files(dir, "step_", ".vtu", static_cast<long>(kept) + 1);
 }
 
 void write_vtus(const fs::path& dir, const fem::TestModel& test, const fem::Law& law,

@@ -25,10 +25,7 @@ using io::KeySpec;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-KeySpec key(std::string name, io::Value def, std::string help, double min = -kInf, double max = kInf,
-            io::Strings choices = {}) {
-  return KeySpec{std::move(name), std::move(def), std::move(help), min, max, std::move(choices), false};
-}
+using io::key;
 
 io::SectionSpec synth_section() {
   io::SectionSpec s{"synth",

@@ -3,9 +3,7 @@
 
 #include <fmt/format.h>
 
-#include <limits>
 #include <nlohmann/json.hpp>
-#include <regex>
 
 #include "tricot/core/error.hpp"
 #include "tricot/image/image.hpp"
@@ -19,24 +17,10 @@ namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 using io::KeySpec;
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
-KeySpec key(std::string name, io::Value def, std::string help, double min = -kInf, double max = kInf) {
-  return KeySpec{std::move(name), std::move(def), std::move(help), min, max, {}, false};
-}
+using io::key;
 
 std::string frame_name(int j) { return fmt::format("frame_{:04d}.png", j); }
-
-// Frames of an earlier run beyond the `kept` just written would be taken for this run's by a glob.
-void remove_stale_frames(const fs::path& dir, int kept) {
-  static const std::regex pattern(R"(frame_(\d{4,})\.png)");
-  std::error_code ec;
-  for (const auto& f : fs::directory_iterator(dir, ec)) {
-    std::smatch m;
-    const std::string name = f.path().filename().string();
-    if (std::regex_match(name, m, pattern) && std::stoi(m[1]) >= kept) fs::remove(f.path(), ec);
-  }
-}
 
 }  // namespace
 
@@ -105,7 +89,7 @@ int write_images(const io::Node& s, const fem::TestModel& model, const fem::Simu
                         {"edge_displacement", k ? k->edge_displacement : 0.0}});
     reporter.report({"images " + model.name, std::size_t(j + 1), std::size_t(frames), frame_name(j)});
   }
-  remove_stale_frames(dir, frames);
+  io::remove_numbered_files(dir, "frame_", ".png", frames);  // an earlier, longer run's
 
   const synth::Camera& c = o.camera;
   const json camera{

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <algorithm>
 #include <random>
 #include <sstream>
 
@@ -15,6 +16,21 @@
 namespace tricot::io {
 
 namespace fs = std::filesystem;
+
+void remove_numbered_files(const fs::path& dir, const std::string& prefix, const std::string& extension,
+                           long first_stale) {
+  std::error_code ec;
+  for (const auto& f : fs::directory_iterator(dir, ec)) {
+    const std::string name = f.path().filename().string();
+    if (name.size() < prefix.size() + extension.size() + 4 || name.rfind(prefix, 0) != 0 ||
+        name.compare(name.size() - extension.size(), extension.size(), extension) != 0)
+      continue;
+    const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - extension.size());
+    if (digits.size() > 9 || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      continue;
+    if (std::stol(digits) >= first_stale) fs::remove(f.path(), ec);
+  }
+}
 
 void write_atomic(const fs::path& path, const std::string& content) {
   std::error_code ec;

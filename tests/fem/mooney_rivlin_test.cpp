@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "testing/fd_check.hpp"
+#include "testing/paths.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/fem/neo_hookean.hpp"
 
@@ -210,7 +211,8 @@ TEST(MooneyRivlin, InvertedDeformationGivesNaN) {
 TEST(MooneyRivlin, PaperCoefficientsGiveARisingSCurveWithoutSnapThrough) {
   const MooneyRivlin law(paper_mooney_rivlin_terms());
   double min_slope = 1e300, lambda_min = 0;
-  std::ofstream csv("mooney_uniaxial.csv");  // data of docs/validation/img/mooney_uniaxial.png
+  // The data of docs/validation/img/mooney_uniaxial.png.
+  std::ofstream csv(test::scratch_dir("mooney_rivlin") / "mooney_uniaxial.csv");
   csv << "stretch,strain,P_law,P_closed_form,dP_dlambda\n";
   csv.precision(12);
   for (int n = 0; n <= 240; ++n) {

@@ -36,6 +36,14 @@ struct KeySpec {
   bool increasing = false;
 };
 
+/// A KeySpec in one line, as the verbs' schemas write them.
+inline KeySpec key(std::string name, Value default_value, std::string help,
+                   double min = -std::numeric_limits<double>::infinity(),
+                   double max = std::numeric_limits<double>::infinity(), Strings choices = {},
+                   bool increasing = false) {
+  return KeySpec{std::move(name), std::move(default_value), std::move(help), min, max, std::move(choices), increasing};
+}
+
 /// A table of keys and sub-tables. `array` makes it an array of tables ([[name]] in TOML): the
 /// user may give it zero or more times, and --print-config shows one example entry.
 struct SectionSpec {

@@ -15,6 +15,12 @@ void write_atomic(const std::filesystem::path& path, const std::string& content)
 /// Reads a whole text file. Throws FileError naming the file when it cannot be read.
 std::string read_text(const std::filesystem::path& path);
 
+/// Removes the files of `dir` named `prefix` + a number of 4 or more digits + `extension` whose number
+/// is ≥ `first_stale`: what an earlier, longer run left beyond this run's series (step_NNNN.vtu,
+/// frame_NNNN.png), which a glob would otherwise take for this run's. Errors are ignored.
+void remove_numbered_files(const std::filesystem::path& dir, const std::string& prefix, const std::string& extension,
+                           long first_stale);
+
 /// A numeric table with a header row. Cells are doubles; `text` holds columns that are words.
 struct Table {
   std::vector<std::string> columns;
