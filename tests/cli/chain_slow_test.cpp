@@ -67,7 +67,7 @@ bits = 8
 // 4.65 mm) stay on the specimen where its free edges neck.
 constexpr const char* kRoi = "133,140,466,459";
 
-// Tolerances, from the runs in docs/validation/chain.md (272 points, 6 increments):
+// Tolerances, from the runs in docs/validation.md (the chain section) (272 points, 6 increments):
 // - second-order subsets on noise-free 8-bit frames: RMS of |u_DIC − u_FE| 0.0020 px after the first
 //   increment, 0.0029 px after the sixth, worst point 0.0082 px: what is left is 8-bit rounding and
 //   interpolation, so the images show the FE field to a few thousandths of a pixel. 2× that still
