@@ -4,10 +4,10 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <limits>
 #include <regex>
 #include <set>
 
+#include "schema.hpp"
 #include "tricot/fem/corotational.hpp"
 #include "tricot/fem/mooney_rivlin.hpp"
 #include "tricot/fem/neo_hookean.hpp"
@@ -18,25 +18,7 @@ namespace tricot::cli {
 
 namespace {
 
-using io::KeySpec;
-using io::Node;
-using io::Reals;
-using io::SectionSpec;
-using io::Strings;
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-using io::key;
-
 std::string num(double x) { return io::to_toml(x); }
-
-// `e.what()` is "KEY: problem (got …, expected …)"; keep everything after the key.
-std::string problem_of(const InputError& e) {
-  std::string s = e.what();
-  const std::string key = e.where().key;
-  if (!key.empty() && s.rfind(key + ": ", 0) == 0) s = s.substr(key.size() + 2);
-  return s;
-}
 
 // fem's validate() names `test.<field>`, `mesh.<field>` or `material.<coefficient>` without a file:
 // rethrow it at the line of the same key of `n` (the table's line when `n` has no such key).

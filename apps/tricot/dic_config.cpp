@@ -2,33 +2,15 @@
 #include "dic_config.hpp"
 
 #include <cmath>
-#include <limits>
 
+#include "schema.hpp"
 #include "tricot/image/image.hpp"
 
 namespace tricot::cli {
 
 namespace {
 
-using io::KeySpec;
-using io::Node;
-using io::Reals;
-using io::SectionSpec;
-using io::Strings;
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-using io::key;
-
 const Strings kPanels = {"displacement", "u", "v", "exx", "eyy", "exy", "zncc"};
-
-// `e.what()` is "KEY: problem (got …, expected …)"; keep everything after the key.
-std::string problem_of(const InputError& e) {
-  std::string s = e.what();
-  const std::string k = e.where().key;
-  if (!k.empty() && s.rfind(k + ": ", 0) == 0) s = s.substr(k.size() + 2);
-  return s;
-}
 
 }  // namespace
 

@@ -4,8 +4,8 @@
 #include <Eigen/LU>
 #include <array>
 #include <cmath>
-#include <limits>
 
+#include "invalid_state.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/core/kinematics.hpp"
 
@@ -35,14 +35,6 @@ Mat4 stiffness(double D11, double D22, double D12, double D66) {
   D(3, 3) = D22;
   D(1, 1) = D(1, 2) = D(2, 1) = D(2, 2) = D66;
   return D;
-}
-
-void set_nan(const LawRequest& req, LawOutput& out) {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  out.P.setConstant(nan);
-  out.A.setConstant(nan);
-  out.lambda3 = nan;
-  out.dP_dc.assign(req.sensitivities ? 4 : 0, Mat2::Constant(nan));
 }
 
 }  // namespace
@@ -92,7 +84,7 @@ Mat2 CorotationalOrthotropic::material_frame_stress(const LawInput& in) const {
 
 void CorotationalOrthotropic::evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const {
   const double J = in.F.determinant();
-  if (!(J > 0) || !std::isfinite(J)) return set_nan(req, out);
+  if (detail::invalid_state(J, req, 4, out)) return;
   const Mat2& Q = in.Q;
 
   // THEORY §4: F = R U, Ĥ = Qᵀ ln U Q, τ̂_m = 𝔻 : Ĥ, τ̂ = Q τ̂_m Qᵀ, P = R τ̂ U⁻¹.

@@ -7,7 +7,6 @@
 
 #include <Eigen/LU>
 #include <cmath>
-#include <limits>
 
 #include "tricot/core/kinematics.hpp"
 #include "tricot/fem/law.hpp"
@@ -70,16 +69,5 @@ inline Mat2 fabric_basis(const LawInput& in, const FabricKinematics& k, const Ma
   return k.polar.R * in.Q * T_c * in.Q.transpose();
 }
 
-/// det F ≤ 0 or non-finite: NaN outputs (the solver reports an invalid state).
-inline bool fabric_invalid(const LawInput& in, const LawRequest& req, std::size_t n_coefficients, LawOutput& out) {
-  const double J = in.F.determinant();
-  if (J > 0 && std::isfinite(J)) return false;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  out.P.setConstant(nan);
-  out.A.setConstant(nan);
-  out.lambda3 = nan;
-  out.dP_dc.assign(req.sensitivities ? n_coefficients : 0, Mat2::Constant(nan));
-  return true;
-}
 
 }  // namespace tricot::fem::detail

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "invalid_state.hpp"
 #include "tricot/core/error.hpp"
 
 namespace tricot::fem {
@@ -104,14 +105,7 @@ void MooneyRivlin::set_coefficients(const Eigen::VectorXd& c) {
 void MooneyRivlin::evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const {
   const Mat2& F = in.F;
   const double detF = F.determinant();
-  if (!(detF > 0) || !std::isfinite(detF)) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    out.P.setConstant(nan);
-    out.A.setConstant(nan);
-    out.lambda3 = nan;
-    out.dP_dc.assign(req.sensitivities ? terms_.size() : 0, Mat2::Constant(nan));
-    return;
-  }
+  if (detail::invalid_state(detF, req, terms_.size(), out)) return;
   const Mat2 I = Mat2::Identity();
   const Mat2 C = F.transpose() * F;
   const double J2 = detF * detF;

@@ -3,8 +3,8 @@
 
 #include <Eigen/Dense>
 #include <cmath>
-#include <limits>
 
+#include "invalid_state.hpp"
 #include "tricot/core/error.hpp"
 
 namespace tricot::fem {
@@ -33,14 +33,7 @@ void NeoHookean::set_coefficients(const Eigen::VectorXd& c) {
 void NeoHookean::evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const {
   const Mat2& F = in.F;
   const double detF = F.determinant();
-  if (!(detF > 0) || !std::isfinite(detF)) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    out.P.setConstant(nan);
-    out.A.setConstant(nan);
-    out.lambda3 = nan;
-    out.dP_dc.assign(req.sensitivities ? 2 : 0, Mat2::Constant(nan));
-    return;
-  }
+  if (detail::invalid_state(detF, req, 2, out)) return;
   const double mu = mu_, lam = lambda_;
   const double lnJ2 = 2 * std::log(detF);
   // σ33 = 0: g(s) = μ (eˢ − 1) + λ/2 (ln J2 + s) = 0 with s = ln C33. g is increasing and convex, so

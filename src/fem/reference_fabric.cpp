@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "fabric_frame.hpp"
+#include "invalid_state.hpp"
 #include "tricot/core/error.hpp"
 
 namespace tricot::fem {
@@ -76,7 +77,7 @@ Mat2 ReferenceFabric::material_frame_stress(const LawInput& in) const {
 }
 
 void ReferenceFabric::evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const {
-  if (detail::fabric_invalid(in, req, kCoefficients, out)) return;
+  if (detail::invalid_state(in.F.determinant(), req, kCoefficients, out)) return;
   const detail::FabricKinematics k = detail::fabric_kinematics(in, req.tangent);
   const double eC = k.E_m(0, 0), eW = k.E_m(1, 1);
   const Locking LC = locking(eC, p_.k_CL, p_.eps_CL, p_.s_CL);

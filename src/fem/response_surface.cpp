@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "fabric_frame.hpp"
+#include "invalid_state.hpp"
 #include "tricot/core/error.hpp"
 
 namespace tricot::fem {
@@ -107,7 +108,7 @@ Mat2 ResponseSurface::material_frame_stress(const LawInput& in) const {
 }
 
 void ResponseSurface::evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const {
-  if (detail::fabric_invalid(in, req, c_.size(), out)) return;
+  if (detail::invalid_state(in.F.determinant(), req, c_.size(), out)) return;
   const detail::FabricKinematics k = detail::fabric_kinematics(in, req.tangent);
   const double eC = k.E_m(0, 0), eW = k.E_m(1, 1);
   detail::FabricForces f;

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "mirror.hpp"
+
 namespace tricot::image {
 
 namespace {
@@ -27,14 +29,6 @@ void prefilter_line(double* s, int n) {
   for (int k = n - 2; k >= 0; --k) s[k] = z1 * (s[k + 1] - s[k]);
 }
 
-int mirror(int i, int n) {
-  if (n == 1) return 0;
-  const int period = 2 * (n - 1);
-  i %= period;
-  if (i < 0) i += period;
-  return i < n ? i : period - i;
-}
-
 }  // namespace
 
 BSplineImage::BSplineImage(const Image& img) : width_(img.width), height_(img.height) {
@@ -45,8 +39,8 @@ BSplineImage::BSplineImage(const Image& img) : width_(img.width), height_(img.he
   stride_ = W;
   std::vector<double> c(static_cast<std::size_t>(W) * H);
   for (int y = 0; y < H; ++y) {
-    const int sy = mirror(y - pad, height_);
-    for (int x = 0; x < W; ++x) c[std::size_t(y) * W + x] = img.at(mirror(x - pad, width_), sy);
+    const int sy = detail::mirror(y - pad, height_);
+    for (int x = 0; x < W; ++x) c[std::size_t(y) * W + x] = img.at(detail::mirror(x - pad, width_), sy);
   }
   for (int y = 0; y < H; ++y) prefilter_line(&c[std::size_t(y) * W], W);
   std::vector<double> col(H);

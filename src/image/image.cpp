@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "mirror.hpp"
 #include "tricot/core/error.hpp"
 
 namespace tricot::image {
@@ -115,19 +116,6 @@ RgbImage to_rgb(const Image& img, double brightness) {
   return out;
 }
 
-namespace {
-
-/// Mirror index (whole-sample symmetric): −1 → 1, n → n − 2.
-int mirror(int i, int n) {
-  if (n == 1) return 0;
-  const int period = 2 * (n - 1);
-  i %= period;
-  if (i < 0) i += period;
-  return i < n ? i : period - i;
-}
-
-}  // namespace
-
 Image gaussian_blur(const Image& img, double sigma) {
   if (sigma <= 0 || img.empty()) return img;
   const int r = static_cast<int>(std::ceil(3.5 * sigma));
@@ -139,13 +127,13 @@ Image gaussian_blur(const Image& img, double sigma) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       float s = 0;
-      for (int i = -r; i <= r; ++i) s += k[i + r] * img.at(mirror(x + i, img.width), y);
+      for (int i = -r; i <= r; ++i) s += k[i + r] * img.at(detail::mirror(x + i, img.width), y);
       tmp.at(x, y) = s;
     }
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       float s = 0;
-      for (int i = -r; i <= r; ++i) s += k[i + r] * tmp.at(x, mirror(y + i, img.height));
+      for (int i = -r; i <= r; ++i) s += k[i + r] * tmp.at(x, detail::mirror(y + i, img.height));
       out.at(x, y) = s;
     }
   return out;

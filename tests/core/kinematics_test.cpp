@@ -6,25 +6,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <numbers>
-#include <string>
 #include <vector>
 
 #include "testing/fd_check.hpp"
+#include "testing/record.hpp"
+#include "testing/states.hpp"
 
 using namespace tricot;
 using tricot::test::JacobianMatches;
+using tricot::test::record_scientific;
+using tricot::test::rot;
 
 namespace {
-
-/// Records a measured figure in the gtest report (docs/validation.md reads it from --gtest_output).
-void record(const char* key, double value) {
-  std::ostringstream s;
-  s << std::scientific << std::setprecision(2) << value;
-  ::testing::Test::RecordProperty(key, s.str());
-}
 
 /// Central differences with h = 1e-6 are exact to ~1e-10 relative for these smooth maps; 1e-7 leaves room
 /// for the λ = 3 stretch without hiding a wrong term (a wrong term is O(1)).
@@ -32,24 +26,12 @@ constexpr double kFdTol = 1e-7;
 /// Identities that hold to round-off (a few ulps of O(1) numbers).
 constexpr double kRoundOff = 1e-13;
 
-Mat2 rot(double deg) {
-  const double t = deg * std::numbers::pi / 180;
-  Mat2 R;
-  R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
-  return R;
-}
-
 Mat2 from(const Eigen::VectorXd& x) { return unflatten(Vec4(x)); }
 Eigen::VectorXd vec(const Mat2& A) { return flatten(A); }
 
-struct State {
-  std::string name;
-  Mat2 F;
-};
-
 /// The states the issue asks for: identity, tiny, large rotation, large stretch, repeated eigenvalues,
 /// and a general one.
-std::vector<State> states() {
+std::vector<test::State> states() {
   Mat2 tiny, general;
   tiny << 1 + 1e-8, 3e-9, -2e-9, 1 - 0.5e-8;
   general << 1.3, 0.4, -0.2, 0.8;
@@ -101,7 +83,7 @@ TEST(PolarDecomposition, AngleRotationAndStretchDerivativesMatchFiniteDifference
     worst = std::max({worst, tricot::test::jacobian_error(theta, vec(s.F), Eigen::MatrixXd(J.theta_F.transpose())),
                       tricot::test::jacobian_error(R, vec(s.F), J.R_F), tricot::test::jacobian_error(U, vec(s.F), J.U_F)});
   }
-  record("max_polar_fd_rel_error", worst);
+  record_scientific("max_polar_fd_rel_error", worst);
 }
 
 TEST(LogDividedDifference, IsTheSlopeOfTheLogAndItsLimitAtEqualArguments) {
@@ -146,7 +128,7 @@ TEST(LogSpd, DerivativeMatchesFiniteDifferencesInEveryDirection) {
     EXPECT_TRUE(JacobianMatches(logU, vec(U), J, kFdTol)) << U;
     worst = std::max(worst, tricot::test::jacobian_error(logU, vec(U), J));
   }
-  record("max_log_fd_rel_error", worst);
+  record_scientific("max_log_fd_rel_error", worst);
 }
 
 TEST(LogSpd, ChainedThroughThePolarDecompositionMatchesFiniteDifferencesInF) {

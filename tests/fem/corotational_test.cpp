@@ -5,27 +5,24 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <numbers>
-#include <string>
 #include <vector>
 
 #include "testing/fd_check.hpp"
+#include "testing/law_eval.hpp"
+#include "testing/record.hpp"
+#include "testing/states.hpp"
 #include "tricot/core/error.hpp"
 
 using namespace tricot;
 using namespace tricot::fem;
 using tricot::test::JacobianMatches;
+using tricot::test::P_of;
+using tricot::test::record_scientific;
+using tricot::test::rot;
+using tricot::test::shear;
 
 namespace {
-
-/// Records a measured figure in the gtest report (docs/validation.md reads it from --gtest_output).
-void record(const char* key, double value) {
-  std::ostringstream s;
-  s << std::scientific << std::setprecision(2) << value;
-  ::testing::Test::RecordProperty(key, s.str());
-}
 
 /// Central differences (h = 1e-6) of these smooth maps are exact to ~1e-9 relative; a wrong term is O(1).
 constexpr double kFdTol = 1e-7;
@@ -34,43 +31,15 @@ constexpr double kRoundOff = 1e-12;
 /// The acceptance bound for the simple-shear closed form.
 constexpr double kSimpleShearTol = 1e-6;
 
-Mat2 rot(double deg) {
-  const double t = deg * std::numbers::pi / 180;
-  Mat2 R;
-  R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
-  return R;
-}
-
-Mat2 shear(double gamma) {
-  Mat2 F;
-  F << 1, gamma, 0, 1;
-  return F;
-}
-
 /// A knit-like orthotropic membrane [N/mm]: stiff course, soft wale, little shear.
 CorotationalOrthotropic knit() { return {0.8, 0.2, 0.1, 0.05}; }
 
-Mat2 P_of(const Law& law, const Mat2& F, const Mat2& Q) {
-  LawOutput out;
-  law.evaluate({F, Q}, {false, false}, out);
-  return out.P;
-}
-
-struct State {
-  std::string name;
-  Mat2 F;
-};
-
-std::vector<State> states() {
-  Mat2 small, combined;
-  small << 1 + 1e-4, 2e-4, -1e-4, 1 - 3e-5;
+std::vector<test::State> states() {
+  Mat2 combined;
   combined << 1.9, 0.6, -0.3, 1.2;
-  return {{"identity", Mat2::Identity()},
-          {"small strain", small},
-          {"large stretch", Vec2(2.5, 1.4).asDiagonal()},
-          {"large rotation 120 deg", rot(120) * Mat2(Vec2(1.6, 0.9).asDiagonal())},
-          {"combined rotation 200 deg, stretch and shear", rot(200) * combined},
-          {"simple shear gamma 3", shear(3)}};
+  std::vector<test::State> s = test::orthotropic_law_states({"large stretch", Vec2(2.5, 1.4).asDiagonal()}, combined);
+  s.push_back({"simple shear gamma 3", shear(3)});
+  return s;
 }
 
 }  // namespace
@@ -87,7 +56,7 @@ TEST(CorotationalOrthotropic, TangentMatchesFiniteDifferencesFromIdentityToLarge
       worst = std::max(worst, tricot::test::jacobian_error(P, flatten(s.F), out.A));
     }
   }
-  record("max_tangent_fd_rel_error", worst);
+  record_scientific("max_tangent_fd_rel_error", worst);
 }
 
 TEST(CorotationalOrthotropic, CoefficientSensitivitiesAreExactBasisStresses) {
@@ -114,7 +83,7 @@ TEST(CorotationalOrthotropic, CoefficientSensitivitiesAreExactBasisStresses) {
     // Linear in the coefficients: P = Σ c_k ∂P/∂c_k.
     EXPECT_LT((J * law.coefficients() - flatten(P_of(law, s.F, Q))).norm(), kRoundOff) << s.name;
   }
-  record("max_dP_dc_fd_rel_error", worst);
+  record_scientific("max_dP_dc_fd_rel_error", worst);
 }
 
 TEST(CorotationalOrthotropic, RigidRotationRotatesPAndLeavesTheLocalStressUnchanged) {
@@ -131,7 +100,7 @@ TEST(CorotationalOrthotropic, RigidRotationRotatesPAndLeavesTheLocalStressUnchan
     EXPECT_LT(eT, kRoundOff) << deg;
     worst = std::max({worst, eP / P_of(law, F, Q).norm(), eT / law.material_frame_stress({F, Q}).norm()});
   }
-  record("rotation_max_rel_error", worst);
+  record_scientific("rotation_max_rel_error", worst);
   // A rigid rotation alone gives no stress.
   EXPECT_LT(P_of(law, rot(140), Q).norm(), kRoundOff);
 }
@@ -145,7 +114,7 @@ TEST(CorotationalOrthotropic, NinetyDegreeMaterialAngleSwapsCourseAndWale) {
     EXPECT_LT(e, kRoundOff) << s.name;
     if (s.name != "identity") worst = std::max(worst, e / P_of(swapped, s.F, Mat2::Identity()).norm());
   }
-  record("swap_max_rel_error", worst);
+  record_scientific("swap_max_rel_error", worst);
 }
 
 TEST(CorotationalOrthotropic, SimpleShearReproducesTheLogRateClosedFormUpToGammaTen) {
@@ -165,7 +134,7 @@ TEST(CorotationalOrthotropic, SimpleShearReproducesTheLogRateClosedFormUpToGamma
       EXPECT_EQ(sigma.norm(), 0.0);
     }
   }
-  record("simple_shear_max_rel_error", max_err);
+  record_scientific("simple_shear_max_rel_error", max_err);
   EXPECT_LE(max_err, kSimpleShearTol);
 }
 

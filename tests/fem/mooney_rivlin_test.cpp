@@ -5,15 +5,21 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <fstream>
-#include <sstream>
 
 #include "testing/fd_check.hpp"
+#include "testing/law_eval.hpp"
 #include "testing/paths.hpp"
+#include "testing/record.hpp"
+#include "testing/states.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/fem/neo_hookean.hpp"
 
 namespace tricot::fem {
 namespace {
+
+using test::eval;
+using test::record;
+using test::rotation;
 
 // Central differences with h = 1e-6 on smooth polynomials: truncation ~1e-12, round-off ~1e-10.
 constexpr double kTangentTol = 1e-7;
@@ -28,39 +34,9 @@ std::vector<MooneyRivlinTerm> rich_terms() {
           {2, 1, 0.012}, {0, 3, 0.008}, {3, 0, 0.001}};
 }
 
-/// Measured errors go to the gtest XML/JSON report (docs/validation.md reads them there).
-void record(const std::string& key, double value) {
-  std::ostringstream o;
-  o.precision(3);
-  o << value;
-  ::testing::Test::RecordProperty(key, o.str());
-}
-
-Mat2 rotation(double a) {
-  Mat2 Q;
-  Q << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
-  return Q;
-}
-
-LawOutput eval(const Law& law, const Mat2& F, bool sensitivities = false) {
-  LawInput in;
-  in.F = F;
-  LawOutput out;
-  law.evaluate(in, LawRequest{true, sensitivities}, out);
-  return out;
-}
-
 /// The deformation gradients the tangent is checked at.
-std::vector<std::pair<std::string, Mat2>> states() {
-  Mat2 small, shear, turned;
-  small << 1.001, 0.0004, -0.0003, 0.9995;
-  shear << 1, 0.5, 0, 1;
-  Mat2 U;
-  U << 2.0, 0.3, 0.3, 0.7;
-  turned = rotation(0.7) * U;
-  return {{"identity", Mat2::Identity()}, {"small strain", small},
-          {"stretch 3", Mat2(Eigen::Vector2d(3.0, 1 / std::sqrt(3.0)).asDiagonal())},
-          {"rotation and stretch", turned}, {"simple shear", shear}};
+std::vector<test::State> states() {
+  return test::isotropic_law_states(Mat2(Eigen::Vector2d(3.0, 1 / std::sqrt(3.0)).asDiagonal()));
 }
 
 /// F = diag(λ, λ2) with λ2 solved so that P22 = 0 (Newton on the law's own tangent).

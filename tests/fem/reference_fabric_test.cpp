@@ -5,45 +5,27 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
-#include <numbers>
-#include <string>
 #include <vector>
 
 #include "testing/fd_check.hpp"
+#include "testing/law_eval.hpp"
+#include "testing/record.hpp"
+#include "testing/states.hpp"
 #include "tricot/core/error.hpp"
 
 using namespace tricot;
 using namespace tricot::fem;
 using tricot::test::JacobianMatches;
+using tricot::test::P_of;
+using tricot::test::record_scientific;
+using tricot::test::rot;
 
 namespace {
-
-/// Records a measured figure in the gtest report (docs/validation.md reads it from --gtest_output).
-void record(const char* key, double value) {
-  std::ostringstream s;
-  s << std::scientific << std::setprecision(2) << value;
-  ::testing::Test::RecordProperty(key, s.str());
-}
 
 /// Central differences (h = 1e-6) of these smooth maps are exact to ~1e-9 relative; a wrong term is O(1).
 constexpr double kFdTol = 1e-7;
 /// Identities that hold exactly in real arithmetic, checked to a few ulps of the O(1) forces.
 constexpr double kRoundOff = 1e-13;
-
-Mat2 rot(double deg) {
-  const double t = deg * std::numbers::pi / 180;
-  Mat2 R;
-  R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
-  return R;
-}
-
-Mat2 P_of(const Law& law, const Mat2& F, const Mat2& Q) {
-  LawOutput out;
-  law.evaluate({F, Q}, {false, false}, out);
-  return out.P;
-}
 
 /// docs/theory/fabric.md §4 written out independently of the implementation.
 Vec2 reference_forces(const ReferenceFabricParameters& p, double eC, double eW) {
@@ -52,21 +34,11 @@ Vec2 reference_forces(const ReferenceFabricParameters& p, double eC, double eW) 
   return {p.k_C * eC + LC + p.k_X * eC * eW * eW, p.k_W * eW + LW + p.k_X * eC * eC * eW};
 }
 
-struct State {
-  std::string name;
-  Mat2 F;
-};
-
 /// Up to the locking range: λ = 1.61 is εC = 0.8 (onset), λ = 1.73 is εC = 1.0.
-std::vector<State> states() {
-  Mat2 small, combined;
-  small << 1 + 1e-4, 2e-4, -1e-4, 1 - 3e-5;
+std::vector<test::State> states() {
+  Mat2 combined;
   combined << 1.7, 0.3, -0.2, 1.3;
-  return {{"identity", Mat2::Identity()},
-          {"small strain", small},
-          {"large stretch in the locking range", Vec2(1.8, 1.2).asDiagonal()},
-          {"large rotation 120 deg", rot(120) * Mat2(Vec2(1.6, 0.9).asDiagonal())},
-          {"combined rotation 200 deg, stretch and shear", rot(200) * combined}};
+  return test::orthotropic_law_states({"large stretch in the locking range", Vec2(1.8, 1.2).asDiagonal()}, combined);
 }
 
 }  // namespace
@@ -83,7 +55,7 @@ TEST(ReferenceFabric, TangentMatchesFiniteDifferencesFromIdentityToLargeRotation
       worst = std::max(worst, tricot::test::jacobian_error(P, flatten(s.F), out.A));
     }
   }
-  record("max_tangent_fd_rel_error", worst);
+  record_scientific("max_tangent_fd_rel_error", worst);
 }
 
 TEST(ReferenceFabric, CoefficientSensitivitiesMatchFiniteDifferences) {
@@ -105,7 +77,7 @@ TEST(ReferenceFabric, CoefficientSensitivitiesMatchFiniteDifferences) {
     EXPECT_TRUE(JacobianMatches(P, law.coefficients(), J, kFdTol)) << s.name;
     worst = std::max(worst, tricot::test::jacobian_error(P, law.coefficients(), J));
   }
-  record("max_dP_dc_fd_rel_error", worst);
+  record_scientific("max_dP_dc_fd_rel_error", worst);
 }
 
 TEST(ReferenceFabric, HomogeneousBiaxialForcesAreTheDocumentedFormula) {
@@ -153,7 +125,7 @@ TEST(ReferenceFabric, RigidRotationRotatesPAndLeavesTheLocalForcesUnchanged) {
     EXPECT_LT(eT, kRoundOff) << deg;
     worst = std::max({worst, eP / P_of(law, F, Q).norm(), eT / law.material_frame_stress({F, Q}).norm()});
   }
-  record("rotation_max_rel_error", worst);
+  record_scientific("rotation_max_rel_error", worst);
 }
 
 TEST(ReferenceFabric, NinetyDegreeMaterialAngleSwapsCourseAndWale) {
@@ -170,7 +142,7 @@ TEST(ReferenceFabric, NinetyDegreeMaterialAngleSwapsCourseAndWale) {
     EXPECT_LT(e, kRoundOff) << s.name;
     if (s.name != "identity") worst = std::max(worst, e / P_of(law_swapped, s.F, Mat2::Identity()).norm());
   }
-  record("swap_max_rel_error", worst);
+  record_scientific("swap_max_rel_error", worst);
 }
 
 TEST(ReferenceFabric, RejectsOutOfRangeParameters) {

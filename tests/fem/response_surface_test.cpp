@@ -5,39 +5,28 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
-#include <numbers>
 #include <string>
 #include <vector>
 
 #include "testing/fd_check.hpp"
+#include "testing/law_eval.hpp"
+#include "testing/record.hpp"
+#include "testing/states.hpp"
 #include "tricot/core/error.hpp"
 
 using namespace tricot;
 using namespace tricot::fem;
 using tricot::test::JacobianMatches;
+using tricot::test::P_of;
+using tricot::test::record_scientific;
+using tricot::test::rot;
 
 namespace {
-
-/// Records a measured figure in the gtest report (docs/validation.md reads it from --gtest_output).
-void record(const char* key, double value) {
-  std::ostringstream s;
-  s << std::scientific << std::setprecision(2) << value;
-  ::testing::Test::RecordProperty(key, s.str());
-}
 
 /// Central differences (h = 1e-6) of these smooth maps are exact to ~1e-9 relative; a wrong term is O(1).
 constexpr double kFdTol = 1e-7;
 /// Identities that hold exactly in real arithmetic, checked to a few ulps of the O(1) forces.
 constexpr double kRoundOff = 1e-13;
-
-Mat2 rot(double deg) {
-  const double t = deg * std::numbers::pi / 180;
-  Mat2 R;
-  R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
-  return R;
-}
 
 /// Coefficients of the paper14 preset with a knit-like shape [N/mm] (course stiff and J-shaped, wale soft).
 Eigen::VectorXd paper14_coefficients() {
@@ -73,26 +62,10 @@ ResponseSurface general() {
   return ResponseSurface({{1, 0}, {3, 0}, {1, 2}}, {{0, 1}, {2, 1}, {1, 0}}, 0.02, c);
 }
 
-Mat2 P_of(const Law& law, const Mat2& F, const Mat2& Q) {
-  LawOutput out;
-  law.evaluate({F, Q}, {false, false}, out);
-  return out.P;
-}
-
-struct State {
-  std::string name;
-  Mat2 F;
-};
-
-std::vector<State> states() {
-  Mat2 small, combined;
-  small << 1 + 1e-4, 2e-4, -1e-4, 1 - 3e-5;
+std::vector<test::State> states() {
+  Mat2 combined;
   combined << 1.6, 0.3, -0.2, 1.25;
-  return {{"identity", Mat2::Identity()},
-          {"small strain", small},
-          {"large stretch", Vec2(1.8, 1.3).asDiagonal()},
-          {"large rotation 120 deg", rot(120) * Mat2(Vec2(1.6, 0.9).asDiagonal())},
-          {"combined rotation 200 deg, stretch and shear", rot(200) * combined}};
+  return test::orthotropic_law_states({"large stretch", Vec2(1.8, 1.3).asDiagonal()}, combined);
 }
 
 }  // namespace
@@ -110,7 +83,7 @@ TEST(ResponseSurface, TangentMatchesFiniteDifferencesFromIdentityToLargeRotation
       }
     }
   }
-  record("max_tangent_fd_rel_error", worst);
+  record_scientific("max_tangent_fd_rel_error", worst);
 }
 
 TEST(ResponseSurface, CoefficientSensitivitiesAreExactAndSumToP) {
@@ -139,7 +112,7 @@ TEST(ResponseSurface, CoefficientSensitivitiesAreExactAndSumToP) {
       EXPECT_LT((J * law.coefficients() + shear_part - flatten(P_of(law, s.F, Q))).norm(), kRoundOff) << s.name;
     }
   }
-  record("max_dP_dc_fd_rel_error", worst);
+  record_scientific("max_dP_dc_fd_rel_error", worst);
 }
 
 TEST(ResponseSurface, HomogeneousBiaxialForcesAreThePolynomialAtTheImposedStrains) {
@@ -165,7 +138,7 @@ TEST(ResponseSurface, HomogeneousBiaxialForcesAreThePolynomialAtTheImposedStrain
                         std::abs(Pw(1, 1) - g(0))});
     }
   }
-  record("biaxial_max_abs_error_N_per_mm", worst);
+  record_scientific("biaxial_max_abs_error_N_per_mm", worst);
 }
 
 TEST(ResponseSurface, RigidRotationRotatesPAndLeavesTheLocalForcesUnchanged) {
@@ -184,7 +157,7 @@ TEST(ResponseSurface, RigidRotationRotatesPAndLeavesTheLocalForcesUnchanged) {
     }
     EXPECT_LT(P_of(law, rot(140), Q).norm(), kRoundOff);  // rigid rotation alone: no force
   }
-  record("rotation_max_rel_error", worst);
+  record_scientific("rotation_max_rel_error", worst);
 }
 
 TEST(ResponseSurface, NinetyDegreeMaterialAngleWithSwappedCoefficientsGivesIdenticalP) {
@@ -223,15 +196,14 @@ TEST(ResponseSurface, NinetyDegreeMaterialAngleWithSwappedCoefficientsGivesIdent
               kRoundOff)
         << s.name;
   }
-  record("swap_max_rel_error", worst);
+  record_scientific("swap_max_rel_error", worst);
 }
 
 TEST(ResponseSurface, SmallShearIsCarriedByTheFixedShearStiffness) {
   const ResponseSurface law = paper14();
   const double gamma = 0.3;
-  Mat2 F;
-  F << 1, gamma, 0, 1;
-  EXPECT_NEAR(law.material_frame_stress({F, Mat2::Identity()})(0, 1), law.shear_stiffness() * gamma, kRoundOff);
+  EXPECT_NEAR(law.material_frame_stress({test::shear(gamma), Mat2::Identity()})(0, 1), law.shear_stiffness() * gamma,
+              kRoundOff);
 }
 
 TEST(ResponseSurface, PresetsNameTheirCoefficientsAsInTheTheory) {

@@ -10,6 +10,7 @@
 #include "assembly.hpp"  // white-box: the global residual and tangent
 #include "testing/fd_check.hpp"
 #include "testing/newton.hpp"
+#include "testing/record.hpp"
 #include "testing_law.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/fem/mooney_rivlin.hpp"
@@ -24,12 +25,7 @@ constexpr double kFdSimulate = 1e-5;   // brief: sensitivities match FD of whole
 constexpr double kTightNewton = 1e-13; // Newton tolerance for runs that are differenced
 constexpr double kRoundOff = 1e-12;    // residual floor / grip force: round-off ends ≤ 5e-15 × the force
 
-void record(const std::string& key, double value, int digits = 3) {
-  std::ostringstream o;
-  o.precision(digits);
-  o << value;
-  ::testing::Test::RecordProperty(key, o.str());
-}
+using test::record;
 
 Mesh strip(ElementType type, int nx, int ny, double width = 10, double height = 25) {
   MeshOptions o;
