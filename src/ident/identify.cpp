@@ -65,14 +65,10 @@ void IdentifyOptions::validate() const {
 namespace {
 
 /// Run state, carried across LM restarts and through checkpoints.
-struct State {
-  Eigen::VectorXd x;  // LM variables of the current point
-  double objective = 0;
-  double radius = 0;
-  int iterations = 0, evaluations = 0, jacobian_evaluations = 0, failed = 0, restarts = 0;
-  int failed_since_accepted = 0;  // trial points where the model failed since the last accepted step
-  double wall_before = 0;  // seconds spent by the run this one resumes
-  std::vector<HistoryEntry> history;
+// LmProgress at the current point (wall_seconds: spent by the run this one resumes), and the trial
+// points where the model failed since the last accepted step.
+struct State : LmProgress {
+  int failed_since_accepted = 0;
 };
 
 /// The whole residual vector as one Ceres cost function of x = J / scale. It keeps the last
@@ -121,7 +117,7 @@ class LmCost final : public ceres::CostFunction {
       e.message = "non-finite Jacobian";
     }
     if (!e.ok) {
-      ++state_.failed;
+      ++state_.failed_evaluations;
       ++state_.failed_since_accepted;
       last_failure = e.message;
       valid_ = false;
@@ -172,7 +168,7 @@ class Monitor final : public ceres::IterationCallback {
       state_.failed_since_accepted = 0;
       state_.x = x_;
       state_.objective = s.cost;
-      state_.radius = s.trust_region_radius;
+      state_.trust_region_radius = s.trust_region_radius;
       state_.iterations = iteration;
       if (s.iteration > 0 || record_start_) {
         state_.history.push_back({iteration, s.cost, scales_.cwiseProduct(x_), state_.restarts});
@@ -207,20 +203,11 @@ class Monitor final : public ceres::IterationCallback {
   void checkpoint() const {
     if (!options_.on_checkpoint) return;
     Checkpoint c;
+    static_cast<LmProgress&>(c) = state_;
+    c.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
     c.names = names_;
     c.scales = scales_;
-    c.x = state_.x;
     c.parameters = scales_.cwiseProduct(state_.x);
-    c.objective = state_.objective;
-    c.trust_region_radius = state_.radius;
-    c.iterations = state_.iterations;
-    c.evaluations = state_.evaluations;
-    c.jacobian_evaluations = state_.jacobian_evaluations;
-    c.failed_evaluations = state_.failed;
-    c.restarts = state_.restarts;
-    c.wall_seconds = state_.wall_before +
-                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-    c.history = state_.history;
     options_.on_checkpoint(c);
   }
 
@@ -275,7 +262,7 @@ std::optional<Eigen::VectorXd> stability_trial(const Problem& problem, const Ide
   int best = -1;
   for (int i = 0; i < m; ++i) {
     if (!e[i].ok || !e[i].r.allFinite()) {
-      ++state.failed;
+      ++state.failed_evaluations;
       continue;
     }
     if (best < 0 || e[i].objective() < e[best].objective()) best = i;
@@ -304,23 +291,14 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
   }
 
   State state;
-  state.radius = options.initial_trust_region_radius;
+  state.trust_region_radius = options.initial_trust_region_radius;
   bool resumed = false;
   if (options.resume_from) {
     const Checkpoint& c = *options.resume_from;
     if (c.names != names || c.scales.size() != n || c.scales != scales || c.x.size() != n)
       throw InputError(Location{"", 0, "resume"}, "the checkpoint belongs to another identification",
                        "parameters and scales of the checkpoint", "those of the project");
-    state.x = c.x;
-    state.objective = c.objective;
-    state.radius = c.trust_region_radius;
-    state.iterations = c.iterations;
-    state.evaluations = c.evaluations;
-    state.jacobian_evaluations = c.jacobian_evaluations;
-    state.failed = c.failed_evaluations;
-    state.restarts = c.restarts;
-    state.wall_before = c.wall_seconds;
-    state.history = c.history;
+    static_cast<LmProgress&>(state) = c;
     resumed = true;
   } else {
     state.x.resize(n);
@@ -356,7 +334,7 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
     so.function_tolerance = options.function_tolerance;
     so.gradient_tolerance = options.gradient_tolerance;
     so.parameter_tolerance = options.delta;
-    so.initial_trust_region_radius = state.radius;
+    so.initial_trust_region_radius = state.trust_region_radius;
     so.logging_type = ceres::SILENT;
     so.minimizer_progress_to_stdout = false;
     so.update_state_every_iteration = true;
@@ -405,7 +383,7 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
     }
     ++state.restarts;
     state.x = *better;
-    state.radius = options.initial_trust_region_radius;
+    state.trust_region_radius = options.initial_trust_region_radius;
     if (state.iterations >= options.max_iterations) {
       result.termination = Termination::max_iterations;
       result.message = "max_iterations reached during the stability restarts";
@@ -424,10 +402,10 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
   result.iterations = state.iterations;
   result.evaluations = state.evaluations;
   result.jacobian_evaluations = state.jacobian_evaluations;
-  result.failed_evaluations = state.failed;
+  result.failed_evaluations = state.failed_evaluations;
   result.restarts = state.restarts;
   result.history = std::move(state.history);
-  result.wall_seconds = state.wall_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  result.wall_seconds = state.wall_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }
 

@@ -25,16 +25,20 @@ struct HistoryEntry {
 
 /// The state after an accepted LM step: enough to continue the run exactly (resume_from). The
 /// library does not write it; on_checkpoint hands it to the caller.
-struct Checkpoint {
-  std::vector<std::string> names;  ///< identified coefficients, in order
-  Eigen::VectorXd scales;          ///< LM units: J = scales ∘ x
+/// LM's progress at an accepted point: all a resumed run needs to go on along the same path.
+struct LmProgress {
   Eigen::VectorXd x;               ///< LM variables at the accepted point (exact, for the resume)
-  Eigen::VectorXd parameters;      ///< J = scales ∘ x, for reading
   double objective = 0;
   double trust_region_radius = 0;  ///< LM's radius for the next step (1/μ)
   int iterations = 0, evaluations = 0, jacobian_evaluations = 0, failed_evaluations = 0, restarts = 0;
   double wall_seconds = 0;  ///< spent so far, carried on by a resumed run
   std::vector<HistoryEntry> history;
+};
+
+struct Checkpoint : LmProgress {
+  std::vector<std::string> names;  ///< identified coefficients, in order
+  Eigen::VectorXd scales;          ///< LM units: J = scales ∘ x
+  Eigen::VectorXd parameters;      ///< J = scales ∘ x, for reading
 };
 
 struct IdentifyOptions {
