@@ -73,9 +73,9 @@ TEST(SimulateExamples, BiaxialFabricReachesTheFullStrainRangeWithoutCutbacks) {
       const io::Table t = io::read_csv(out / name / "steps.csv");
       ASSERT_EQ(t.rows.size(), 21u) << name;
       for (double k : t.values("cutbacks")) EXPECT_EQ(k, 0.0) << name;
-      // Clamps that follow the guide: a homogeneous state (the reference fabric has no transverse
-      // shrinkage), so the force per width is the law's force at the imposed strains (along y: the
-      // grip; along x: the guide, moved in proportion).
+      // Clamps that follow the guide: the uniform stretch meets every boundary condition, so the
+      // force per width is the law's force at the imposed strains (along y: the grip; along x: the
+      // guide, moved in proportion).
       for (const auto& row : t.rows) {
         const double d = row[t.column("edge_displacement")], s = d / 40.0;
         const double e_y = 0.5 * (std::pow(1 + d / kHalf, 2) - 1), e_x = 0.5 * (std::pow(1 + s * c / kHalf, 2) - 1);
