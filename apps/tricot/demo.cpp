@@ -306,7 +306,7 @@ set key top left
 plot {1} using "epsilon":"max_relative_error" with linespoints pt 7 lw 2 title "max_k |C_k - target| / |target|"
 unset multiplot
 )gp",
-                                   gnuplot_quote(out / "plots" / "epsilon.png"), gnuplot_quote(csv)),
+                                   io::gnuplot_quote(out / "plots" / "epsilon.png"), io::gnuplot_quote(csv)),
                        &why))
     console.print("  (no plot: " + why + ")");
 }

@@ -367,7 +367,7 @@ void plot_history(const fs::path& dir, const IdentifyOutcome& o, Console& consol
     const double ref = truth && *truth != 0 ? *truth : r.parameters(Eigen::Index(k));
     if (ref == 0) continue;
     lines += fmt::format("{}{} using 1:(${}/({:.17g})) with linespoints pt 7 ps 0.5 title \"{}\"", lines.empty() ? "" : ", \\\n  ",
-                         gnuplot_quote(dir / "history.csv"), k + 3, ref, r.names[k]);
+                         io::gnuplot_quote(dir / "history.csv"), k + 3, ref, r.names[k]);
   }
   const std::string by = o.truth ? "truth" : "identified value";
   const std::string script = fmt::format(R"gp(set terminal pngcairo size 900,800 font ",11"
@@ -388,8 +388,8 @@ set key bottom right
 plot {5}
 unset multiplot
 )gp",
-                                         gnuplot_quote(dir / "plots" / "history.png"), o.data,
-                                         ident::to_string(r.jacobian), gnuplot_quote(dir / "history.csv"), by, lines);
+                                         io::gnuplot_quote(dir / "plots" / "history.png"), o.data,
+                                         ident::to_string(r.jacobian), io::gnuplot_quote(dir / "history.csv"), by, lines);
   std::string why;
   if (!io::run_gnuplot(script, &why)) console.print("  (no plot: " + why + ")");
 }
@@ -432,8 +432,8 @@ set ylabel "grip force, N"
 plot {2} using {3} with points pt 6 ps 1 title "measured", \
   {2} using "model_edge_displacement":"model_edge_force" with lines lw 2 title "identified model"
 )gp",
-                                     gnuplot_quote(dir / "plots" / ("fit_" + m.name + ".png")), m.name,
-                                     gnuplot_quote(csv), measured),
+                                     io::gnuplot_quote(dir / "plots" / ("fit_" + m.name + ".png")), m.name,
+                                     io::gnuplot_quote(csv), measured),
                          &why))
       console.print("  (no plot: " + why + ")");
   }
@@ -534,12 +534,6 @@ Exit codes: 0 converged, 2 bad command line, project or data, 3 a file or folder
 )";
 
 }  // namespace
-
-std::string gnuplot_quote(const fs::path& p) {
-  std::string q = "'";
-  for (char c : p.string()) q += c == '\'' ? std::string("''") : std::string(1, c);
-  return q + "'";
-}
 
 io::SectionSpec identify_schema() {
   io::SectionSpec root = case_schema();

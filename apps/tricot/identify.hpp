@@ -62,7 +62,4 @@ struct IdentifyOutcome {
 /// Throws InputError for a bad project or data (FileError when a file is missing).
 IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& request, Console& console);
 
-/// A path as a gnuplot string literal ('…', quotes doubled).
-std::string gnuplot_quote(const std::filesystem::path& p);
-
 }  // namespace tricot::cli

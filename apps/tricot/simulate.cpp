@@ -99,12 +99,6 @@ void plot(Console& console, const std::string& script) {
   if (!io::run_gnuplot(script, &why)) console.print("  (no plot: " + why + ")");
 }
 
-std::string gp_quote(const fs::path& p) {
-  std::string s = p.string(), q = "'";
-  for (char c : s) q += c == '\'' ? std::string("''") : std::string(1, c);
-  return q + "'";
-}
-
 // --- FE tests ---------------------------------------------------------------------------------------
 
 struct TestOutcome {
@@ -153,7 +147,7 @@ set xlabel "grip displacement (quarter model), mm"
 set ylabel "force per width, N/mm"
 plot {} using "edge_displacement":"force_per_width" with linespoints pt 7 ps 0.6 title "{}"
 )gp",
-                              gp_quote(dir / "force.png"), test.name, gp_quote(dir / "steps.csv"),
+                              io::gnuplot_quote(dir / "force.png"), test.name, io::gnuplot_quote(dir / "steps.csv"),
                               force ? "force-controlled" : "FE"));
   }
 
@@ -224,7 +218,7 @@ TestOutcome run_simple_shear(const fem::TestModel& test, const fem::Law& law, co
       c.rows.push_back({g, L.s12, L.s11, J.s12, J.s11, N.s12, N.s11});
     }
     io::write_atomic(dir / "closed_form.csv", io::to_csv(c));
-    const std::string cf = gp_quote(dir / "closed_form.csv");
+    const std::string cf = io::gnuplot_quote(dir / "closed_form.csv");
     extra = fmt::format(
         R"gp(, {0} using "gamma":"log_s12" with lines lw 1 lc rgb "#1f77b4" dt 2 title "σ12 log rate, closed form", \
   {0} using "gamma":"log_s11" with lines lw 1 lc rgb "#d62728" dt 2 title "σ11 log rate, closed form", \
@@ -246,7 +240,7 @@ set ylabel "σ, N/mm"
 plot {2} using "gamma":"s12" with points pt 6 ps 0.8 lc rgb "#1f77b4" title "σ12 tricot ({3})", \
   {2} using "gamma":"s11" with points pt 4 ps 0.7 lc rgb "#d62728" title "σ11 tricot"{4}
 )gp",
-                              gp_quote(dir / "force.png"), test.name, gp_quote(dir / "steps.csv"), law.name(), extra));
+                              io::gnuplot_quote(dir / "force.png"), test.name, io::gnuplot_quote(dir / "steps.csv"), law.name(), extra));
 
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!t.rows.empty()) {
@@ -264,7 +258,7 @@ void plot_all(Console& console, const fs::path& dir, const std::vector<std::stri
   std::string curves;
   for (const auto& t : tests)
     curves += fmt::format("{}{} using \"edge_displacement\":\"force_per_width\" with linespoints pt 7 ps 0.4 title \"{}\"",
-                          curves.empty() ? "" : ", \\\n  ", gp_quote(dir / t / "steps.csv"), t);
+                          curves.empty() ? "" : ", \\\n  ", io::gnuplot_quote(dir / t / "steps.csv"), t);
   plot(console, fmt::format(R"gp(set terminal pngcairo size 900,600 font ",11" noenhanced
 set output {}
 set datafile separator ","
@@ -275,7 +269,7 @@ set xlabel "grip displacement (quarter model), mm"
 set ylabel "force per width, N/mm"
 plot {}
 )gp",
-                            gp_quote(dir / "forces.png"), curves));
+                            io::gnuplot_quote(dir / "forces.png"), curves));
 }
 
 ExitCode run_simulate(const SimulateArgs& args) {

@@ -26,7 +26,6 @@ class LinearSolver {
   bool factorize(const Eigen::SparseMatrix<double>& K, bool symmetric);
   /// x = K⁻¹ b with the last factorization (b may have several columns; x may not alias b).
   void solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const;
-  bool used_lu() const { return lu_active_; }
 
   double seconds = 0;  ///< wall time in numeric factorizations
   int factorizations = 0;

@@ -142,6 +142,12 @@ Table read_csv(const fs::path& path) {
   return t;
 }
 
+std::string gnuplot_quote(const fs::path& p) {
+  std::string q = "'";
+  for (char c : p.string()) q += c == '\'' ? std::string("''") : std::string(1, c);
+  return q + "'";
+}
+
 bool run_gnuplot(const std::string& script, std::string* why) {
   FILE* p = popen("gnuplot 2>&1", "w");
   if (!p) {

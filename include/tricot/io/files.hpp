@@ -45,4 +45,7 @@ Table read_csv(const std::filesystem::path& path);
 /// `why`, when gnuplot is not installed or fails; plots are a convenience, never a reason to fail a run.
 bool run_gnuplot(const std::string& script, std::string* why = nullptr);
 
+/// A path as a gnuplot string literal ('…', quotes doubled), for the scripts given to run_gnuplot.
+std::string gnuplot_quote(const std::filesystem::path& p);
+
 }  // namespace tricot::io
