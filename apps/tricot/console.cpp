@@ -7,17 +7,14 @@
 
 namespace tricot::cli {
 
-std::string format_duration(double s) {
-  if (s < 1) return fmt::format("{:.0f} ms", s * 1e3);
-  if (s < 60) return fmt::format("{:.1f} s", s);
-  if (s < 3600) return fmt::format("{} min {:02d} s", int(s) / 60, int(s) % 60);
-  return fmt::format("{} h {:02d} min", int(s) / 3600, (int(s) % 3600) / 60);
-}
-
 Console::Console(bool verbose, bool quiet)
     : verbose_(verbose), quiet_(quiet), tty_(isatty(fileno(stderr)) != 0) {}
 
 Console::~Console() { clear_line(); }
+
+project::Log Console::log() {
+  return project::Log(reporter(), [this](const std::string& l) { print(l); });
+}
 
 Reporter Console::reporter() {
   return Reporter{[this](const Progress& p) { on_progress(p); }, [this](const std::string& l) { on_log(l); }};

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "tricot/core/progress.hpp"
+#include "tricot/project/log.hpp"
 
 namespace tricot::cli {
 
@@ -16,6 +17,8 @@ class Console {
   ~Console();
   /// A Reporter whose callbacks print here. The Console must outlive it.
   Reporter reporter();
+  /// A project::Log whose lines and progress go here. The Console must outlive it.
+  project::Log log();
   /// Prints a line to stdout (results, tables), finishing any progress line first.
   void print(const std::string& line);
 
@@ -31,7 +34,6 @@ class Console {
   bool line_open_ = false;
 };
 
-/// "1 h 02 min", "3 min 20 s", "12.3 s", "85 ms".
-std::string format_duration(double seconds);
+using project::format_duration;
 
 }  // namespace tricot::cli

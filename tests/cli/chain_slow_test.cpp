@@ -9,16 +9,16 @@
 #include <memory>
 #include <sstream>
 
-#include "case_config.hpp"
-#include "synth.hpp"
-#include "synth_images.hpp"
+#include "tricot/project/case_spec.hpp"
+#include "tricot/project/synthesis.hpp"
+#include "tricot/project/synth_images.hpp"
 #include "testing/cli.hpp"
 #include "testing/paths.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/synth/specimen.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 namespace {
 
 namespace fs = std::filesystem;
@@ -216,4 +216,4 @@ TEST(Chain, DicOfNoisyImagesMatchesTheFeDisplacementWithinTheNoiseError) {
 }
 
 }  // namespace
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -1,14 +1,14 @@
 // tricot demo (apps/tricot/demo.cpp): its built-in files are the examples a user runs by hand.
-#include "demo.hpp"
+#include "tricot/project/demo.hpp"
 
 #include <gtest/gtest.h>
 
-#include "identify.hpp"
-#include "synth.hpp"
+#include "tricot/project/identification.hpp"
+#include "tricot/project/synthesis.hpp"
 #include "testing/paths.hpp"
 #include "tricot/io/files.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 namespace {
 
 const std::filesystem::path kExample = test::source_dir() / "examples" / "uniaxial-mooney";
@@ -39,4 +39,4 @@ TEST(Demo, ItsFilesAreValidForTheirVerbs) {
 }
 
 }  // namespace
-}  // namespace tricot::cli
+}  // namespace tricot::project

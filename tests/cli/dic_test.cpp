@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "dic_config.hpp"
+#include "tricot/project/dic_spec.hpp"
 #include "testing/cli.hpp"
 #include "tricot/dic/grid.hpp"
 #include "tricot/image/image.hpp"
@@ -99,7 +99,7 @@ TEST(CliDic, PrintConfigIsAFullyCommentedFileThatReadsBackAsTheDefaults) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("[dic]"), std::string::npos);
   EXPECT_NE(r.out.find("# Subset size"), std::string::npos);
-  const io::Node n = io::parse_config(cli::dic_schema(), r.out, "printed");
+  const io::Node n = io::parse_config(project::dic_schema(), r.out, "printed");
   EXPECT_EQ(n.section("dic").integer("subset_size"), 31);
   EXPECT_EQ(n.section("dic").string("mode"), "incremental");
 }

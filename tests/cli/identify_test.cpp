@@ -7,13 +7,13 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "experiment_case.hpp"
-#include "experiment_files.hpp"
+#include "testing/experiment_case.hpp"
+#include "tricot/project/experiment_files.hpp"
 #include "testing/cli.hpp"
 #include "testing/paths.hpp"
 #include "tricot/io/files.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 namespace {
 
 namespace fs = std::filesystem;
@@ -225,4 +225,4 @@ TEST_F(Identify, HelpTeachesTheProjectFormat) {
 }
 
 }  // namespace
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -1,7 +1,6 @@
 // The outside contract of `tricot` (DESIGN.md): help, version, exit codes for usage errors.
 #include <gtest/gtest.h>
 
-#include "console.hpp"
 #include "testing/cli.hpp"
 
 using tricot::test::run_tricot;
@@ -32,12 +31,4 @@ TEST(Cli, VersionPrintsTheVersion) {
   const auto r = run_tricot("--version");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("tricot 0.1.0"), std::string::npos);
-}
-
-TEST(Console, DurationsReadNaturally) {
-  using tricot::cli::format_duration;
-  EXPECT_EQ(format_duration(0.085), "85 ms");
-  EXPECT_EQ(format_duration(12.34), "12.3 s");
-  EXPECT_EQ(format_duration(200), "3 min 20 s");
-  EXPECT_EQ(format_duration(3720), "1 h 02 min");
 }

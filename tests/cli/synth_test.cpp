@@ -3,13 +3,13 @@
 
 #include <cmath>
 
-#include "experiment_case.hpp"
-#include "experiment_files.hpp"
+#include "testing/experiment_case.hpp"
+#include "tricot/project/experiment_files.hpp"
 #include "testing/cli.hpp"
 #include "testing/paths.hpp"
 #include "tricot/io/files.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 namespace {
 
 namespace fs = std::filesystem;
@@ -131,4 +131,4 @@ TEST(Synth, PrintConfigReadsBack) {
 }
 
 }  // namespace
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -15,7 +15,7 @@
 #include "tricot/fem/solver.hpp"
 #include "tricot/io/config.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 /// `[mesh]`: the specimen (full size, mm) and its structured quarter mesh.
 io::SectionSpec mesh_section();
@@ -52,4 +52,4 @@ fem::SolveOptions build_solver(const io::Node& solver);
 /// Checks the list of tests of a case: at least one, names unique and usable as folder names.
 void check_tests(const io::Node& root);
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

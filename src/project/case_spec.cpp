@@ -1,5 +1,5 @@
 // The case schema and its builders (THEORY §5–§6). See case_config.hpp.
-#include "case_config.hpp"
+#include "tricot/project/case_spec.hpp"
 
 #include <fmt/format.h>
 
@@ -14,7 +14,7 @@
 #include "tricot/fem/reference_fabric.hpp"
 #include "tricot/fem/response_surface.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 namespace {
 
@@ -479,4 +479,4 @@ void check_tests(const io::Node& root) {
   }
 }
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -1,11 +1,11 @@
-#include "fem_vtu.hpp"
+#include "tricot/project/fem_vtu.hpp"
 
 #include <Eigen/LU>
 #include <limits>
 
 #include "tricot/fem/element.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const fem::Law& law,
                          double material_angle_deg) {
@@ -59,4 +59,4 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
   return g;
 }
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -14,7 +14,7 @@
 #include "tricot/dic/sequence.hpp"
 #include "tricot/io/config.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 /// The whole file: [dic], [strain], [physical], [output].
 io::SectionSpec dic_schema();
@@ -51,4 +51,4 @@ DicSettings build_dic_settings(const io::Node& root, const image::Image& referen
 /// Parses "X0,Y0,X1,Y1" (the --roi flag). Throws InputError (key --roi) when it is not four numbers.
 io::Reals parse_roi_flag(const std::string& text);
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -4,11 +4,11 @@
 
 #include <filesystem>
 
-#include "console.hpp"
-#include "experiment_files.hpp"
+#include "tricot/project/log.hpp"
+#include "tricot/project/experiment_files.hpp"
 #include "tricot/io/config.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 /// The experiment file: the case sections ([mesh], [law], [solver], [[test]]) and [synth].
 io::SectionSpec synth_schema();
@@ -18,6 +18,6 @@ io::SectionSpec synth_schema();
 /// experiment to `dir` (experiment_files.hpp), truth.json included. Prints one line per test.
 /// Throws InputError for a bad file; a test that does not converge with the true law throws an
 /// InputError whose exit code is 4 (the data would be incomplete), naming the test and step.
-Truth synthesize(const io::Node& root, const std::filesystem::path& dir, Console& console);
+Truth synthesize(const io::Node& root, const std::filesystem::path& dir, const Log& log);
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -15,13 +15,13 @@
 #include <string>
 #include <vector>
 
-#include "console.hpp"
+#include "tricot/project/log.hpp"
 #include "tricot/fem/model.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/io/config.hpp"
 #include "tricot/synth/specimen.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 inline constexpr const char* kImagesFolder = "images";
 inline constexpr const char* kCameraFile = "camera.json";
@@ -38,7 +38,7 @@ synth::SpecimenImageOptions build_image_options(const io::Node& images, std::uin
 /// camera.json, atomically to `test_dir`/images (older frames beyond the new count are removed).
 /// Noise of frame j is drawn from `seed` and j. Returns the number of frames written.
 int write_images(const io::Node& images, const fem::TestModel& model, const fem::SimulationResult& sim,
-                 std::uint64_t seed, const std::filesystem::path& test_dir, Console& console);
+                 std::uint64_t seed, const std::filesystem::path& test_dir, const Log& log);
 
 /// What camera.json holds.
 struct CameraFile {
@@ -53,4 +53,4 @@ struct CameraFile {
 /// Reads DIR/camera.json (DIR = the images folder). FileError when missing, InputError when malformed.
 CameraFile read_camera(const std::filesystem::path& images_dir);
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -8,7 +8,7 @@
 #include "tricot/fem/mesh.hpp"
 #include "tricot/io/vtu.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 /// Points at x = X + u (z = 0); point data `displacement` (u_x, u_y, 0) [mm]; cell data
 /// `cauchy_stress` σ [N/mm, force per current width; row-major 3×3, σ_i3 = 0] and
@@ -18,4 +18,4 @@ namespace tricot::cli {
 io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const fem::Law& law,
                          double material_angle_deg);
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

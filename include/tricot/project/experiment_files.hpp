@@ -22,7 +22,7 @@
 #include "tricot/fem/mesh.hpp"
 #include "tricot/ident/experiment.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 inline constexpr const char* kForcesFile = "forces.csv";
 inline constexpr const char* kFieldFile = "field.csv";
@@ -71,4 +71,4 @@ void write_truth(const std::filesystem::path& dir, const Truth& truth);
 /// DIR/truth.json, or nullopt when there is none. InputError (naming the file and key) when malformed.
 std::optional<Truth> read_truth(const std::filesystem::path& dir);
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -1,12 +1,12 @@
 // The config of `tricot dic` and its builder (see dic_config.hpp).
-#include "dic_config.hpp"
+#include "tricot/project/dic_spec.hpp"
 
 #include <cmath>
 
 #include "schema.hpp"
 #include "tricot/image/image.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 namespace {
 
@@ -226,4 +226,4 @@ DicSettings build_dic_settings(const io::Node& root, const image::Image& referen
   return s;
 }
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

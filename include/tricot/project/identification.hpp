@@ -1,5 +1,5 @@
 // tricot identify: the project file, the run (checkpoints, resume) and its outputs (result.json,
-// history.csv, plots). Exposed so that `tricot demo` runs its identifications through the same code.
+// history.csv, plots): the pipeline of `tricot identify`, which `tricot demo` runs too.
 #pragma once
 
 #include <filesystem>
@@ -8,14 +8,14 @@
 #include <optional>
 #include <string>
 
-#include "console.hpp"
-#include "experiment_files.hpp"
+#include "tricot/project/log.hpp"
+#include "tricot/project/experiment_files.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/ident/identify.hpp"
 #include "tricot/ident/objective.hpp"
 #include "tricot/io/config.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 /// The project file: the case sections ([mesh], [law], [solver], [[test]]) with [experiment],
 /// [[parameter]], [data] and [identify].
@@ -60,6 +60,10 @@ struct IdentifyOutcome {
 /// runs LM with a checkpoint after every accepted step, and writes result.json, history.csv and
 /// plots/history.png (plots/fit_<test>.png for the edge data) to `request.out`.
 /// Throws InputError for a bad project or data (FileError when a file is missing).
-IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& request, Console& console);
+/// The end-of-run table: termination, then per coefficient its start, identified value and standard
+/// error (and the truth's error when the experiment has one), the least identifiable direction.
+void print_summary(const IdentifyOutcome& o, const std::filesystem::path& out, const Log& log);
 
-}  // namespace tricot::cli
+IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& request, const Log& log);
+
+}  // namespace tricot::project

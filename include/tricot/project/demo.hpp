@@ -4,9 +4,13 @@
 #pragma once
 
 #include <array>
+#include <filesystem>
+#include <functional>
 #include <string>
 
-namespace tricot::cli {
+#include "tricot/project/log.hpp"
+
+namespace tricot::project {
 
 /// The experiment file of the `uniaxial-mooney` case: the truth fem::paper_mooney_rivlin_terms(),
 /// force-controlled uniaxial strip, 35 steps, generated on 14 × 48 Q8 (4282 dofs); `noise_relative`
@@ -25,4 +29,17 @@ struct DemoProject {
 };
 std::string demo_project_toml(const DemoProject& p);
 
-}  // namespace tricot::cli
+/// How to run the demo.
+struct DemoRequest {
+  std::filesystem::path out = "out/demo";  ///< DIR: experiment/, edge/, field/, both/, table1.*, epsilon.csv
+  bool full = false;                       ///< also the robustness studies (studies.md)
+  /// Runs its argument with the Log of one identification (the CLI gives each run its own progress
+  /// clock and ETA); empty = the demo's own Log.
+  std::function<void(const std::function<void(const Log&)>&)> each_run;
+};
+/// (a) synthesises the experiment, (b) identifies the four coefficients from the three data choices
+/// of Table 1 (table1.md, table1.csv), (c) the ε study of Fig. 10 (epsilon.csv), and with `full` the
+/// robustness studies. Returns whether every Table 1 run converged.
+bool run_demo(const DemoRequest& request, const Log& log);
+
+}  // namespace tricot::project

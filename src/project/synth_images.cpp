@@ -1,5 +1,5 @@
 // `tricot synth` images (see synth_images.hpp).
-#include "synth_images.hpp"
+#include "tricot/project/synth_images.hpp"
 
 #include <fmt/format.h>
 
@@ -9,7 +9,7 @@
 #include "tricot/image/image.hpp"
 #include "tricot/io/files.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 namespace {
 
@@ -67,7 +67,7 @@ synth::SpecimenImageOptions build_image_options(const io::Node& s, std::uint64_t
 }
 
 int write_images(const io::Node& s, const fem::TestModel& model, const fem::SimulationResult& sim, std::uint64_t seed,
-                 const fs::path& test_dir, Console& console) {
+                 const fs::path& test_dir, const Log& log) {
   const synth::SpecimenImageOptions o = build_image_options(s, seed);
   const synth::SpecimenRenderer renderer(model.mesh, o);
   const int every = static_cast<int>(s.integer("every_n_steps"));
@@ -76,7 +76,7 @@ int write_images(const io::Node& s, const fem::TestModel& model, const fem::Simu
   const fs::path dir = test_dir / kImagesFolder;
 
   json list = json::array();
-  const Reporter reporter = console.reporter();
+  const Reporter reporter = log.reporter();
   for (int j = 0; j < frames; ++j) {
     const int step = j * every;  // 0 = unloaded
     const fem::StepResult* k = step > 0 ? &sim.steps[step - 1] : nullptr;
@@ -137,4 +137,4 @@ CameraFile read_camera(const fs::path& images_dir) {
   return out;
 }
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -1,6 +1,6 @@
 // What the verbs' config files (case_config.cpp, dic_config.cpp) are written with: io's schema names,
 // the bound of a key that has no range, and moving an InputError to the key that caused it.
-// Include it from .cpp files only: it brings io's schema names into tricot::cli.
+// Include it from .cpp files only: it brings io's schema names into tricot::project.
 #pragma once
 
 #include <limits>
@@ -9,7 +9,7 @@
 #include "tricot/core/error.hpp"
 #include "tricot/io/config.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 using io::key;
 using io::KeySpec;
@@ -30,4 +30,4 @@ inline std::string problem_of(const InputError& e) {
   return s;
 }
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -1,5 +1,5 @@
 // The experiment on disk (see experiment_files.hpp).
-#include "experiment_files.hpp"
+#include "tricot/project/experiment_files.hpp"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 #include "tricot/core/error.hpp"
 #include "tricot/io/files.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
@@ -290,4 +290,4 @@ std::optional<Truth> read_truth(const fs::path& dir) {
   return t;
 }
 
-}  // namespace tricot::cli
+}  // namespace tricot::project

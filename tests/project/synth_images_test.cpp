@@ -1,18 +1,18 @@
 // `tricot synth` with [synth.images] (apps/tricot/synth_images.cpp): the frames, camera.json, and the
 // errors of a bad table.
-#include "synth_images.hpp"
+#include "tricot/project/synth_images.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "experiment_case.hpp"
-#include "experiment_files.hpp"
+#include "testing/experiment_case.hpp"
+#include "tricot/project/experiment_files.hpp"
 #include "testing/cli.hpp"
 #include "testing/paths.hpp"
 #include "tricot/image/image.hpp"
 #include "tricot/io/files.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 namespace {
 
 namespace fs = std::filesystem;
@@ -104,4 +104,4 @@ TEST(SynthImages, NoImagesUnlessEnabled) {
 }
 
 }  // namespace
-}  // namespace tricot::cli
+}  // namespace tricot::project

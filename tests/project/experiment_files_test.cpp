@@ -1,13 +1,13 @@
 // The experiment on disk (apps/tricot/experiment_files.cpp): what synth writes, identify reads.
-#include "experiment_files.hpp"
+#include "tricot/project/experiment_files.hpp"
 
 #include <gtest/gtest.h>
 
-#include "experiment_case.hpp"
+#include "testing/experiment_case.hpp"
 #include "testing/paths.hpp"
 #include "tricot/core/error.hpp"
 
-namespace tricot::cli {
+namespace tricot::project {
 namespace {
 
 namespace fs = std::filesystem;
@@ -160,4 +160,4 @@ TEST(ExperimentFiles, TruthReadsBackAsWritten) {
 }
 
 }  // namespace
-}  // namespace tricot::cli
+}  // namespace tricot::project

@@ -1,0 +1,32 @@
+// tricot simulate's pipeline: the finite-element models of the tests of a case file (THEORY §4–§6)
+// and, per test, DIR/<test>/steps.csv, newton.csv, step_NNNN.vtu (+ steps.pvd) and force.png; a
+// simple_shear test evaluates the law alone at F = [[1, γ], [0, 1]] (THEORY §4 validation).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "tricot/io/config.hpp"
+#include "tricot/project/log.hpp"
+
+namespace tricot::project {
+
+/// How to run a case.
+struct SimulationRequest {
+  std::filesystem::path out;  ///< DIR: one sub-folder per test, DIR/forces.png for several FE tests
+  std::string only_test;      ///< run only the test of this name ("" = every test)
+  bool vtu = true;            ///< write step_NNNN.vtu and steps.pvd
+  std::string case_file;      ///< the case file, named by an error about `only_test`
+};
+
+struct SimulationOutcome {
+  std::vector<std::string> failures;  ///< one message per test that did not converge (its steps are written)
+};
+
+/// Runs the chosen tests of a validated case file (case_spec.hpp). Every test is built before any
+/// runs, so a config error stops the run before any work. Throws InputError for a bad case or an
+/// unknown `only_test` (key --test), FileError when an output folder cannot be made.
+SimulationOutcome run_simulation(const io::Node& root, const SimulationRequest& request, const Log& log);
+
+}  // namespace tricot::project

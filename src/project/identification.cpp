@@ -1,0 +1,61 @@
+// tricot identify's pipeline: the project's objective, LM with a checkpoint after every accepted step
+// (resume included), and the outputs (THEORY §1–§3, §7, §8; paper §2).
+#include "tricot/project/identification.hpp"
+
+#include <fmt/format.h>
+
+#include <csignal>
+
+#include "identification_outputs.hpp"
+#include "tricot/io/files.hpp"
+#include "tricot/project/checkpoint.hpp"
+
+namespace tricot::project {
+
+namespace fs = std::filesystem;
+
+IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& req, const Log& log) {
+  Project P = build_project(root, req.base);
+  const auto& law = P.law;
+  const auto& models = P.models;
+  const auto& solver = P.solver;
+  auto& options = P.options;
+  const auto& objective = P.objective;
+  const auto& parameters = objective->parameters();
+  IdentifyOutcome outcome;
+  outcome.truth = P.truth;
+  outcome.residuals = objective->residuals();
+  outcome.dofs = models.front().mesh.dofs();
+  for (const auto& g : objective->data().groups())
+    outcome.data += fmt::format("{}{} ({})", outcome.data.empty() ? "" : ", ", g.name, g.size);
+
+  // Checkpoints belong to these data and this model; [identify] may change between runs.
+  const std::string fingerprint = project::fingerprint(*objective, *law, models);
+  const fs::path checkpoint = req.out / kCheckpointFile;
+  if (req.resume) options.resume_from = read_checkpoint(checkpoint, fingerprint);
+  fs::create_directories(req.out);
+  int checkpoints = 0;
+  options.on_checkpoint = [&](const ident::Checkpoint& c) {
+    write_checkpoint(checkpoint, c, fingerprint);
+    if (req.observe) req.observe(c);
+    if (req.kill_after > 0 && ++checkpoints >= req.kill_after) std::raise(SIGKILL);  // testing aid
+  };
+
+  log.print(fmt::format("identify: {} coefficients of {} from {} values ({}), {} dofs, {} Jacobian{}",
+                            parameters.size(), law->name(), outcome.residuals, outcome.data, outcome.dofs,
+                            ident::to_string(options.jacobian),
+                            req.resume ? fmt::format(", resumed at iteration {}", options.resume_from->iterations) : ""));
+  outcome.result = ident::identify(*objective, options, log.reporter());
+
+  // Outputs.
+  io::write_atomic(req.out / "result.json", result_json(outcome, *objective, req.resume).dump(2) + "\n");
+  write_history(req.out / "history.csv", outcome.result);
+  if (req.plots) fs::create_directories(req.out / "plots");
+  if (outcome.result.termination != ident::Termination::fe_failure)
+    write_fit(req.out, *objective, outcome.result, solver, req.plots, log);
+  if (req.plots) plot_history(req.out, outcome, log);
+  if (req.print_summary) print_summary(outcome, req.out, log);
+  return outcome;
+}
+
+}  // namespace tricot::project

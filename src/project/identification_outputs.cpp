@@ -1,0 +1,203 @@
+// The outputs of an identification: result.json, history.csv, fit_<test>.csv and the gnuplot plots.
+#include "identification_outputs.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "json.hpp"
+#include "tricot/fem/solver.hpp"
+#include "tricot/io/files.hpp"
+
+namespace tricot::project {
+
+namespace fs = std::filesystem;
+
+json named(const std::vector<std::string>& names, const Eigen::VectorXd& v) {
+  json j = json::object();
+  for (std::size_t k = 0; k < names.size() && Eigen::Index(k) < v.size(); ++k) j[names[k]] = v(Eigen::Index(k));
+  return j;
+}
+
+json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bool resumed) {
+  const ident::IdentifyResult& r = o.result;
+  const ident::Uncertainty& u = r.uncertainty;
+  json j;
+  j["parameters"] = named(r.names, r.parameters);
+  j["std_error"] = named(r.names, u.std_error);  // inf (unidentifiable) is written as null
+  json corr = json::array();
+  for (Eigen::Index i = 0; i < u.correlation.rows(); ++i) {
+    json row = json::array();
+    for (Eigen::Index k = 0; k < u.correlation.cols(); ++k) row.push_back(u.correlation(i, k));
+    corr.push_back(row);
+  }
+  j["correlation"] = corr;
+  j["objective"] = r.objective;
+  j["iterations"] = r.iterations;
+  j["evaluations"] = r.evaluations;
+  j["termination"] = ident::to_string(r.termination);
+  j["message"] = r.message;
+  j["wall_seconds"] = r.wall_seconds;
+  j["jacobian"] = ident::to_string(r.jacobian);
+  // Beyond DESIGN.md's keys.
+  j["names"] = r.names;
+  j["converged"] = r.converged();
+  j["stability_passed"] = r.stability_passed;
+  j["restarts"] = r.restarts;
+  j["failed_evaluations"] = r.failed_evaluations;
+  j["jacobian_evaluations"] = r.jacobian_evaluations;
+  j["resumed"] = resumed;
+  j["start"] = named(r.names, r.start);
+  j["condition_number"] = u.condition_number;
+  j["least_identifiable"] = named(r.names, u.least_identifiable);
+  j["singular_values"] = vec_json(u.singular_values);
+  j["covariance_from"] = u.from_sigma ? "measurement_sigma" : "fit";
+  j["sigma2"] = u.sigma2;
+  j["residuals"] = o.residuals;
+  json groups = json::array();
+  for (const auto& g : objective.data().groups())
+    groups.push_back({{"name", g.name}, {"size", g.size}, {"weight", g.weight}, {"scale", g.scale}, {"sigma", g.sigma}});
+  j["data"] = groups;
+  if (o.truth) {
+    json truth = json::object(), err = json::object(), in_se = json::object();
+    for (std::size_t k = 0; k < r.names.size(); ++k) {
+      const auto t = o.truth->value(r.names[k]);
+      if (!t) continue;
+      truth[r.names[k]] = *t;
+      err[r.names[k]] = (r.parameters(Eigen::Index(k)) - *t) / std::abs(*t);
+      if (Eigen::Index(k) < u.std_error.size())
+        in_se[r.names[k]] = std::abs(r.parameters(Eigen::Index(k)) - *t) / u.std_error(Eigen::Index(k));
+    }
+    j["truth"] = truth;
+    j["relative_error"] = err;
+    j["error_in_std_errors"] = in_se;
+  }
+  return j;
+}
+
+void write_history(const fs::path& file, const ident::IdentifyResult& r) {
+  io::Table t;
+  t.columns = {"iteration", "objective"};
+  for (const auto& n : r.names) t.columns.push_back(n);
+  for (const auto& e : r.history) {
+    std::vector<double> row{double(e.iteration), e.objective};
+    for (Eigen::Index k = 0; k < e.parameters.size(); ++k) row.push_back(e.parameters(k));
+    t.rows.push_back(std::move(row));
+  }
+  io::write_atomic(file, io::to_csv(t));
+}
+
+// Objective (log scale) and every coefficient normalised, against the LM iteration: the paper's
+// Figs 7–9. Normalised by the truth when the experiment has one, else by the identified value.
+void plot_history(const fs::path& dir, const IdentifyOutcome& o, const Log& log) {
+  const ident::IdentifyResult& r = o.result;
+  if (r.history.empty()) return;
+  std::string lines;
+  for (std::size_t k = 0; k < r.names.size(); ++k) {
+    const auto truth = o.truth ? o.truth->value(r.names[k]) : std::nullopt;
+    const double ref = truth && *truth != 0 ? *truth : r.parameters(Eigen::Index(k));
+    if (ref == 0) continue;
+    lines += fmt::format("{}{} using 1:(${}/({:.17g})) with linespoints pt 7 ps 0.5 title \"{}\"", lines.empty() ? "" : ", \\\n  ",
+                         io::gnuplot_quote(dir / "history.csv"), k + 3, ref, r.names[k]);
+  }
+  const std::string by = o.truth ? "truth" : "identified value";
+  const std::string script = fmt::format(R"gp(set terminal pngcairo size 900,800 font ",11"
+set output {0}
+set datafile separator ","
+set multiplot layout 2,1 title "tricot identify: {1} ({2} Jacobian)" noenhanced
+set grid
+set key top right
+set logscale y
+set format y "10^{{%L}}"
+set ylabel "objective f"
+plot {3} using 1:2 skip 1 with linespoints pt 7 ps 0.5 lc rgb "#000000" title "f (eq. 1)"
+unset logscale y
+set format y "%g"
+set xlabel "LM iteration"
+set ylabel "coefficient / {4}"
+set key bottom right
+plot {5}
+unset multiplot
+)gp",
+                                         io::gnuplot_quote(dir / "plots" / "history.png"), o.data,
+                                         ident::to_string(r.jacobian), io::gnuplot_quote(dir / "history.csv"), by, lines);
+  std::string why;
+  if (!io::run_gnuplot(script, &why)) log.print("  (no plot: " + why + ")");
+}
+
+// The identified model against the measured edge data, per test: DIR/fit_<test>.csv and plots/fit_<test>.png.
+void write_fit(const fs::path& dir, const ident::Objective& objective, const ident::IdentifyResult& r,
+               const fem::SolveOptions& solver, bool plots, const Log& log) {
+  const auto law = objective.law_at(r.parameters);
+  for (std::size_t t = 0; t < objective.models().size(); ++t) {
+    const fem::TestModel& m = objective.models()[t];
+    const ident::TestData& d = objective.experiment().tests[t];
+    const fem::SimulationResult sim = fem::simulate(m, *law, solver);
+    if (!sim.usable()) continue;
+    io::Table tab;
+    tab.columns = {"step", "load", "model_edge_displacement", "model_edge_force"};
+    if (!d.edge_displacement.empty()) tab.columns.push_back("edge_displacement");
+    if (!d.edge_force.empty()) tab.columns.push_back("edge_force");
+    for (int k = 0; k < d.steps(); ++k) {
+      std::vector<double> row{double(k + 1), d.loads[k], sim.steps[k].edge_displacement, sim.steps[k].edge_force};
+      if (!d.edge_displacement.empty()) row.push_back(d.edge_displacement[k]);
+      if (!d.edge_force.empty()) row.push_back(d.edge_force[k]);
+      tab.rows.push_back(std::move(row));
+    }
+    const fs::path csv = dir / ("fit_" + m.name + ".csv");
+    io::write_atomic(csv, io::to_csv(tab));
+    if (!plots || (d.edge_displacement.empty() && d.edge_force.empty())) continue;
+    const std::string measured =
+        d.edge_displacement.empty() ? "\"model_edge_displacement\":\"edge_force\"" : d.edge_force.empty()
+                                                                                         ? "\"edge_displacement\":\"model_edge_force\""
+                                                                                         : "\"edge_displacement\":\"edge_force\"";
+    std::string why;
+    if (!io::run_gnuplot(fmt::format(R"gp(set terminal pngcairo size 800,560 font ",11"
+set output {0}
+set datafile separator ","
+set grid
+set key top left
+set title "{1}: measured and identified grip response" noenhanced
+set xlabel "grip displacement (quarter model), mm"
+set ylabel "grip force, N"
+plot {2} using {3} with points pt 6 ps 1 title "measured", \
+  {2} using "model_edge_displacement":"model_edge_force" with lines lw 2 title "identified model"
+)gp",
+                                     io::gnuplot_quote(dir / "plots" / ("fit_" + m.name + ".png")), m.name,
+                                     io::gnuplot_quote(csv), measured),
+                         &why))
+      log.print("  (no plot: " + why + ")");
+  }
+}
+
+void print_summary(const IdentifyOutcome& o, const fs::path& out, const Log& log) {
+  const ident::IdentifyResult& r = o.result;
+  const bool truth = o.truth.has_value();
+  log.print(fmt::format("{}: {} after {} LM iterations, {} evaluations, {} ({}), f = {:.4g}",
+                            r.converged() ? "converged" : "NOT converged", ident::to_string(r.termination),
+                            r.iterations, r.evaluations, format_duration(r.wall_seconds), r.message, r.objective));
+  std::string head = fmt::format("  {:<10} {:>13} {:>13} {:>11}", "", "start", "identified", "std error");
+  if (truth) head += fmt::format(" {:>13} {:>10} {:>7}", "truth", "rel. error", "in s.e.");
+  log.print(head);
+  for (std::size_t k = 0; k < r.names.size(); ++k) {
+    const Eigen::Index i = Eigen::Index(k);
+    const double se = i < r.uncertainty.std_error.size() ? r.uncertainty.std_error(i) : std::nan("");
+    std::string line = fmt::format("  {:<10} {:>13.6g} {:>13.6g} {:>11.3g}", r.names[k], r.start(i), r.parameters(i), se);
+    if (truth)
+      if (const auto t = o.truth->value(r.names[k]))
+        line += fmt::format(" {:>13.6g} {:>9.3g}% {:>7.2f}", *t, 100 * (r.parameters(i) - *t) / std::abs(*t),
+                            std::abs(r.parameters(i) - *t) / se);
+    log.print(line);
+  }
+  const ident::Uncertainty& u = r.uncertainty;
+  if (u.least_identifiable.size() > 0) {
+    std::string dir;
+    for (std::size_t k = 0; k < r.names.size(); ++k)
+      dir += fmt::format("{}{:+.3f}·δ{}", k ? " " : "", u.least_identifiable(Eigen::Index(k)), r.names[k]);
+    log.print(fmt::format("  condition number {:.3g}; least identifiable direction (relative): {}",
+                              u.condition_number, dir));
+  }
+  log.print("  -> " + (out / "result.json").string() + ", history.csv, plots/");
+}
+
+}  // namespace tricot::project

@@ -1,0 +1,23 @@
+// The files an identification writes besides its checkpoint (identification.cpp). Private to
+// src/project.
+#pragma once
+
+#include <filesystem>
+
+#include "json.hpp"
+#include "tricot/fem/solver.hpp"
+#include "tricot/project/identification.hpp"
+
+namespace tricot::project {
+
+/// DIR/result.json (DESIGN.md keys, then the uncertainty, the data groups and the truth's errors).
+json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bool resumed);
+/// DIR/history.csv: iteration, objective, one column per coefficient.
+void write_history(const std::filesystem::path& file, const ident::IdentifyResult& r);
+/// DIR/plots/history.png: f and every coefficient (over the truth or the identified value) per iteration.
+void plot_history(const std::filesystem::path& dir, const IdentifyOutcome& o, const Log& log);
+/// DIR/fit_<test>.csv and DIR/plots/fit_<test>.png: the identified model against the edge data.
+void write_fit(const std::filesystem::path& dir, const ident::Objective& objective, const ident::IdentifyResult& r,
+               const fem::SolveOptions& solver, bool plots, const Log& log);
+
+}  // namespace tricot::project

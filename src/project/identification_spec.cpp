@@ -1,0 +1,269 @@
+// The project file of `tricot identify` (see identification.hpp): its schema ([experiment],
+// [[parameter]], [data], [identify] beside the case's tables) and the builder of the objective.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <limits>
+
+#include "schema.hpp"
+#include "tricot/fem/solver.hpp"
+#include "tricot/ident/objective.hpp"
+#include "tricot/project/case_spec.hpp"
+#include "tricot/project/identification.hpp"
+
+namespace tricot::project {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+SectionSpec experiment_section() {
+  SectionSpec s{"experiment",
+                "The measurements (`tricot synth` writes such a folder): DIR/<test>/forces.csv (step, load,\n"
+                "edge_displacement, edge_force) and optionally DIR/<test>/field.csv (step, id, x, y, u, v),\n"
+                "one sub-folder per [[test]] of this file, with the same steps.",
+                false, {}, {}};
+  s.keys = {
+      key("dir", std::string("experiment"), "The experiment folder, relative to this file."),
+      key("field_kind", std::string("cumulative"),
+          "What field.csv holds. cumulative: u(X, t_k) of material points (x, y = reference position).\n"
+          "incremental: displacement since the previous step at points fixed in the images (THEORY §7).",
+          -kInf, kInf, {"cumulative", "incremental"}),
+      key("sigma_edge_displacement", 0.0,
+          "Measurement σ of the grip displacement, mm; 0 = unknown (the group is scaled by its RMS,\n"
+          "THEORY §2). Given σ make f a χ²/2 and the standard errors real ones (THEORY §8).",
+          0, 1e6),
+      key("sigma_edge_force", 0.0, "Measurement σ of the grip force, N; 0 = unknown.", 0, 1e9),
+      key("sigma_field", 0.0, "Measurement σ of u and v, mm; 0 = unknown.", 0, 1e6),
+      key("sigma_from_truth", false,
+          "Take every test's σ from DIR/truth.json (the noise tricot synth added); replaces the three above."),
+  };
+  return s;
+}
+
+SectionSpec parameter_section() {
+  SectionSpec s{"parameter",
+                "One identified coefficient of [law] (the others keep their [law] values). LM works in\n"
+                "x = J / scale: with scale = 0 the steps are relative to the start, as the paper's\n"
+                "J_{i+1} = J_i + t_i·J_i (THEORY §3).",
+                true, {}, {}};
+  s.keys = {
+      key("name", std::string("C10"), "The coefficient's name in the law (e.g. C10, C03; a1 … for a response surface)."),
+      key("start", 0.1,
+          "Start value, in the coefficient's units. Not given: the value in [law], so that [law] can\n"
+          "hold the start point."),
+      key("scale", 0.0,
+          "Typical size of the coefficient, > 0; 0 = |start|. A zero start needs a scale.", 0, 1e12),
+      key("bounds", io::Reals{}, "[lower, upper] bounds on the coefficient; [] = none."),
+  };
+  return s;
+}
+
+SectionSpec data_section() {
+  const ident::DataWeights d;
+  SectionSpec s{"data",
+                "Which data enter the objective f, eq. (1), and their weights w_g (THEORY §2); 0 leaves a\n"
+                "kind of data out. Each group is normalised by its σ or RMS, so weights compare kinds.",
+                false, {}, {}};
+  s.keys = {
+      key("edge_displacement", d.edge_displacement,
+          "Grip displacement (the cross-head), ≥ 0; used for force-controlled tests only.", 0, 1e12),
+      key("edge_force", d.edge_force, "Grip force, ≥ 0; used for displacement-controlled tests only.", 0, 1e12),
+      key("field", d.field, "Displacements u, v at the field points, ≥ 0.", 0, 1e12),
+      key("field_uv", d.field_uv, "u and v in one group with one scale (false: a group each)."),
+  };
+  return s;
+}
+
+SectionSpec identify_section() {
+  const ident::IdentifyOptions o;
+  SectionSpec s{"identify", "Levenberg–Marquardt and its stopping criteria (THEORY §3, paper eqs. 2 and 3).", false, {},
+                {}};
+  s.keys = {
+      key("epsilon", o.epsilon, "Eq. (2): stop when f < epsilon; 0 = off. Paper: 1e-12.", 0, 1),
+      key("delta", o.delta,
+          "Eq. (3): stop when an accepted step changes no coefficient by more than delta (relative),\n"
+          "in (0, 1). Paper: 1e-5.",
+          0, 1),
+      key("function_tolerance", o.function_tolerance, "Stop when a step changes f by less than this fraction of f; 0 = off.", 0, 1),
+      key("gradient_tolerance", o.gradient_tolerance, "Stop when the gradient's max-norm (LM units) is below this; 0 = off.", 0, 1e12),
+      key("max_iterations", std::int64_t{o.max_iterations},
+          "LM iterations in all (accepted and rejected, stability restarts included).", 1, 100000),
+      key("stability_test", o.stability_test,
+          "The paper's stability test: after convergence, f with each coefficient scaled by (1 ± eta);\n"
+          "LM restarts from a lower one."),
+      key("stability_eta", o.stability_eta, "η of the stability test, in (0, 1).", 0, 1),
+      key("max_restarts", std::int64_t{o.max_restarts}, "Stability restarts before giving up (termination `unstable`).", 0, 1000),
+      key("jacobian", std::string("exact"),
+          "exact: from the FE sensitivities (THEORY §7). finite_difference: one perturbed FE run per\n"
+          "coefficient (two when central), in parallel threads (the paper's way).",
+          -kInf, kInf, {"exact", "finite_difference"}),
+      key("difference", std::string("forward"), "finite_difference only: forward or central.", -kInf, kInf,
+          {"forward", "central"}),
+      key("fd_step", o.fd_step, "finite_difference only: step h_k = fd_step · scale_k, in (0, 0.1].", 0, 0.1),
+      key("threads", std::int64_t{o.threads}, "Threads for tests and finite-difference columns; 0 = all cores.", 0, 1024),
+      key("initial_trust_region_radius", o.initial_trust_region_radius, "LM's first trust-region radius (1/μ₀, LM units), > 0.",
+          0, 1e16),
+  };
+  return s;
+}
+
+// `e.what()` is "FILE:LINE: KEY: problem …" with file and line empty for the library's errors;
+// rethrow it at `key` of node `n` of the project file.
+[[noreturn]] void relocate(const InputError& e, const Node& n, const std::string& key) {
+  std::string s = e.what();
+  const std::string k = e.where().key;
+  if (!k.empty() && s.rfind(k + ": ", 0) == 0) s = s.substr(k.size() + 2);
+  throw InputError(n.where(key), s);
+}
+
+std::vector<ident::Parameter> build_parameters(const Node& root, const fem::Law& law) {
+  const auto& nodes = root.array("parameter");
+  if (nodes.empty())
+    root.fail("parameter", "the project identifies nothing", "no [[parameter]]", "one [[parameter]] per coefficient");
+  const std::vector<std::string> names = law.coefficient_names();
+  const Eigen::VectorXd c = law.coefficients();
+  std::vector<ident::Parameter> out;
+  for (const Node& p : nodes) {
+    const std::string& name = p.string("name");
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end()) {
+      const std::string hint = io::closest_name(name, names);
+      std::string all;
+      for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
+      p.fail("name",
+             fmt::format("not a coefficient of the {} law in [law]{}", law.name(),
+                         hint.empty() ? "" : "; did you mean '" + hint + "'?"),
+             "\"" + name + "\"", all);
+    }
+    for (const auto& q : out)
+      if (q.name == name) p.fail("name", "this coefficient is identified twice", "\"" + name + "\"", "unique names");
+    ident::Parameter x;
+    x.name = name;
+    x.start = p.given("start") ? p.real("start") : c(it - names.begin());
+    x.scale = p.real("scale");
+    if (x.start == 0 && x.scale == 0)
+      p.fail("scale",
+             fmt::format("parameter {} starts at 0 and has no scale: LM's steps are relative to the start", name),
+             "0.0", "> 0, the size of a typical change of " + name);
+    const io::Reals& b = p.reals("bounds");
+    if (!b.empty()) {
+      if (b.size() != 2) p.fail("bounds", "two values: [lower, upper]", io::to_toml(b), "[] or [lower, upper]");
+      if (!(b[0] < b[1])) p.fail("bounds", "lower must be below upper", io::to_toml(b), "lower < upper");
+      if (x.start < b[0] || x.start > b[1])
+        p.fail(p.given("start") ? "start" : "bounds", fmt::format("the start of {} is outside its bounds", name),
+               io::to_toml(x.start), io::to_toml(b));
+      x.lower = b[0];
+      x.upper = b[1];
+    }
+    out.push_back(x);
+  }
+  return out;
+}
+
+ident::IdentifyOptions build_options(const Node& s) {
+  ident::IdentifyOptions o;
+  o.epsilon = s.real("epsilon");
+  o.delta = s.real("delta");
+  o.function_tolerance = s.real("function_tolerance");
+  o.gradient_tolerance = s.real("gradient_tolerance");
+  o.max_iterations = static_cast<int>(s.integer("max_iterations"));
+  o.stability_test = s.boolean("stability_test");
+  o.stability_eta = s.real("stability_eta");
+  o.max_restarts = static_cast<int>(s.integer("max_restarts"));
+  o.jacobian = s.string("jacobian") == "exact" ? ident::JacobianMode::exact : ident::JacobianMode::finite_difference;
+  o.difference = s.string("difference") == "central" ? ident::Difference::central : ident::Difference::forward;
+  o.fd_step = s.real("fd_step");
+  o.threads = static_cast<int>(s.integer("threads"));
+  o.initial_trust_region_radius = s.real("initial_trust_region_radius");
+  try {
+    o.validate();
+  } catch (const InputError& e) {
+    std::string k = e.where().key;
+    if (k.rfind("identify.", 0) == 0) k = k.substr(9);
+    if (k == "step") k = "fd_step";
+    if (k == "mode") k = "jacobian";
+    relocate(e, s, k);
+  }
+  return o;
+}
+
+}  // namespace
+
+io::SectionSpec identify_schema() {
+  io::SectionSpec root = case_schema();
+  root.help =
+      "tricot identify: a project file. The case (specimen, law, solver, tests) models the experiment;\n"
+      "LM fits the [[parameter]] coefficients of [law] to the data of [experiment] (THEORY §1–§3).\n"
+      "Units: mm, N, N/mm, degrees.";
+  root.sections.push_back(experiment_section());
+  root.sections.push_back(parameter_section());
+  root.sections.push_back(data_section());
+  root.sections.push_back(identify_section());
+  return root;
+}
+
+Project build_project(const io::Node& root, const fs::path& base) {
+  Project P;
+  check_tests(root);
+  P.law = build_law(root.section("law"));
+  P.solver = build_solver(root.section("solver"));
+  std::vector<std::string> names;
+  for (const auto& t : root.array("test")) {
+    if (test_kind(t) == TestKind::simple_shear)
+      t.fail("kind", "identify needs FE tests", "\"simple_shear\"", "uniaxial, biaxial or homogeneous");
+    P.models.push_back(build_test(t, root.section("mesh")));
+    names.push_back(t.string("name"));
+  }
+  std::vector<ident::Parameter> parameters = build_parameters(root, *P.law);
+  P.options = build_options(root.section("identify"));
+
+  // The experiment.
+  const Node& ex = root.section("experiment");
+  const fs::path dir = base / ex.string("dir");
+  if (!fs::is_directory(dir))
+    throw FileError(ex.where("dir"), "experiment folder not found", "\"" + dir.string() + "\"",
+                    "a folder written by tricot synth, relative to the project file");
+  const auto kind = ex.string("field_kind") == "incremental" ? ident::FieldKind::incremental
+                                                             : ident::FieldKind::cumulative;
+  ident::Experiment experiment = read_experiment(dir, names, kind);
+  P.truth = read_truth(dir);
+  const bool has_field = std::any_of(experiment.tests.begin(), experiment.tests.end(),
+                                     [](const ident::TestData& d) { return d.has_field(); });
+  if (P.truth && has_field && P.truth->field_kind != kind)
+    ex.fail("field_kind", fmt::format("{}/truth.json says the field data are {}", dir.string(),
+                                      ident::to_string(P.truth->field_kind)),
+            "\"" + ex.string("field_kind") + "\"", ident::to_string(P.truth->field_kind));
+  for (auto& d : experiment.tests) {
+    if (ex.boolean("sigma_from_truth")) {
+      if (!P.truth)
+        throw FileError(ex.where("sigma_from_truth"), "the experiment has no truth.json to take σ from",
+                        (dir / kTruthFile).string());
+      const Truth::Test* t = P.truth->find(d.name);
+      if (!t) ex.fail("sigma_from_truth", "truth.json has no test '" + d.name + "'");
+      d.sigma = t->sigma;
+    } else {
+      d.sigma = {ex.real("sigma_edge_displacement"), ex.real("sigma_edge_force"), ex.real("sigma_field")};
+    }
+  }
+
+  const Node& dn = root.section("data");
+  ident::ObjectiveOptions oo;
+  oo.weights.edge_displacement = dn.real("edge_displacement");
+  oo.weights.edge_force = dn.real("edge_force");
+  oo.weights.field = dn.real("field");
+  oo.weights.field_uv = dn.boolean("field_uv");
+  oo.solver = P.solver;
+  oo.threads = P.options.threads;
+  try {
+    P.objective = std::make_unique<ident::Objective>(P.models, experiment, *P.law, parameters, oo);
+  } catch (const InputError& e) {
+    if (!e.where().file.empty()) throw;
+    const std::string& k = e.where().key;
+    if (k == "data") relocate(e, dn, "");
+    throw InputError({root.file(), 0, k}, std::string(e.what()).substr(k.empty() ? 0 : k.size() + 2));
+  }
+  return P;
+}
+
+}  // namespace tricot::project

@@ -1,0 +1,263 @@
+// tricot simulate's pipeline (see simulation.hpp).
+#include "tricot/project/simulation.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/LU>
+#include <chrono>
+
+#include "tricot/fem/corotational.hpp"
+#include "tricot/fem/element.hpp"
+#include "tricot/io/files.hpp"
+#include "tricot/io/vtu.hpp"
+#include "tricot/project/case_spec.hpp"
+#include "tricot/project/fem_vtu.hpp"
+
+namespace tricot::project {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The output folder of a test; FileError (exit 3) when it cannot be made.
+void make_dir(const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw FileError({dir.string(), 0, ""}, "cannot create the output folder: " + ec.message());
+}
+
+std::string step_file(std::size_t k) { return fmt::format("step_{:04d}.vtu", k); }
+
+// Removes step_NNNN.vtu files of an earlier run beyond the `kept` steps just written (and its
+// steps.pvd when none was written).
+void remove_stale_steps(const fs::path& dir, std::size_t kept) {
+  std::error_code ec;
+  if (kept == 0) fs::remove(dir / "steps.pvd", ec);
+  io::remove_numbered_files(dir, "step_", ".vtu", static_cast<long>(kept) + 1);
+}
+
+void write_vtus(const fs::path& dir, const fem::TestModel& test, const fem::Law& law,
+                const std::vector<Eigen::VectorXd>& u, const std::vector<double>& time) {
+  std::vector<io::PvdEntry> series;
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    io::write_vtu(dir / step_file(k + 1), fem_vtu_grid(test.mesh, u[k], law, test.material_angle));
+    series.push_back({time[k], step_file(k + 1)});
+  }
+  io::write_pvd(dir / "steps.pvd", series);
+}
+
+void plot(const Log& log, const std::string& script) {
+  std::string why;
+  if (!io::run_gnuplot(script, &why)) log.print("  (no plot: " + why + ")");
+}
+
+// --- FE tests ---------------------------------------------------------------------------------------
+
+struct TestOutcome {
+  bool converged = true;
+  std::string message;
+};
+
+TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const fem::SolveOptions& options,
+                        const SimulationRequest& args, const Log& log) {
+  const fs::path dir = args.out / test.name;
+  const fem::SimulationResult r = fem::simulate(test, law, options, log.reporter());
+
+  io::Table t;
+  t.columns = {"step", "load", "edge_displacement", "edge_force", "force_per_width", "side_force", "iterations",
+               "cutbacks"};
+  io::Table newton;  // the residual norm after the predictor (iteration 0) and after each Newton step
+  newton.columns = {"step", "iteration", "residual_N"};
+  int iterations = 0, cutbacks = 0;
+  std::vector<Eigen::VectorXd> u;
+  std::vector<double> time;
+  for (std::size_t k = 0; k < r.steps.size(); ++k) {
+    const auto& s = r.steps[k];
+    t.rows.push_back({double(k + 1), s.load, s.edge_displacement, s.edge_force, s.force_per_width, s.side_force,
+                      double(s.iterations), double(s.cutbacks)});
+    for (std::size_t i = 0; i < s.residuals.size(); ++i) newton.rows.push_back({double(k + 1), double(i), s.residuals[i]});
+    iterations += s.iterations;
+    cutbacks += s.cutbacks;
+    u.push_back(s.u);
+    time.push_back(s.load);
+  }
+  make_dir(dir);
+  if (args.vtu) write_vtus(dir, test, law, u, time);
+  remove_stale_steps(dir, !args.vtu ? 0 : u.size());
+  io::write_atomic(dir / "steps.csv", io::to_csv(t));
+  io::write_atomic(dir / "newton.csv", io::to_csv(newton));
+
+  if (!r.steps.empty()) {
+    const bool force = test.control == fem::GripControl::force;
+    plot(log, fmt::format(R"gp(set terminal pngcairo size 800,560 font ",11" noenhanced
+set output {}
+set datafile separator ","
+set key top left
+set grid
+set title "{}: force per unit initial width"
+set xlabel "grip displacement (quarter model), mm"
+set ylabel "force per width, N/mm"
+plot {} using "edge_displacement":"force_per_width" with linespoints pt 7 ps 0.6 title "{}"
+)gp",
+                              io::gnuplot_quote(dir / "force.png"), test.name, io::gnuplot_quote(dir / "steps.csv"),
+                              force ? "force-controlled" : "FE"));
+  }
+
+  const std::string where = (dir / "").string();
+  if (!r.steps.empty()) {
+    const auto& last = r.steps.back();
+    log.print(fmt::format("{}: {} steps, {} Newton iterations, {} cutbacks, {}; final force {:.5g} N "
+                              "({:.5g} N/mm) at {:.5g} mm -> {}",
+                              test.name, r.steps.size(), iterations, cutbacks, format_duration(r.seconds),
+                              last.edge_force, last.force_per_width, last.edge_displacement, where));
+  } else {
+    log.print(fmt::format("{}: no step converged, {} -> {}", test.name, format_duration(r.seconds), where));
+  }
+  return {r.usable(), r.message};
+}
+
+// --- simple shear: the law at F = [[1, γ], [0, 1]] (THEORY §4 validation) ------------------------------
+
+TestOutcome run_simple_shear(const fem::TestModel& test, const fem::Law& law, const io::Node& law_node,
+                             const SimulationRequest& args, const Log& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const fs::path dir = args.out / test.name;
+  io::Table t;
+  t.columns = {"gamma", "s11", "s22", "s12"};
+  std::vector<Eigen::VectorXd> u;
+  TestOutcome outcome;
+  fem::LawInput in;
+  in.Q = fem::material_axes(test.material_angle);
+  fem::LawOutput out;
+  for (std::size_t k = 0; k < test.loads.size(); ++k) {
+    const double gamma = test.loads[k];
+    in.F << 1, gamma, 0, 1;
+    law.evaluate(in, {false, false}, out);
+    const Mat2 s = fem::Law::cauchy(in.F, out.P);
+    if (!s.allFinite()) {
+      outcome = {false, fmt::format("test '{}': step {} of {} (gamma {:.6g}): the law returned a non-finite stress",
+                                    test.name, k + 1, test.loads.size(), gamma)};
+      break;
+    }
+    t.rows.push_back({gamma, s(0, 0), s(1, 1), s(0, 1)});
+    // The element's nodes follow u = (γ Y, 0): every Gauss point sees the same F.
+    Eigen::VectorXd uk = Eigen::VectorXd::Zero(test.mesh.dofs());
+    for (int a = 0; a < test.mesh.nodes(); ++a) uk(2 * a) = gamma * test.mesh.X(1, a);
+    u.push_back(std::move(uk));
+  }
+  make_dir(dir);
+  if (args.vtu) {
+    std::vector<double> time;
+    for (const auto& row : t.rows) time.push_back(row[0]);
+    write_vtus(dir, test, law, u, time);
+  }
+  remove_stale_steps(dir, !args.vtu ? 0 : u.size());
+  io::write_atomic(dir / "steps.csv", io::to_csv(t));
+
+  // Beside the law: the closed forms of three objective rates for an isotropic corotational law.
+  std::string extra;
+  const io::Node& co = law_node.section("corotational");
+  const bool isotropic = law_node.string("type") == "corotational" && co.string("moduli") == "isotropic";
+  if (isotropic && !t.rows.empty()) {
+    const double G = co.real("G"), g_max = t.rows.back()[0], g_min = std::min(0.0, t.rows.front()[0]);
+    io::Table c;
+    c.columns = {"gamma", "log_s12", "log_s11", "jaumann_s12", "jaumann_s11", "green_naghdi_s12", "green_naghdi_s11"};
+    constexpr int kSamples = 400;
+    for (int i = 0; i <= kSamples; ++i) {
+      const double g = g_min + (g_max - g_min) * i / kSamples;
+      const auto L = fem::simple_shear_log_rate(G, g), J = fem::simple_shear_jaumann(G, g),
+                 N = fem::simple_shear_green_naghdi(G, g);
+      c.rows.push_back({g, L.s12, L.s11, J.s12, J.s11, N.s12, N.s11});
+    }
+    io::write_atomic(dir / "closed_form.csv", io::to_csv(c));
+    const std::string cf = io::gnuplot_quote(dir / "closed_form.csv");
+    extra = fmt::format(
+        R"gp(, {0} using "gamma":"log_s12" with lines lw 1 lc rgb "#1f77b4" dt 2 title "σ12 log rate, closed form", \
+  {0} using "gamma":"log_s11" with lines lw 1 lc rgb "#d62728" dt 2 title "σ11 log rate, closed form", \
+  {0} using "gamma":"jaumann_s12" with lines lc rgb "#999999" title "σ12 Jaumann: G sin γ", \
+  {0} using "gamma":"green_naghdi_s12" with lines lc rgb "#2ca02c" title "σ12 Green–Naghdi", \
+  {0} using "gamma":"jaumann_s11" with lines lc rgb "#999999" dt 3 title "σ11 Jaumann", \
+  {0} using "gamma":"green_naghdi_s11" with lines lc rgb "#2ca02c" dt 3 title "σ11 Green–Naghdi")gp",
+        cf);
+  }
+  if (!t.rows.empty())
+    plot(log, fmt::format(R"gp(set terminal pngcairo size 900,680 font ",11" noenhanced
+set output {0}
+set datafile separator ","
+set key below maxrows 4
+set grid
+set title "{1}: simple shear F = [[1, γ], [0, 1]], Cauchy stress"
+set xlabel "shear γ"
+set ylabel "σ, N/mm"
+plot {2} using "gamma":"s12" with points pt 6 ps 0.8 lc rgb "#1f77b4" title "σ12 tricot ({3})", \
+  {2} using "gamma":"s11" with points pt 4 ps 0.7 lc rgb "#d62728" title "σ11 tricot"{4}
+)gp",
+                              io::gnuplot_quote(dir / "force.png"), test.name, io::gnuplot_quote(dir / "steps.csv"), law.name(), extra));
+
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!t.rows.empty()) {
+    const auto& last = t.rows.back();
+    log.print(fmt::format("{}: {} steps (the law at F = [[1, γ], [0, 1]]), {}; at γ = {:.5g}: s12 = {:.6g}, "
+                              "s11 = {:.6g} N/mm -> {}",
+                              test.name, t.rows.size(), format_duration(seconds), last[0], last[3], last[1],
+                              (dir / "").string()));
+  }
+  return outcome;
+}
+
+// DIR/forces.png: every FE test's force per width on one plot.
+void plot_all(const Log& log, const fs::path& dir, const std::vector<std::string>& tests) {
+  std::string curves;
+  for (const auto& t : tests)
+    curves += fmt::format("{}{} using \"edge_displacement\":\"force_per_width\" with linespoints pt 7 ps 0.4 title \"{}\"",
+                          curves.empty() ? "" : ", \\\n  ", io::gnuplot_quote(dir / t / "steps.csv"), t);
+  plot(log, fmt::format(R"gp(set terminal pngcairo size 900,600 font ",11" noenhanced
+set output {}
+set datafile separator ","
+set key top left
+set grid
+set title "force per unit initial width, every test"
+set xlabel "grip displacement (quarter model), mm"
+set ylabel "force per width, N/mm"
+plot {}
+)gp",
+                            io::gnuplot_quote(dir / "forces.png"), curves));
+}
+
+}  // namespace
+
+SimulationOutcome run_simulation(const io::Node& root, const SimulationRequest& args, const Log& log) {
+  check_tests(root);
+  const auto law = build_law(root.section("law"));
+  const fem::SolveOptions options = build_solver(root.section("solver"));
+
+  // Build every chosen test first: a config error stops the run before any work.
+  std::vector<std::pair<const io::Node*, fem::TestModel>> tests;
+  io::Strings names;
+  for (const auto& t : root.array("test")) {
+    names.push_back(t.string("name"));
+    if (!args.only_test.empty() && t.string("name") != args.only_test) continue;
+    tests.emplace_back(&t, build_test(t, root.section("mesh")));
+  }
+  if (tests.empty()) {
+    const std::string hint = io::closest_name(args.only_test, names);
+    std::string all;
+    for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
+    throw InputError({args.case_file, 0, "--test"},
+                     "no test of that name" + (hint.empty() ? std::string() : "; did you mean '" + hint + "'?"),
+                     "\"" + args.only_test + "\"", "one of " + all);
+  }
+
+  std::vector<std::string> failures, fe_tests;
+  for (const auto& [node, model] : tests) {
+    const bool shear = test_kind(*node) == TestKind::simple_shear;
+    const TestOutcome o = shear ? run_simple_shear(model, *law, root.section("law"), args, log)
+                                : run_fe_test(model, *law, options, args, log);
+    if (!o.converged) failures.push_back(o.message);
+    if (!shear) fe_tests.push_back(model.name);
+  }
+  if (fe_tests.size() > 1) plot_all(log, args.out, fe_tests);
+  return {failures};
+}
+
+}  // namespace tricot::project

@@ -1,0 +1,226 @@
+// tricot synth's pipeline: FE-generated "measurements" with a known law (paper §3.3): the grip's
+// displacement and force per step and the displacement at a grid of points, with optional Gaussian
+// noise of a fixed seed, written as an experiment that `tricot identify` reads. Generate on a finer
+// mesh than the identification's, so that the check is not an inverse crime.
+#include "tricot/project/synthesis.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
+#include "tricot/fem/locate.hpp"
+#include "tricot/fem/solver.hpp"
+#include "tricot/ident/synthetic.hpp"
+#include "tricot/project/case_spec.hpp"
+#include "tricot/project/synth_images.hpp"
+
+namespace tricot::project {
+
+namespace {
+
+namespace fs = std::filesystem;
+using io::KeySpec;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+using io::key;
+
+io::SectionSpec synth_section() {
+  io::SectionSpec s{"synth",
+                    "How the synthetic measurements are taken from the FE runs: noise and field points.\n"
+                    "Noise is Gaussian, independent per value, from a generator seeded with seed + the test's\n"
+                    "index (ident::add_noise), so a run is reproducible.",
+                    false, {}, {}};
+  s.keys = {
+      key("noise_edge_displacement", 0.0, "σ of the grip displacement, mm (absolute), ≥ 0.", 0, 1e6),
+      key("noise_edge_force", 0.0, "σ of the grip force, N (absolute), ≥ 0.", 0, 1e9),
+      key("noise_field", 0.0, "σ of u and v at the field points, mm (absolute), ≥ 0.", 0, 1e6),
+      key("noise_relative", 0.0,
+          "σ as a fraction of each group's RMS (edge displacement, edge force, field u and v together),\n"
+          "per test: 0.005 = 0.5 %. Replaces the absolute σ; give one or the other.",
+          0, 1),
+      key("seed", std::int64_t{20070101}, "Seed of the noise generator (std::mt19937_64).", 0, 9.2e18),
+      key("field", true, "Write field.csv (displacements at points); false = edge data only."),
+      key("field_kind", std::string("cumulative"),
+          "cumulative: u(X, t_k) of material points tracked from the reference (x, y = X).\n"
+          "incremental: x(t_k) − x(t_{k−1}) of the material under points fixed in the images (the\n"
+          "paper's window centres); points that leave the specimen are left out (the summary says how many).",
+          -kInf, kInf, {"cumulative", "incremental"}),
+      key("nx", std::int64_t{6}, "Field points across the quarter's width (a regular grid).", 1, 10000),
+      key("ny", std::int64_t{20}, "Field points along the quarter's height.", 1, 10000),
+      key("spacing", 0.0,
+          "DIC-like grid: a point every `spacing` mm from the inset corner (like the centres of DIC\n"
+          "subsets); 0 = the nx × ny grid.",
+          0, 1e5),
+      key("inset", 1.0, "Distance of the outermost points from the quarter's edges, mm, ≥ 0.", 0, 1e5),
+  };
+  s.sections.push_back(synth_images_section());  // [synth.images]
+  return s;
+}
+
+// Positions of the field points in the quarter [0, W] × [0, H]: the nx × ny grid, or every `spacing` mm.
+Eigen::Matrix2Xd grid_points(const io::Node& s, const fem::MeshOptions& m, const io::Node& test) {
+  const double inset = s.real("inset");
+  const double W = m.width, H = m.height;
+  if (2 * inset >= std::min(W, H))
+    s.fail("inset", fmt::format("leaves no room for points in test '{}' (quarter {} × {} mm)", test.string("name"),
+                                W, H),
+           io::to_toml(inset), fmt::format("< {} mm", std::min(W, H) / 2));
+  auto axis = [&](double length, std::int64_t n) {
+    std::vector<double> a;
+    const double spacing = s.real("spacing");
+    if (spacing > 0) {
+      for (double x = inset; x <= length - inset + 1e-9 * length; x += spacing) a.push_back(x);
+    } else if (n == 1) {
+      a.push_back(length / 2);
+    } else {
+      for (std::int64_t i = 0; i < n; ++i) a.push_back(inset + (length - 2 * inset) * double(i) / double(n - 1));
+    }
+    return a;
+  };
+  const auto xs = axis(W, s.integer("nx")), ys = axis(H, s.integer("ny"));
+  Eigen::Matrix2Xd P(2, xs.size() * ys.size());
+  Eigen::Index c = 0;
+  for (double y : ys)
+    for (double x : xs) P.col(c++) = Vec2(x, y);
+  return P;
+}
+
+// Incremental data are taken at points fixed in the images: a point that leaves the specimen at some
+// step (the strip narrows under it) has no data, as in DIC; the others are kept, with their grid ids.
+std::vector<int> inside_at_every_step(const fem::TestModel& model, const fem::SimulationResult& sim,
+                                      const Eigen::Matrix2Xd& grid, ident::FieldKind kind) {
+  std::vector<char> keep(grid.cols(), 1);
+  for (std::size_t k = 0; k < sim.steps.size(); ++k) {
+    if (kind == ident::FieldKind::cumulative && k > 0) break;
+    const bool moved = kind == ident::FieldKind::incremental && k > 0;
+    const fem::PointLocator locator(model.mesh, moved ? &sim.steps[k - 1].u : nullptr);
+    for (Eigen::Index p = 0; p < grid.cols(); ++p)
+      if (keep[p] && !locator.locate(grid.col(p))) keep[p] = 0;
+  }
+  std::vector<int> kept;
+  for (Eigen::Index p = 0; p < grid.cols(); ++p)
+    if (keep[p]) kept.push_back(static_cast<int>(p));
+  return kept;
+}
+
+// A test that does not converge with the true law: the run's data would be incomplete (exit 4).
+class NotConverged : public InputError {
+ public:
+  using InputError::InputError;
+  ExitCode exit_code() const override { return ExitCode::not_converged; }
+};
+
+}  // namespace
+
+io::SectionSpec synth_schema() {
+  io::SectionSpec root = case_schema();
+  root.help =
+      "tricot synth: an experiment file. The case (specimen, law with the TRUE coefficients, solver,\n"
+      "tests) is run once and its grip and field values are written as measurements, with noise.\n"
+      "Units: mm, N, N/mm, degrees.";
+  root.sections.push_back(synth_section());
+  return root;
+}
+
+Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
+  check_tests(root);
+  const auto law = build_law(root.section("law"));
+  const fem::SolveOptions solver = build_solver(root.section("solver"));
+  const io::Node& s = root.section("synth");
+  if (s.real("noise_relative") > 0)
+    for (const char* k : {"noise_edge_displacement", "noise_edge_force", "noise_field"})
+      if (s.real(k) > 0)
+        s.fail(k, "give either absolute σ or noise_relative, not both", io::to_toml(s.real(k)), "0 with noise_relative");
+  const auto kind = s.string("field_kind") == "incremental" ? ident::FieldKind::incremental
+                                                            : ident::FieldKind::cumulative;
+  const io::Node& images = s.section("images");
+  const bool with_images = images.boolean("enabled");
+  if (with_images) build_image_options(images, 0);  // a bad [synth.images] stops before any work
+
+  // Build every test first: a config error stops before any work.
+  std::vector<fem::TestModel> models;
+  for (const auto& t : root.array("test")) {
+    if (test_kind(t) == TestKind::simple_shear)
+      t.fail("kind", "synth needs an FE test", "\"simple_shear\"", "uniaxial, biaxial or homogeneous");
+    models.push_back(build_test(t, root.section("mesh")));
+  }
+
+  Truth truth;
+  truth.law = law->name();
+  truth.names = law->coefficient_names();
+  const Eigen::VectorXd c = law->coefficients();
+  truth.values.assign(c.data(), c.data() + c.size());
+  truth.noise_relative = s.real("noise_relative");
+  truth.seed = static_cast<std::uint64_t>(s.integer("seed"));
+  truth.field_kind = kind;
+
+  std::vector<ident::TestData> data;
+  const auto& nodes = root.array("test");
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    const fem::TestModel& model = models[i];
+    const fem::SimulationResult sim = fem::simulate(model, *law, solver, log.reporter());
+    if (!sim.usable())
+      throw NotConverged(nodes[i].where("name"),
+                       fmt::format("test '{}' did not converge with the true law, so it has no data: {}", model.name,
+                                   sim.message));
+    Eigen::Matrix2Xd points(2, 0);
+    std::vector<int> ids;
+    int dropped = 0;
+    if (s.boolean("field")) {
+      const Eigen::Matrix2Xd grid =
+          grid_points(s, build_mesh_options(root.section("mesh"), &nodes[i].section("mesh")), nodes[i]);
+      const std::vector<int> kept = inside_at_every_step(model, sim, grid, kind);
+      dropped = static_cast<int>(grid.cols()) - static_cast<int>(kept.size());
+      points.resize(2, Eigen::Index(kept.size()));
+      for (std::size_t q = 0; q < kept.size(); ++q) {
+        points.col(Eigen::Index(q)) = grid.col(kept[q]);
+        ids.push_back(kept[q] + 1);  // ids number the grid: a point left out leaves a gap
+      }
+    }
+    ident::TestData d = ident::measure(model, sim, points, ids, kind);
+    const double rel = s.real("noise_relative");
+    const ident::Sigma sigma = rel > 0 ? ident::rms_fraction(d, rel)
+                                       : ident::Sigma{s.real("noise_edge_displacement"), s.real("noise_edge_force"),
+                                                      s.real("noise_field")};
+    ident::add_noise(d, sigma, truth.seed + i);  // one stream per test
+    data.push_back(d);
+
+    Truth::Test tt;
+    tt.name = model.name;
+    tt.control = model.control == fem::GripControl::force ? "force" : "displacement";
+    tt.mesh = build_mesh_options(root.section("mesh"), &nodes[i].section("mesh"));
+    tt.dofs = model.mesh.dofs();
+    tt.steps = d.steps();
+    tt.points = d.point_count();
+    tt.dropped_points = dropped;
+    tt.sigma = sigma;
+    truth.tests.push_back(tt);
+
+    const auto& last = sim.steps.back();
+    std::string noise = "noise-free";
+    if (sigma.edge_displacement > 0 || sigma.edge_force > 0 || sigma.field > 0)
+      noise = fmt::format("σ = {:.3g} mm (grip), {:.3g} N (force), {:.3g} mm (field)", sigma.edge_displacement,
+                          sigma.edge_force, sigma.field);
+    std::string field = d.has_field() ? fmt::format("{} {} field points", d.point_count(), ident::to_string(kind))
+                                      : std::string("no field");
+    if (dropped > 0) field += fmt::format(" ({} left the specimen and were left out)", dropped);
+    if (with_images) {  // the speckle of test i is seeded with seed + i, like its noise
+      const int frames = write_images(images, model, sim, truth.seed + i, dir / model.name, log);
+      field += fmt::format("; {} images in {}", frames, (dir / model.name / kImagesFolder / "").string());
+    }
+    log.print(fmt::format("{}: {} steps on {} {} dofs in {}; last step {:.5g} N at {:.5g} mm; {}; {}", model.name,
+                              d.steps(), tt.dofs, fem::to_string(tt.mesh.type), format_duration(sim.seconds),
+                              last.edge_force, last.edge_displacement, field, noise));
+  }
+  for (const auto& d : data) write_test_data(dir, d);
+  write_truth(dir, truth);
+  std::string coefficients;
+  for (std::size_t k = 0; k < truth.names.size(); ++k)
+    coefficients += fmt::format("{}{} = {:.6g}", k ? ", " : "", truth.names[k], truth.values[k]);
+  log.print(fmt::format("truth ({}): {}; seed {} -> {}", truth.law, coefficients, truth.seed, (dir / "").string()));
+  return truth;
+}
+
+}  // namespace tricot::project
