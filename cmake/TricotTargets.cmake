@@ -36,9 +36,6 @@ function(tricot_tests engine)
       set(exe ${engine}_${label}_tests)
       add_executable(${exe} ${files})
       target_link_libraries(${exe} PRIVATE ${ARGN} tricot_testing GTest::gtest GTest::gmock GTest::gtest_main)
-      # GCC 12 with -march=native reports false positives inside Eigen's AVX-512 kernels when small fixed
-      # matrices are reduced (maxCoeff on a Mat4) in heavily inlined test bodies.
-      target_compile_options(${exe} PRIVATE -Wno-maybe-uninitialized -Wno-array-bounds)
       # ctest runs two test processes at once on CI's two cores: OpenMP threads that busy-wait between
       # parallel regions would then steal the other process's core (measured 2x slower), so they sleep.
       gtest_discover_tests(${exe} DISCOVERY_MODE PRE_TEST

@@ -21,6 +21,8 @@ struct DicArgs {
   std::vector<std::string> inputs;  ///< [CONFIG.toml] IMAGE...
   std::string out_dir;
   project::DicFlags flags;
+  int subset = 0, step = 0;
+  CLI::Option *subset_given = nullptr, *step_given = nullptr;
   bool verbose = false, quiet = false;
 };
 
@@ -70,9 +72,9 @@ ExitCode run_dic(const DicArgs& a) {
   }
   if (images.empty())
     throw InputError({"command line", 0, "IMAGE"}, "no image given", {}, "the reference image, then the frames");
-  const project::DicConfig c = project::dic_config(config, a.flags);
+  const project::DicSpec spec = project::dic_spec(config, a.flags);
   Console console(a.verbose, a.quiet);
-  const project::DicRun run = project::run_dic(c, images, a.out_dir, console.log());
+  const project::DicRun run = project::run_dic(spec, images, a.out_dir, console.log());
   const dic::SequenceResult& r = run.result;
   const std::vector<std::string>& warnings = run.warnings;
   if (!warnings.empty())
@@ -101,16 +103,20 @@ Runner add_dic(CLI::App& app) {
   cmd->add_option("inputs", args->inputs, "[CONFIG.toml] IMAGE...: an optional config (see --print-config), then the images")
       ->required();
   cmd->add_option("-o,--out", args->out_dir, "Output folder")->required();
-  cmd->add_option("--subset", args->flags.subset, "Subset size in px, odd (overrides dic.subset_size; default 31)")
-      ->check(CLI::Range(7, 301));
-  cmd->add_option("--step", args->flags.step, "Grid step in px (overrides dic.step; default 10)")->check(CLI::Range(1, 1000));
+  args->subset_given = cmd->add_option("--subset", args->subset, "Subset size in px, odd, 7 to 301 (overrides dic.subset_size; default 31)");
+  args->step_given = cmd->add_option("--step", args->step, "Grid step in px (overrides dic.step; default 10)")
+                         ->check(CLI::Range(1, 1000));
   cmd->add_option("--mode", args->flags.mode, "incremental, reference or auto (overrides dic.mode; default incremental)")
       ->check(CLI::IsMember({"incremental", "reference", "auto"}));
   cmd->add_option("--roi", args->flags.roi, "Region of interest X0,Y0,X1,Y1 in px (overrides dic.roi; default the whole image)");
   cmd->add_flag("-v,--verbose", args->verbose, "Log every frame (points ok, mean ZNCC, seeds, reference updates)");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
   add_print_config(cmd, project::dic_schema);
-  return [args]() { return run_dic(*args); };
+  return [args]() {
+    if (args->subset_given->count()) args->flags.subset = args->subset;
+    if (args->step_given->count()) args->flags.step = args->step;
+    return run_dic(*args);
+  };
 }
 
 }  // namespace tricot::cli

@@ -44,12 +44,12 @@ class Propagation {
  public:
   Propagation(const Frame& ref, const Frame& cur, const std::vector<Vec2>& centres,
               const std::vector<std::array<int, 4>>& nb, const DicOptions& o, PairResult& r)
-      : ref_(ref), cur_(cur), c_(centres), nb_(nb), o_(o), r_(r), state_(centres.size(), State::open),
-        tries_(centres.size(), 0) {}
+      : reference_(ref), current_(cur), centres_(centres), neighbours_(nb), options_(o), result_(r),
+        state_(centres.size(), State::open), tries_(centres.size(), 0) {}
 
   /// Marks k as computed: good points feed the queue, bad ones may be retried once from another parent.
   void settle(int k, const PointMatch& m) {
-    PointMatch& best = r_.points[k];
+    PointMatch& best = result_.points[k];
     if (m.status == PointStatus::ok || best.status == PointStatus::not_computed ||
         (best.status != PointStatus::ok && m.zncc > best.zncc))
       best = m;
@@ -63,7 +63,7 @@ class Propagation {
 
   /// A failure from a caller's guess: propagation may still try the point once from a neighbour.
   void record_failure(int k, const PointMatch& m) {
-    r_.points[k] = m;
+    result_.points[k] = m;
     tries_[k] = 1;
   }
 
@@ -78,21 +78,21 @@ class Propagation {
   /// each from the shape of the parent that reached it (shifted to the neighbour's centre).
   void run() {
     std::vector<std::pair<int, int>> tasks;  // (point, parent)
-    std::vector<char> claimed(c_.size(), 0);
+    std::vector<char> claimed(centres_.size(), 0);
     std::vector<PointMatch> out;
     while (!queue_.empty()) {
       tasks.clear();
-      for (int b = 0; b < o_.batch && !queue_.empty(); ++b) {
+      for (int b = 0; b < options_.batch && !queue_.empty(); ++b) {
         const int parent = queue_.top().second;
         queue_.pop();
-        for (int n : nb_[parent])
+        for (int n : neighbours_[parent])
           if (n >= 0 && open(n) && !claimed[n]) claimed[n] = 1, tasks.emplace_back(n, parent);
       }
       out.resize(tasks.size());
 #pragma omp parallel for schedule(dynamic, 4)
       for (int t = 0; t < static_cast<int>(tasks.size()); ++t) {
         const auto [k, parent] = tasks[t];
-        out[t] = icgn(ref_, cur_, c_[k], shift_shape(r_.points[parent].p, c_[k] - c_[parent]), o_.icgn);
+        out[t] = icgn(reference_, current_, centres_[k], shift_shape(result_.points[parent].p, centres_[k] - centres_[parent]), options_.icgn);
       }
       for (std::size_t t = 0; t < tasks.size(); ++t) {
         claimed[tasks[t].first] = 0;
@@ -102,11 +102,11 @@ class Propagation {
   }
 
  private:
-  const Frame &ref_, &cur_;
-  const std::vector<Vec2>& c_;
-  const std::vector<std::array<int, 4>>& nb_;
-  const DicOptions& o_;
-  PairResult& r_;
+  const Frame &reference_, &current_;
+  const std::vector<Vec2>& centres_;
+  const std::vector<std::array<int, 4>>& neighbours_;
+  const DicOptions& options_;
+  PairResult& result_;
   std::vector<State> state_;
   std::vector<unsigned char> tries_;
   std::priority_queue<std::pair<double, int>> queue_;

@@ -74,7 +74,7 @@ Assembler::Assembler(const TestModel& test, const DofMap& dofs, const Law& law)
   const Mesh& m = test.mesh;
   const int ne = m.elements();
   D_ = 2 * nodes_per_element(m.type);
-  nc_ = static_cast<int>(law.coefficients().size());
+  coefficient_count_ = static_cast<int>(law.coefficients().size());
   geometry_.reserve(ne);
   for (int e = 0; e < ne; ++e) geometry_.push_back(element_geometry(m, e));
 
@@ -159,7 +159,7 @@ bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assemb
     a.g_guide.setZero(neq);
     a.h_top.setZero(neq);
   }
-  if (req.sensitivities) a.df_dc.setZero(ndof, nc_);
+  if (req.sensitivities) a.df_dc.setZero(ndof, coefficient_count_);
   if (req.tangent) a.symmetric = true;  // else K and its flag stay those of the last tangent
   a.status = ElementStatus::ok;
   a.element = -1;

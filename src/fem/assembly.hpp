@@ -66,7 +66,7 @@ class Assembler {
   const DofMap& dofs_;
   const Law& law_;
   Mat2 Q_;
-  int nc_ = 0;
+  int coefficient_count_ = 0;
   std::vector<ElementGeometry> geometry_;
   std::vector<std::vector<int>> colors_;  ///< elements per color
   std::vector<int> slot_;                 ///< per element, D×D: index into K.valuePtr(), or −1

@@ -58,9 +58,9 @@ struct Failure {
 class Simulation {
  public:
   Simulation(const TestModel& test, const Law& law, const SolveOptions& options, const Reporter& reporter)
-      : test_(test), opt_(options), rep_(reporter), dofs_(detail::make_dof_map(test)),
-        asm_(test, dofs_, law), lin_(asm_.pattern(), options.linear_solver),
-        nc_(static_cast<int>(law.coefficients().size())) {}
+      : test_(test), options_(options), reporter_(reporter), dofs_(detail::make_dof_map(test)),
+        assembler_(test, dofs_, law), linear_solver_(assembler_.pattern(), options.linear_solver),
+        coefficient_count_(static_cast<int>(law.coefficients().size())) {}
 
   SimulationResult run();
 
@@ -77,15 +77,15 @@ class Simulation {
   std::string describe_element_failure() const;
 
   const TestModel& test_;
-  const SolveOptions& opt_;
-  const Reporter& rep_;
+  const SolveOptions& options_;
+  const Reporter& reporter_;
   detail::DofMap dofs_;
-  detail::Assembler asm_;
-  detail::LinearSolver lin_;
-  int nc_;
-  Assembled a_;           // the last assembly
-  bool factor_current_ = false;  // the factorization is of a_.K (else of an earlier, nearby state)
-  bool tangent_fresh_ = false;   // a_.K is the tangent at the last evaluated state (else at an earlier one)
+  detail::Assembler assembler_;
+  detail::LinearSolver linear_solver_;
+  int coefficient_count_;
+  Assembled assembled_;           // the last assembly
+  bool factor_current_ = false;  // the factorization is of assembled_.K (else of an earlier, nearby state)
+  bool tangent_fresh_ = false;   // assembled_.K is the tangent at the last evaluated state (else at an earlier one)
   Eigen::VectorXd u_;     // node displacements of the last assembly
   Eigen::VectorXd z_;     // converged unknowns
   Load load_;             // converged load
@@ -115,30 +115,30 @@ bool Simulation::evaluate(const Eigen::VectorXd& z, const Load& L, bool tangent,
   req.sensitivities = sensitivities;
   if (tangent) factor_current_ = false;
   tangent_fresh_ = tangent;
-  return asm_.assemble(u_, req, a_);
+  return assembler_.assemble(u_, req, assembled_);
 }
 
-// K(a_) x = b (b may have several columns), factorizing a_.K unless the factorization is of it. With
+// K(assembled_) x = b (b may have several columns), factorizing assembled_.K unless the factorization is of it. With
 // `refine`, a factorization of a nearby tangent (the last Newton iterate's) is tried first: iterative
 // refinement x += K_old⁻¹ (b − K x) until every column's residual is at round-off, when it gets there
 // within kRefineSweeps sweeps (each ~1/4 of a factorization with the sensitivities' columns).
 bool Simulation::linear_solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x, Failure& fail, bool refine) {
-  if (refine && !factor_current_ && lin_.factorizations > 0) {
+  if (refine && !factor_current_ && linear_solver_.factorizations > 0) {
     const Eigen::VectorXd nb = b.colwise().norm();
     Eigen::MatrixXd r, dx;
-    lin_.solve(b, x);
+    linear_solver_.solve(b, x);
     for (int sweep = 0; sweep <= kRefineSweeps && x.allFinite(); ++sweep) {
-      r.noalias() = b - a_.K * x;
+      r.noalias() = b - assembled_.K * x;
       double worst = 0;
       for (Eigen::Index j = 0; j < r.cols(); ++j) worst = std::max(worst, r.col(j).norm() / std::max(nb(j), 1e-300));
       if (worst <= kRefinedResidual) return true;
       if (sweep == kRefineSweeps) break;
-      lin_.solve(r, dx);
+      linear_solver_.solve(r, dx);
       x += dx;
     }
   }
   if (!factor_current_ && !factorize(fail)) return false;
-  lin_.solve(b, x);
+  linear_solver_.solve(b, x);
   if (!x.allFinite()) {
     fail.why = "the tangent is singular";
     return false;
@@ -150,7 +150,7 @@ bool Simulation::linear_solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x, Fail
 Eigen::VectorXd Simulation::free_residual(const Load& L) const {
   Eigen::VectorXd R = Eigen::VectorXd::Zero(dofs_.equations);
   for (size_t k = 0; k < dofs_.eq.size(); ++k)
-    if (dofs_.eq[k] >= 0) R(dofs_.eq[k]) += a_.f(k);
+    if (dofs_.eq[k] >= 0) R(dofs_.eq[k]) += assembled_.f(k);
   if (dofs_.master >= 0) R(dofs_.master) -= 0.5 * L.F;
   return R;
 }
@@ -158,31 +158,31 @@ Eigen::VectorXd Simulation::free_residual(const Load& L) const {
 double Simulation::reaction_norm(const Load& L) const {
   double s = dofs_.master >= 0 ? 0.25 * L.F * L.F : 0.0;
   for (size_t k = 0; k < dofs_.eq.size(); ++k)
-    if (dofs_.eq[k] < 0) s += a_.f(k) * a_.f(k);
+    if (dofs_.eq[k] < 0) s += assembled_.f(k) * assembled_.f(k);
   return std::sqrt(s);
 }
 
 bool Simulation::factorize(Failure& fail) {
-  factor_current_ = lin_.factorize(a_.K, a_.symmetric);
+  factor_current_ = linear_solver_.factorize(assembled_.K, assembled_.symmetric);
   if (factor_current_) return true;
   fail.why = "the tangent is singular";
   return false;
 }
 
 std::string Simulation::describe_element_failure() const {
-  if (a_.status == ElementStatus::inverted)
-    return "element " + std::to_string(a_.element) + " inverted (det F = " + fmt("%.3g", a_.min_detF) + ")";
-  return "the law returned a non-finite value in element " + std::to_string(a_.element);
+  if (assembled_.status == ElementStatus::inverted)
+    return "element " + std::to_string(assembled_.element) + " inverted (det F = " + fmt("%.3g", assembled_.min_detF) + ")";
+  return "the law returned a non-finite value in element " + std::to_string(assembled_.element);
 }
 
-// One (sub)step from the converged state at `from` to `to` (THEORY §4). On entry a_ holds a tangent
+// One (sub)step from the converged state at `from` to `to` (THEORY §4). On entry assembled_ holds a tangent
 // at or next to the converged state (that of the last Newton iterate: the converged state itself is
 // evaluated for its residual only), and the factorization is of it or of a nearby state; the
 // predictor extrapolates along it.
 bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Failure& fail) {
   step.residuals.clear();
   const Eigen::VectorXd z0 = z_;
-  Eigen::VectorXd rhs = (to.d - from.d) * a_.g_grip + (to.c - from.c) * a_.g_guide;
+  Eigen::VectorXd rhs = (to.d - from.d) * assembled_.g_grip + (to.c - from.c) * assembled_.g_guide;
   if (dofs_.master >= 0) rhs(dofs_.master) -= 0.5 * (to.F - from.F);
   Eigen::MatrixXd sol;
   Failure ignored;  // without a tangent predictor, Newton starts from z0 and reports its own failure
@@ -245,14 +245,14 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
   double r = R.norm();
   for (int it = 0;; ++it) {
     const double ref = std::max(reaction_norm(to), 1e-12);
-    if (opt_.keep_residuals) step.residuals.push_back(r);
-    if (rep_.log)
-      rep_.info("  iteration " + std::to_string(it) + ": |R| = " + fmt("%.3e", r) + " (relative " +
+    if (options_.keep_residuals) step.residuals.push_back(r);
+    if (reporter_.log)
+      reporter_.info("  iteration " + std::to_string(it) + ": |R| = " + fmt("%.3e", r) + " (relative " +
                 fmt("%.3e", r / ref) + ")");
-    if (r <= opt_.tolerance * ref) break;
-    if (it == opt_.max_iterations) {
+    if (r <= options_.tolerance * ref) break;
+    if (it == options_.max_iterations) {
       fail.why = "residual " + fmt("%.3g", r / ref) + " (relative) after " + std::to_string(it) +
-                 " Newton iterations, tolerance " + fmt("%.3g", opt_.tolerance);
+                 " Newton iterations, tolerance " + fmt("%.3g", options_.tolerance);
       return false;
     }
     ++step.iterations;
@@ -268,18 +268,18 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
     // as no decrease.
     double alpha = 1;
     bool accepted = false;
-    for (int ls = 0; ls < (opt_.line_search ? 12 : 1); ++ls, alpha *= 0.5) {
+    for (int ls = 0; ls < (options_.line_search ? 12 : 1); ++ls, alpha *= 0.5) {
       const Eigen::VectorXd zt = z + alpha * dz;
       if (!evaluate(zt, to, false)) continue;
       const Eigen::VectorXd Rt = free_residual(to);
       const double rt = Rt.norm();
-      if (!opt_.line_search || rt <= (1 - 1e-4 * alpha) * r || rt <= opt_.tolerance * std::max(reaction_norm(to), 1e-12)) {
+      if (!options_.line_search || rt <= (1 - 1e-4 * alpha) * r || rt <= options_.tolerance * std::max(reaction_norm(to), 1e-12)) {
         z = zt, R = Rt, r = rt, accepted = true;
         break;
       }
     }
     if (!accepted) {
-      if (a_.status != ElementStatus::ok) {  // Newton wandered off (e.g. past a limit point)
+      if (assembled_.status != ElementStatus::ok) {  // Newton wandered off (e.g. past a limit point)
         fail.why = "no admissible Newton update: " + describe_element_failure() + " in every line-search trial";
       } else {
         fail.why = "the line search found no decrease of the residual (|R| = " + fmt("%.3g", r) + ")";
@@ -310,8 +310,8 @@ bool Simulation::solve_step(size_t k, StepResult& step, Failure& fail) {
   while (s < 1) {
     const double s1 = std::min(1.0, s + ds);
     const Load to = s1 == 1.0 ? target : lerp(s1);
-    if (rep_.log)
-      rep_.info("step " + std::to_string(k + 1) + ": increment to " + fmt("%.6g", s1) + " of the step");
+    if (reporter_.log)
+      reporter_.info("step " + std::to_string(k + 1) + ": increment to " + fmt("%.6g", s1) + " of the step");
     const Eigen::VectorXd z_keep = z_;
     fail = Failure{};
     if (newton(load_, to, step, fail)) {
@@ -327,7 +327,7 @@ bool Simulation::solve_step(size_t k, StepResult& step, Failure& fail) {
       fail.why += "; the last converged state can no longer be evaluated";
       return false;
     }
-    if (step.cutbacks == opt_.max_cutbacks) return false;
+    if (step.cutbacks == options_.max_cutbacks) return false;
     ++step.cutbacks;
     ds *= 0.5;
   }
@@ -339,8 +339,8 @@ void Simulation::record(const Load& L, StepResult& step) {
   step.u = u_;
   step.edge_displacement = dofs_.master >= 0 ? z_(dofs_.master) : L.d;
   double top = 0, side = 0;
-  for (int k : dofs_.top_y) top += a_.f(k);
-  for (int k : dofs_.right_x) side += a_.f(k);
+  for (int k : dofs_.top_y) top += assembled_.f(k);
+  for (int k : dofs_.right_x) side += assembled_.f(k);
   step.edge_force = 2 * top;
   step.force_per_width = step.edge_force / (2 * test_.mesh.X.row(0).maxCoeff());
   step.side_force = test_.side == SideEdge::guide ? 2 * side : 0.0;
@@ -354,15 +354,15 @@ SimulationResult Simulation::run() {
   Failure fail;
   // The reference state's tangent starts the first predictor.
   if (!evaluate(z_, load_) || !factorize(fail)) {
-    result.termination = a_.status != ElementStatus::ok ? SolveTermination::invalid_state
+    result.termination = assembled_.status != ElementStatus::ok ? SolveTermination::invalid_state
                                                         : SolveTermination::not_converged;
     result.message = "test '" + test_.name + "': the reference state cannot be solved: " +
-                     (a_.status != ElementStatus::ok ? describe_element_failure() : fail.why);
+                     (assembled_.status != ElementStatus::ok ? describe_element_failure() : fail.why);
   }
   for (size_t k = 0; k < n && result.usable(); ++k) {
     StepResult step;
     step.load = test_.loads[k];
-    if (rep_.log) rep_.info("step " + std::to_string(k + 1) + "/" + std::to_string(n) + ", load " + fmt("%.6g", step.load));
+    if (reporter_.log) reporter_.info("step " + std::to_string(k + 1) + "/" + std::to_string(n) + ", load " + fmt("%.6g", step.load));
     if (!solve_step(k, step, fail)) {
       result.termination = fail.invalid ? SolveTermination::invalid_state : SolveTermination::not_converged;
       result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) + " of " + std::to_string(n) +
@@ -370,14 +370,14 @@ SimulationResult Simulation::run() {
                        " cutbacks: " + fail.why;
       break;
     }
-    if (opt_.sensitivities) {
+    if (options_.sensitivities) {
       // K du_f/dc = −∂R_f/∂c with the converged tangent: one multi-RHS solve.
       Eigen::MatrixXd dz;
       // Adds ∂f/∂c, and the tangent at z_ unless the last evaluation (at z_) made it.
       bool ok = evaluate(z_, load_, !tangent_fresh_, true);
-      Eigen::MatrixXd dR_dc = Eigen::MatrixXd::Zero(dofs_.equations, nc_);
+      Eigen::MatrixXd dR_dc = Eigen::MatrixXd::Zero(dofs_.equations, coefficient_count_);
       for (size_t d = 0; d < dofs_.eq.size(); ++d)
-        if (dofs_.eq[d] >= 0) dR_dc.row(dofs_.eq[d]) += a_.df_dc.row(d);
+        if (dofs_.eq[d] >= 0) dR_dc.row(dofs_.eq[d]) += assembled_.df_dc.row(d);
       if (ok) ok = linear_solve(dR_dc, dz, fail, true);
       if (!ok) {
         result.termination = SolveTermination::not_converged;
@@ -386,26 +386,26 @@ SimulationResult Simulation::run() {
         break;
       }
       dz = -dz;
-      step.du_dc.setZero(dofs_.eq.size(), nc_);
+      step.du_dc.setZero(dofs_.eq.size(), coefficient_count_);
       for (size_t d = 0; d < dofs_.eq.size(); ++d)
         if (dofs_.eq[d] >= 0) step.du_dc.row(d) = dz.row(dofs_.eq[d]);
-      step.dforce_dc.setZero(nc_);
+      step.dforce_dc.setZero(coefficient_count_);
       if (test_.control == GripControl::displacement) {
-        for (int d : dofs_.top_y) step.dforce_dc += a_.df_dc.row(d).transpose();
-        step.dforce_dc += dz.transpose() * a_.h_top;
+        for (int d : dofs_.top_y) step.dforce_dc += assembled_.df_dc.row(d).transpose();
+        step.dforce_dc += dz.transpose() * assembled_.h_top;
         step.dforce_dc *= 2;
       }
     }
     record(load_, step);
     result.steps.push_back(std::move(step));
     const StepResult& s = result.steps.back();
-    rep_.report({"simulate " + test_.name, k + 1, n,
+    reporter_.report({"simulate " + test_.name, k + 1, n,
                  "step " + std::to_string(k + 1) + "/" + std::to_string(n) + ", " + std::to_string(s.iterations) +
                      " Newton iterations, " + std::to_string(s.cutbacks) + " cutbacks"});
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  result.factorization_seconds = lin_.seconds;
-  result.factorizations = lin_.factorizations;
+  result.factorization_seconds = linear_solver_.seconds;
+  result.factorizations = linear_solver_.factorizations;
   if (result.usable())
     result.message = "test '" + test_.name + "': " + std::to_string(n) + " steps converged";
   return result;

@@ -9,11 +9,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 #include <string>
 
 #include "tricot/core/error.hpp"
+#include "tricot/core/format.hpp"
 
 namespace tricot::ident {
 
@@ -33,6 +35,14 @@ const char* to_string(Termination t) {
 bool IdentifyResult::converged() const {
   return termination == Termination::objective_below_epsilon || termination == Termination::step_below_delta ||
          termination == Termination::objective_stalled || termination == Termination::gradient_below_tolerance;
+}
+
+std::string IdentifyResult::brief_report() const {
+  char f[32];
+  std::snprintf(f, sizeof f, "%.4g", objective);
+  return std::string(converged() ? "converged" : "NOT converged") + ": " + to_string(termination) + " after " +
+         std::to_string(iterations) + " LM iterations, " + std::to_string(evaluations) + " evaluations, " +
+         format_duration(wall_seconds) + " (" + message + "), f = " + f;
 }
 
 std::vector<double> IdentifyResult::std_error() const {
@@ -86,6 +96,7 @@ class LmCost final : public ceres::CostFunction {
     const Eigen::Index n = scales_.size();
     const Eigen::Map<const Eigen::VectorXd> x(parameters[0], n);
     const bool want_jacobian = jacobians && jacobians[0];
+    if (!want_jacobian) last_trial = x;  // Ceres evaluates each trial point without the Jacobian
     const Evaluation* e = at(x, want_jacobian);
     if (!e) return false;
     Eigen::Map<Eigen::VectorXd>(residuals, e->r.size()) = e->r;
@@ -130,6 +141,8 @@ class LmCost final : public ceres::CostFunction {
   }
 
   mutable std::string last_failure;
+  /// The last point evaluated without the Jacobian: Ceres's last trial step.
+  mutable Eigen::VectorXd last_trial;
 
  private:
   const Problem& problem_;
@@ -230,13 +243,22 @@ class Monitor final : public ceres::IterationCallback {
   Eigen::VectorXd x_prev_ = x_;
 };
 
-/// Maps a Ceres summary without a callback verdict onto the paper's terminations.
-Termination from_ceres(const ceres::Solver::Summary& s) {
+/// Maps a Ceres summary without a callback verdict onto the paper's terminations, from its
+/// TerminationType and the tests Ceres's trust-region loop makes (never its message text). At
+/// CONVERGENCE: the gradient and trust-region tests are made on the last recorded iteration; otherwise
+/// Ceres stopped on the trial step `trial` from the accepted point `x`, which it does not record: the
+/// step test (parameter_tolerance, here δ) comes first, then the function test.
+Termination from_ceres(const ceres::Solver::Summary& s, const ceres::Solver::Options& so, const Eigen::VectorXd& x,
+                       const Eigen::VectorXd& trial) {
   if (s.termination_type == ceres::NO_CONVERGENCE) return Termination::max_iterations;
-  if (s.termination_type != ceres::CONVERGENCE) return Termination::fe_failure;
-  if (s.message.rfind("Function tolerance", 0) == 0) return Termination::objective_stalled;
-  if (s.message.rfind("Gradient tolerance", 0) == 0) return Termination::gradient_below_tolerance;
-  return Termination::step_below_delta;  // parameter tolerance, or the trust region collapsed
+  if (s.termination_type != ceres::CONVERGENCE || s.iterations.empty()) return Termination::fe_failure;
+  const ceres::IterationSummary& last = s.iterations.back();
+  if (last.step_is_successful && last.gradient_max_norm <= so.gradient_tolerance)
+    return Termination::gradient_below_tolerance;
+  if (last.trust_region_radius <= so.min_trust_region_radius) return Termination::step_below_delta;  // collapsed
+  const double tolerance = so.parameter_tolerance * (x.norm() + so.parameter_tolerance);
+  if (trial.size() == x.size() && (x - trial).norm() <= tolerance) return Termination::step_below_delta;
+  return Termination::objective_stalled;  // |Δf| ≤ function_tolerance · f
 }
 
 /// The paper's stability test (THEORY §3): f at J* with each coefficient scaled by (1 ± η). Returns
@@ -349,7 +371,7 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
       result.termination = *monitor.reason;
       result.message = monitor.message;
     } else {
-      result.termination = from_ceres(summary);
+      result.termination = from_ceres(summary, so, x, cost.last_trial);
       result.message = summary.message;
       // The trust region collapsed because the model failed at every step LM tried from the last
       // accepted point: that point is not a minimum, LM was walled in (e.g. a force the trial

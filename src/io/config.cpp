@@ -13,17 +13,6 @@ namespace tricot::io {
 
 namespace {
 
-const char* type_name(const Value& v) {
-  switch (v.index()) {
-    case 0: return "a boolean";
-    case 1: return "an integer";
-    case 2: return "a number";
-    case 3: return "a string";
-    case 4: return "a list of numbers";
-    default: return "a list of strings";
-  }
-}
-
 std::string format_real(double x) {
   std::string s = fmt::format("{}", x);
   if (std::isfinite(x) && s.find_first_of(".eE") == std::string::npos) s += ".0";
@@ -334,7 +323,7 @@ void print_section(std::string& out, const SectionSpec& s, const std::string& pa
   for (const auto& k : s.keys) {
     std::string help = k.help;
     const std::string r = range_text(k);
-    if (!r.empty()) help += (help.empty() ? "" : " ") + std::string("[") + r + "]";
+    if (!r.empty()) help.append(help.empty() ? "" : " ").append("[").append(r).append("]");
     print_comment(out, help);
     out += k.name + " = " + to_toml(k.default_value) + "\n";
   }

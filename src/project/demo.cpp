@@ -179,10 +179,7 @@ Run identify_case(const fs::path& out, const std::string& name, const std::strin
     args.each_run([&](const Log& own) { run.outcome = run_identification(root, req, own); });
   else
     run.outcome = run_identification(root, req, log);
-  const auto& r = run.outcome.result;
-  log.print(fmt::format("   {} ({}), {} iterations, {} evaluations, {}, f = {:.3g}", r.converged() ? "converged" : "NOT converged",
-                            ident::to_string(r.termination), r.iterations, r.evaluations,
-                            format_duration(r.wall_seconds), r.objective));
+  log.print("   " + run.outcome.result.brief_report());
   return run;
 }
 

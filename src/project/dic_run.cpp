@@ -88,28 +88,24 @@ std::string specimen_csv(const dic::SequenceResult& r, const dic::PhysicalFrame&
   return s;
 }
 
-DicConfig dic_config(const std::string& file, const DicFlags& a) {
-  DicConfig c{file.empty() ? io::default_config(dic_schema()) : io::read_config(dic_schema(), file), {},
-              file.empty() ? fs::path() : fs::path(file).parent_path()};
-  io::Node& d = c.root.section("dic");
-  FlagKeys& flags = c.flags;
-  if (a.subset) d.set("subset_size", std::int64_t{a.subset}), flags["dic.subset_size"] = "--subset";
-  if (a.step) d.set("step", std::int64_t{a.step}), flags["dic.step"] = "--step";
-  if (!a.mode.empty()) d.set("mode", a.mode), flags["dic.mode"] = "--mode";
+DicSpec dic_spec(const std::string& file, const DicFlags& a) {
+  const io::Node root = file.empty() ? io::default_config(dic_schema()) : io::read_config(dic_schema(), file);
+  DicSpec spec = DicSpec::from_config(root, file.empty() ? fs::path() : fs::path(file).parent_path());
+  DicTable& d = spec.dic;
+  if (a.subset) d.subset_size = *a.subset, d.origin.set_by_flag("subset_size", "--subset");
+  if (a.step) d.step = *a.step, d.origin.set_by_flag("step", "--step");
+  if (!a.mode.empty()) d.mode = a.mode, d.origin.set_by_flag("mode", "--mode");
   if (!a.roi.empty()) {
-    d.set("roi", parse_roi_flag(a.roi));
-    d.set("roi_polygon", io::Reals{});
-    d.set("roi_mask", std::string());
-    flags["dic.roi"] = "--roi";
+    d.roi = parse_roi_flag(a.roi);
+    d.roi_polygon.clear();
+    d.roi_mask.clear();
+    d.origin.set_by_flag("roi", "--roi");
   }
-
-  return c;
+  return spec;
 }
 
-DicRun run_dic(const DicConfig& config, const std::vector<std::string>& images, const fs::path& out_dir,
+DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, const fs::path& out_dir,
                const Log& log) {
-  const io::Node& root = config.root;
-  const FlagKeys& flags = config.flags;
   for (const auto& img : images) {
     std::error_code ec;
     if (!fs::exists(img, ec)) throw FileError({img, 0, ""}, "image not found");
@@ -124,13 +120,13 @@ DicRun run_dic(const DicConfig& config, const std::vector<std::string>& images, 
   std::vector<std::string>& warnings = run.warnings;
   const image::LoadedImage ref = image::load_image(images[0]);
   if (!ref.warning.empty()) warnings.push_back(ref.warning);
-  run.settings = build_dic_settings(root, ref.image, config.dir, flags);
+  run.settings = spec.settings(ref.image);
   const DicSettings& s = run.settings;
   std::vector<dic::GridPoint> grid;
   try {
     grid = dic::make_grid(s.roi, ref.image.width, ref.image.height, s.sequence.dic.icgn.subset_size, s.sequence.dic.step);
   } catch (const InputError& e) {
-    rethrow_in_config(root, e, flags);
+    spec.rethrow(e);
   }
 
   dic::SequenceTracker tracker(ref.image, grid, s.sequence, log.reporter());

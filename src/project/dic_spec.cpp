@@ -1,6 +1,7 @@
-// The config of `tricot dic` and its builder (see dic_config.hpp).
+// The config of `tricot dic`: its schema, its spec and the engine settings built from it (dic_spec.hpp).
 #include "tricot/project/dic_spec.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "schema.hpp"
@@ -15,6 +16,10 @@ const Strings kPanels = {"displacement", "u", "v", "exx", "eyy", "exy", "zncc"};
 }  // namespace
 
 io::SectionSpec dic_schema() {
+  const DicTable d0;
+  const StrainTable s0;
+  const PhysicalTable p0;
+  const OutputTable o0;
   SectionSpec root{"",
                    "tricot dic: digital image correlation over an image sequence (THEORY §10).\n"
                    "The first image is the reference. Positions are in px, x to the right and y down.\n"
@@ -22,76 +27,59 @@ io::SectionSpec dic_schema() {
                    false, {}, {}};
   SectionSpec d{"dic", "Subsets, grid, correlation and sequence mode.", false, {}, {}};
   d.keys = {
-      key("subset_size", std::int64_t{31}, "Subset size N: N×N px, odd. Larger is less noisy, smaller follows sharper gradients.", 7, 301),
-      key("step", std::int64_t{10}, "Grid step in px between subset centres.", 1, 1000),
-      key("mode", std::string("incremental"),
+      key("subset_size", std::int64_t{d0.subset_size}, "Subset size N: N×N px, odd. Larger is less noisy, smaller follows sharper gradients.", 7, 301),
+      key("step", std::int64_t{d0.step}, "Grid step in px between subset centres.", 1, 1000),
+      key("mode", d0.mode,
           "incremental: each image against the previous one (survives > 100 % strain; positions accumulate).\n"
           "reference: every image against the first. auto: keep the reference until the correlation drops,\n"
           "then move it to the previous image (Ncorr's step analysis).",
           -kInf, kInf, {"incremental", "reference", "auto"}),
-      key("order", std::string("first"), "Shape function: first (affine) or second order.", -kInf, kInf, {"first", "second"}),
+      key("order", d0.order, "Shape function: first (affine) or second order.", -kInf, kInf, {"first", "second"}),
       key("roi", Reals{}, "Region of interest: [x0, y0, x1, y1] px, a rectangle; [] = the whole image."),
       key("roi_polygon", Reals{}, "Region of interest as a polygon: [x0, y0, x1, y1, x2, y2, ...] px (at least 3 vertices)."),
       key("roi_mask", std::string(""), "Region of interest as a mask image (same size as the reference; white = inside), relative to this file."),
       key("seeds", Reals{}, "Seed points [x0, y0, x1, y1, ...] px in the reference image; [] = the point nearest the ROI centre."),
-      key("search_radius", std::int64_t{50}, "px: how far the FFT cross-correlation seed search looks.", 1, 10000),
-      key("max_seeds", std::int64_t{8}, "Seed attempts per image pair before unreached points are given up.", 1, 1000),
-      key("seed_min_zncc", 0.9, "A seed must correlate at least this well (the points it spreads to need min_zncc).", 0, 1),
-      key("max_iterations", std::int64_t{50}, "IC-GN iterations per subset.", 1, 1000),
-      key("tolerance", 1e-3, "px: IC-GN stops when the update moves the subset by less than this.", 1e-9, 1),
-      key("min_zncc", 0.7, "A point whose ZNCC is below this is `low_correlation` (not ok).", 0, 1),
-      key("min_texture", 0.005, "Fraction of full scale: a subset whose gray-level spread is below it is `no_texture`.", 0, 0.99),
-      key("prefilter_sigma", 0.0, "px: Gaussian pre-filter of every image (0 = none; 0.5–1 lowers the noise-induced bias).", 0, 5),
-      key("update_zncc", 0.95, "auto mode: update the reference when a frame's mean ZNCC drops below this.", 0, 1),
-      key("update_loss", 0.02, "auto mode: ... or when more than this fraction of the points fail.", 0, 1),
-      key("batch", std::int64_t{32}, "Points propagated per round (1 = strict highest-ZNCC-first order).", 1, 4096),
-      key("threads", std::int64_t{0}, "OpenMP threads, 0 = all cores.", 0, 1024),
+      key("search_radius", std::int64_t{d0.search_radius}, "px: how far the FFT cross-correlation seed search looks.", 1, 10000),
+      key("max_seeds", std::int64_t{d0.max_seeds}, "Seed attempts per image pair before unreached points are given up.", 1, 1000),
+      key("seed_min_zncc", d0.seed_min_zncc, "A seed must correlate at least this well (the points it spreads to need min_zncc).", 0, 1),
+      key("max_iterations", std::int64_t{d0.max_iterations}, "IC-GN iterations per subset.", 1, 1000),
+      key("tolerance", d0.tolerance, "px: IC-GN stops when the update moves the subset by less than this.", 1e-9, 1),
+      key("min_zncc", d0.min_zncc, "A point whose ZNCC is below this is `low_correlation` (not ok).", 0, 1),
+      key("min_texture", d0.min_texture, "Fraction of full scale: a subset whose gray-level spread is below it is `no_texture`.", 0, 0.99),
+      key("prefilter_sigma", d0.prefilter_sigma, "px: Gaussian pre-filter of every image (0 = none; 0.5–1 lowers the noise-induced bias).", 0, 5),
+      key("update_zncc", d0.update_zncc, "auto mode: update the reference when a frame's mean ZNCC drops below this.", 0, 1),
+      key("update_loss", d0.update_loss, "auto mode: ... or when more than this fraction of the points fail.", 0, 1),
+      key("batch", std::int64_t{d0.batch}, "Points propagated per round (1 = strict highest-ZNCC-first order).", 1, 4096),
+      key("threads", std::int64_t{d0.threads}, "OpenMP threads, 0 = all cores.", 0, 1024),
   };
   SectionSpec st{"strain", "Green–Lagrange strain by a least-squares plane fit over a window of grid points.", false, {}, {}};
   st.keys = {
-      key("window", std::int64_t{5}, "Grid points per side of the fitting window, odd.", 3, 51),
-      key("min_fraction", 0.35, "The fit needs this fraction of the window's points to be ok.", 0, 1),
+      key("window", std::int64_t{s0.window}, "Grid points per side of the fitting window, odd.", 3, 51),
+      key("min_fraction", s0.min_fraction, "The fit needs this fraction of the window's points to be ok.", 0, 1),
   };
   SectionSpec ph{"physical",
                  "Specimen coordinates (mm) for identification: the camera aims at the specimen centre, which\n"
                  "stays at a fixed pixel. With mm_per_px > 0, DIR/specimen.csv repeats points.csv in mm.",
                  false, {}, {}};
   ph.keys = {
-      key("mm_per_px", 0.0, "Pixel size in mm; 0 = no specimen.csv.", 0, 1e6),
+      key("mm_per_px", p0.mm_per_px, "Pixel size in mm; 0 = no specimen.csv.", 0, 1e6),
       key("centre_px", Reals{}, "[x, y] px: the specimen centre in the images; [] = the image centre."),
-      key("angle_deg", 0.0, "Specimen X axis, counter-clockwise on screen from the image x axis, degrees.", -360, 360),
-      key("y_up", true, "The specimen Y axis points up on screen (image y points down)."),
+      key("angle_deg", p0.angle_deg, "Specimen X axis, counter-clockwise on screen from the image x axis, degrees.", -360, 360),
+      key("y_up", p0.y_up, "The specimen Y axis points up on screen (image y points down)."),
   };
   SectionSpec out{"output", "What is written besides DIR/points.csv and DIR/frames.csv.", false, {}, {}};
   out.keys = {
-      key("overlays", true, "DIR/overlays/frame_NNNN.png: maps drawn over every image."),
-      key("panels", Strings{"displacement", "exx", "eyy", "zncc"},
+      key("overlays", o0.overlays, "DIR/overlays/frame_NNNN.png: maps drawn over every image."),
+      key("panels", o0.panels,
           "Maps in each overlay, two per row: displacement, u, v, exx, eyy, exy, zncc."),
-      key("panel_width", std::int64_t{800}, "px: each map is scaled down to at most this width.", 100, 10000),
-      key("zncc_floor", 0.9, "The ZNCC map's colours span [zncc_floor, 1].", 0, 0.999),
-      key("increments", false,
+      key("panel_width", std::int64_t{o0.panel_width}, "px: each map is scaled down to at most this width.", 100, 10000),
+      key("zncc_floor", o0.zncc_floor, "The ZNCC map's colours span [zncc_floor, 1].", 0, 0.999),
+      key("increments", o0.increments,
           "DIR/increments.csv: displacement between consecutive images at the fixed grid centres\n"
           "(the paper's WIMA-style incremental fields; costs a second correlation per image)."),
   };
   root.sections = {d, st, ph, out};
   return root;
-}
-
-void rethrow_in_config(const io::Node& root, const InputError& e, const FlagKeys& flags) {
-  if (!e.where().file.empty()) throw;
-  const std::string dotted = e.where().key;
-  if (auto it = flags.find(dotted); it != flags.end())
-    throw InputError(Location{"command line", 0, it->second}, problem_of(e));
-  const auto dot = dotted.find('.');
-  const std::string section = dotted.substr(0, dot);
-  for (const char* known : {"dic", "strain", "physical", "output"})
-    if (dot != std::string::npos && section == known) {
-      const Node& n = root.section(section);
-      Location where = n.where(dotted.substr(dot + 1));
-      where.key = dotted;
-      throw InputError(where, problem_of(e));
-    }
-  throw;
 }
 
 io::Reals parse_roi_flag(const std::string& text) {
@@ -112,48 +100,82 @@ io::Reals parse_roi_flag(const std::string& text) {
   return r;
 }
 
-DicSettings build_dic_settings(const io::Node& root, const image::Image& reference,
-                               const std::filesystem::path& config_dir, const FlagKeys& flags) {
-  DicSettings s;
+DicSpec DicSpec::from_config(const io::Node& root, std::filesystem::path dir) {
+  DicSpec x;
+  x.dir = std::move(dir);
   const Node& d = root.section("dic");
+  DicTable& t = x.dic;
+  t.origin = Origin(d);
+  t.subset_size = static_cast<int>(d.integer("subset_size"));
+  t.step = static_cast<int>(d.integer("step"));
+  t.mode = d.string("mode");
+  t.order = d.string("order");
+  t.roi = d.reals("roi");
+  t.roi_polygon = d.reals("roi_polygon");
+  t.roi_mask = d.string("roi_mask");
+  t.seeds = d.reals("seeds");
+  t.search_radius = static_cast<int>(d.integer("search_radius"));
+  t.max_seeds = static_cast<int>(d.integer("max_seeds"));
+  t.seed_min_zncc = d.real("seed_min_zncc");
+  t.max_iterations = static_cast<int>(d.integer("max_iterations"));
+  t.tolerance = d.real("tolerance");
+  t.min_zncc = d.real("min_zncc");
+  t.min_texture = d.real("min_texture");
+  t.prefilter_sigma = d.real("prefilter_sigma");
+  t.update_zncc = d.real("update_zncc");
+  t.update_loss = d.real("update_loss");
+  t.batch = static_cast<int>(d.integer("batch"));
+  t.threads = static_cast<int>(d.integer("threads"));
+  const Node& st = root.section("strain");
+  x.strain = {static_cast<int>(st.integer("window")), st.real("min_fraction"), Origin(st)};
+  const Node& ph = root.section("physical");
+  x.physical = {ph.real("mm_per_px"), ph.reals("centre_px"), ph.real("angle_deg"), ph.boolean("y_up"), Origin(ph)};
+  const Node& out = root.section("output");
+  x.output = {out.boolean("overlays"), out.strings("panels"), static_cast<int>(out.integer("panel_width")),
+              out.real("zncc_floor"), out.boolean("increments"), Origin(out)};
+  return x;
+}
+
+void DicSpec::rethrow(const InputError& e) const {
+  for (const Origin* o : {&dic.origin, &strain.origin, &physical.origin, &output.origin})
+    if (o->owns(e)) o->rethrow(e);
+  throw;
+}
+
+DicSettings DicSpec::settings(const image::Image& reference) const {
+  DicSettings s;
+  const Origin& d = dic.origin;
   try {
     // [dic]
     dic::IcgnOptions& icgn = s.sequence.dic.icgn;
-    icgn.subset_size = static_cast<int>(d.integer("subset_size"));
-    if (icgn.subset_size % 2 == 0) {
-      if (flags.count("dic.subset_size"))
-        throw InputError(Location{"command line", 0, "--subset"}, "must be odd", std::to_string(icgn.subset_size),
-                         "an odd number of px from 7 to 301");
-      d.fail("subset_size", "must be odd", std::to_string(icgn.subset_size), "an odd number of px from 7 to 301");
-    }
-    icgn.order = d.string("order") == "second" ? dic::ShapeOrder::second : dic::ShapeOrder::first;
-    icgn.max_iterations = static_cast<int>(d.integer("max_iterations"));
-    icgn.tolerance = d.real("tolerance");
-    icgn.min_zncc = d.real("min_zncc");
-    icgn.min_texture = d.real("min_texture");
+    icgn.subset_size = dic.subset_size;
+    icgn.order = dic.order == "second" ? dic::ShapeOrder::second : dic::ShapeOrder::first;
+    icgn.max_iterations = dic.max_iterations;
+    icgn.tolerance = dic.tolerance;
+    icgn.min_zncc = dic.min_zncc;
+    icgn.min_texture = dic.min_texture;
     dic::DicOptions& o = s.sequence.dic;
-    o.step = static_cast<int>(d.integer("step"));
-    o.search_radius = static_cast<int>(d.integer("search_radius"));
-    o.max_seeds = static_cast<int>(d.integer("max_seeds"));
-    o.seed_min_zncc = d.real("seed_min_zncc");
-    o.prefilter_sigma = d.real("prefilter_sigma");
-    o.batch = static_cast<int>(d.integer("batch"));
-    o.threads = static_cast<int>(d.integer("threads"));
-    const Reals& seeds = d.reals("seeds");
+    o.step = dic.step;
+    o.search_radius = dic.search_radius;
+    o.max_seeds = dic.max_seeds;
+    o.seed_min_zncc = dic.seed_min_zncc;
+    o.prefilter_sigma = dic.prefilter_sigma;
+    o.batch = dic.batch;
+    o.threads = dic.threads;
+    const Reals& seeds = dic.seeds;
     if (seeds.size() % 2 != 0)
       d.fail("seeds", "needs pairs of coordinates", std::to_string(seeds.size()) + " numbers", "[x0, y0, x1, y1, ...]");
     for (std::size_t i = 0; i + 1 < seeds.size(); i += 2) o.seeds.emplace_back(seeds[i], seeds[i + 1]);
-    const std::string& mode = d.string("mode");
-    s.sequence.mode = mode == "reference" ? dic::SequenceMode::reference
-                      : mode == "auto"    ? dic::SequenceMode::automatic
-                                          : dic::SequenceMode::incremental;
-    s.sequence.update_zncc = d.real("update_zncc");
-    s.sequence.update_loss = d.real("update_loss");
+    s.sequence.mode = dic.mode == "reference" ? dic::SequenceMode::reference
+                      : dic.mode == "auto"    ? dic::SequenceMode::automatic
+                                              : dic::SequenceMode::incremental;
+    s.sequence.update_zncc = dic.update_zncc;
+    s.sequence.update_loss = dic.update_loss;
 
     // The region of interest: one of roi, roi_polygon, roi_mask.
-    const Reals& rect = d.reals("roi");
-    const Reals& poly = d.reals("roi_polygon");
-    const std::string& mask = d.string("roi_mask");
+    const Reals& rect = dic.roi;
+    const Reals& poly = dic.roi_polygon;
+    const std::string& mask = dic.roi_mask;
     const int kinds = !rect.empty() + !poly.empty() + !mask.empty();
     if (kinds > 1) d.fail("roi", "give only one of roi, roi_polygon and roi_mask");
     if (!rect.empty()) {
@@ -168,7 +190,7 @@ DicSettings build_dic_settings(const io::Node& root, const image::Image& referen
       s.roi = dic::Roi::from_polygon(std::move(v));
     } else if (!mask.empty()) {
       std::filesystem::path p = mask;
-      if (p.is_relative()) p = config_dir / p;
+      if (p.is_relative()) p = dir / p;
       image::Image m = image::load_image(p).image;
       if (m.width != reference.width || m.height != reference.height)
         d.fail("roi_mask", "mask image size differs from the reference image",
@@ -178,50 +200,46 @@ DicSettings build_dic_settings(const io::Node& root, const image::Image& referen
     }
 
     // [strain]
-    const Node& st = root.section("strain");
-    s.sequence.strain.window = static_cast<int>(st.integer("window"));
-    if (s.sequence.strain.window % 2 == 0)
-      st.fail("window", "must be odd", std::to_string(s.sequence.strain.window), "an odd number from 3 to 51");
-    s.sequence.strain.min_fraction = st.real("min_fraction");
+    s.sequence.strain.window = strain.window;
+    s.sequence.strain.min_fraction = strain.min_fraction;
 
     // [physical]
-    const Node& ph = root.section("physical");
-    if (ph.real("mm_per_px") > 0) {
+    if (physical.mm_per_px > 0) {
       dic::PhysicalFrame pf;
-      pf.mm_per_px = ph.real("mm_per_px");
-      const Reals& c = ph.reals("centre_px");
-      if (!c.empty() && c.size() != 2) ph.fail("centre_px", "needs two numbers", std::to_string(c.size()) + " numbers", "[x, y]");
+      pf.mm_per_px = physical.mm_per_px;
+      const Reals& c = physical.centre_px;
+      if (!c.empty() && c.size() != 2)
+        physical.origin.fail("centre_px", "needs two numbers", std::to_string(c.size()) + " numbers", "[x, y]");
       pf.centre_px = c.empty() ? Vec2(0.5 * (reference.width - 1), 0.5 * (reference.height - 1)) : Vec2(c[0], c[1]);
-      pf.angle_deg = ph.real("angle_deg");
-      pf.y_up = ph.boolean("y_up");
+      pf.angle_deg = physical.angle_deg;
+      pf.y_up = physical.y_up;
       pf.validate();
       s.outputs.physical = pf;
     }
 
     // [output]
-    const Node& out = root.section("output");
-    s.outputs.overlays = out.boolean("overlays");
+    s.outputs.overlays = output.overlays;
     s.outputs.overlay.panels.clear();
-    for (const std::string& name : out.strings("panels")) {
+    for (const std::string& name : output.panels) {
       const auto it = std::find(kPanels.begin(), kPanels.end(), name);
       if (it == kPanels.end()) {
         const std::string hint = io::closest_name(name, kPanels);
-        out.fail("panels", "unknown map" + (hint.empty() ? std::string() : "; did you mean '" + hint + "'?"),
-                 "\"" + name + "\"", "displacement, u, v, exx, eyy, exy or zncc");
+        output.origin.fail("panels", "unknown map" + (hint.empty() ? std::string() : "; did you mean '" + hint + "'?"),
+                           "\"" + name + "\"", "displacement, u, v, exx, eyy, exy or zncc");
       }
       s.outputs.overlay.panels.push_back(static_cast<dic::OverlayField>(it - kPanels.begin()));
     }
-    s.outputs.overlay.panel_width = static_cast<int>(out.integer("panel_width"));
-    s.outputs.overlay.zncc_floor = out.real("zncc_floor");
-    s.outputs.increments = out.boolean("increments");
+    s.outputs.overlay.panel_width = output.panel_width;
+    s.outputs.overlay.zncc_floor = output.zncc_floor;
+    s.outputs.increments = output.increments;
     s.sequence.fixed_point_fields = s.outputs.increments;
 
-    s.sequence.validate();
+    s.sequence.validate();  // every range of [dic] and [strain], named by their keys
     s.outputs.overlay.validate();
   } catch (const FileError&) {
     throw;  // a mask that cannot be read: already names its file
   } catch (const InputError& e) {
-    rethrow_in_config(root, e, flags);
+    rethrow(e);
   }
   return s;
 }

@@ -173,9 +173,7 @@ plot {2} using {3} with points pt 6 ps 1 title "measured", \
 void print_summary(const IdentifyOutcome& o, const fs::path& out, const Log& log) {
   const ident::IdentifyResult& r = o.result;
   const bool truth = o.truth.has_value();
-  log.print(fmt::format("{}: {} after {} LM iterations, {} evaluations, {} ({}), f = {:.4g}",
-                            r.converged() ? "converged" : "NOT converged", ident::to_string(r.termination),
-                            r.iterations, r.evaluations, format_duration(r.wall_seconds), r.message, r.objective));
+  log.print(r.brief_report());
   std::string head = fmt::format("  {:<10} {:>13} {:>13} {:>11}", "", "start", "identified", "std error");
   if (truth) head += fmt::format(" {:>13} {:>10} {:>7}", "truth", "rel. error", "in s.e.");
   log.print(head);

@@ -179,11 +179,7 @@ ident::IdentifyOptions build_options(const Node& s) {
   try {
     o.validate();
   } catch (const InputError& e) {
-    std::string k = e.where().key;
-    if (k.rfind("identify.", 0) == 0) k = k.substr(9);
-    if (k == "step") k = "fd_step";
-    if (k == "mode") k = "jacobian";
-    relocate(e, s, k);
+    rethrow_in(s, e);  // ident names the keys of [identify]
   }
   return o;
 }

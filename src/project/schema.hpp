@@ -1,4 +1,4 @@
-// What the verbs' config files (case_config.cpp, dic_config.cpp) are written with: io's schema names,
+// What the config files (case_spec.cpp, dic_spec.cpp, ...) are written with: io's schema names,
 // the bound of a key that has no range, and moving an InputError to the key that caused it.
 // Include it from .cpp files only: it brings io's schema names into tricot::project.
 #pragma once
@@ -8,6 +8,7 @@
 
 #include "tricot/core/error.hpp"
 #include "tricot/io/config.hpp"
+#include "tricot/project/spec.hpp"
 
 namespace tricot::project {
 
@@ -21,13 +22,15 @@ using io::Strings;
 /// Bounds of a key without a range, e.g. a word from a list: key(name, v, help, -kInf, kInf, {choices}).
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// The message of `e` after its key (`e.what()` is "KEY: problem (got …, expected …)" when `e` names no
-/// file), to throw the same problem at another place.
-inline std::string problem_of(const InputError& e) {
-  std::string s = e.what();
-  const std::string k = e.where().key;
-  if (!k.empty() && s.rfind(k + ": ", 0) == 0) s = s.substr(k.size() + 2);
-  return s;
+/// Rethrows an engine's error at its key in `table`. The engines name a bad option by the config's
+/// dotted key ("identify.epsilon", "dic.step"), so the key is looked up in `table`, never renamed.
+/// Call it from a handler: an error already located in a file is rethrown unchanged.
+[[noreturn]] inline void rethrow_in(const io::Node& table, const InputError& e) {
+  if (!e.where().file.empty()) throw;
+  std::string key = e.where().key;
+  const std::string prefix = table.path().empty() ? std::string() : table.path() + ".";
+  if (!prefix.empty() && key.rfind(prefix, 0) == 0) key = key.substr(prefix.size());
+  throw InputError(table.where(key), problem_of(e));
 }
 
 }  // namespace tricot::project

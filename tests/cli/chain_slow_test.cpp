@@ -157,10 +157,10 @@ std::unique_ptr<Synthesized> synthesize(const std::string& name, const std::stri
 // frames and compares, per frame, the tracked displacements with the FE's at the same material points.
 std::vector<FrameError> correlate(const Synthesized& x, const std::string& tag, const std::string& dic_config = "") {
   std::string files, config;
-  for (const auto& f : x.cam.frames) files += " " + (x.images / f.file).string();
+  for (const auto& f : x.cam.frames) files.append(" ").append((x.images / f.file).string());
   if (!dic_config.empty()) {
     io::write_atomic(x.dir / (tag + ".toml"), dic_config);
-    config = " " + (x.dir / (tag + ".toml")).string();
+    config = std::string(" ").append((x.dir / (tag + ".toml")).string());
   }
   const fs::path out = x.dir / tag;
   const auto d = run_tricot("dic" + config + " --mode incremental --subset 31 --step 20 --roi " + kRoi + " -o " +

@@ -54,7 +54,7 @@ std::vector<std::vector<std::string>> read_rows(const fs::path& csv) {
   return rows;
 }
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) { return std::string("'").append(p.string()).append("'"); }
 
 std::string first_line(const fs::path& p) {
   std::ifstream in(p);
@@ -79,7 +79,7 @@ struct Frames {
   }
   std::string args() const {
     std::string s;
-    for (const auto& f : files) s += " " + q(f);
+    for (const auto& f : files) s.append(" ").append(q(f));
     return s;
   }
 };

@@ -145,7 +145,7 @@ TEST(Interpolate, ReproducesALinearFieldExactlyOnQ4AndQ8) {
     Eigen::VectorXd v(m.dofs());
     for (int n = 0; n < m.nodes(); ++n) v.segment<2>(2 * n) = a + B * m.X.col(n);
     const PointLocator locator(m);
-    for (const Vec2 p : {Vec2(0.1, 0.1), Vec2(3.3, 7.7), Vec2(9.99, 12), Vec2(5, 0)}) {
+    for (const Vec2& p : {Vec2(0.1, 0.1), Vec2(3.3, 7.7), Vec2(9.99, 12), Vec2(5, 0)}) {
       const auto at = locator.locate(p);
       ASSERT_TRUE(at) << p.transpose();
       const Vec2 exact = a + B * p;

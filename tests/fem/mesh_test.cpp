@@ -30,12 +30,16 @@ TEST(QuarterMesh, Q4HasAGridOfNodesAndSortedEdges) {
   for (size_t k = 0; k < m.left.size(); ++k) {
     EXPECT_NEAR(m.X(0, m.left[k]), 0, kExact);
     EXPECT_NEAR(m.X(0, m.right[k]), 10, kExact);
-    if (k > 0) EXPECT_GT(m.X(1, m.left[k]), m.X(1, m.left[k - 1]));
+    if (k > 0) {
+      EXPECT_GT(m.X(1, m.left[k]), m.X(1, m.left[k - 1]));
+    }
   }
   for (size_t k = 0; k < m.top.size(); ++k) {
     EXPECT_NEAR(m.X(1, m.bottom[k]), 0, kExact);
     EXPECT_NEAR(m.X(1, m.top[k]), 30, kExact);
-    if (k > 0) EXPECT_GT(m.X(0, m.top[k]), m.X(0, m.top[k - 1]));
+    if (k > 0) {
+      EXPECT_GT(m.X(0, m.top[k]), m.X(0, m.top[k - 1]));
+    }
   }
 }
 

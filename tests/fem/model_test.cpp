@@ -24,7 +24,9 @@ std::string key_of(const TestModel& t) {
   try {
     t.validate();
   } catch (const InputError& e) {
-    if (!t.name.empty()) EXPECT_NE(std::string(e.what()).find("'" + t.name + "'"), std::string::npos) << e.what();
+    if (!t.name.empty()) {
+      EXPECT_NE(std::string(e.what()).find("'" + t.name + "'"), std::string::npos) << e.what();
+    }
     return e.where().key;
   }
   return "";

@@ -116,6 +116,9 @@ struct IdentifyResult {
   /// Converged by one of the four criteria and (when asked) passed the stability test.
   bool converged() const;
   std::vector<double> std_error() const;  ///< uncertainty.std_error as a list
+  /// One line, as Ceres's Summary::BriefReport(): "converged: step_below_delta after 12 LM iterations,
+  /// 15 evaluations, 2.3 s (MESSAGE), f = 1.234e-13" ("NOT converged: ..." otherwise).
+  std::string brief_report() const;
 };
 
 /// Runs LM from the parameters' start values (or options.resume_from). Validates the options and

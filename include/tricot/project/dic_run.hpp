@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,20 +17,15 @@ namespace tricot::project {
 
 /// The command line's settings; each one given replaces its key of [dic].
 struct DicFlags {
-  int subset = 0;    ///< --subset → dic.subset_size (0 = not given)
-  int step = 0;      ///< --step → dic.step
+  std::optional<int> subset;  ///< --subset → dic.subset_size (checked by dic::IcgnOptions::validate)
+  std::optional<int> step;    ///< --step → dic.step
   std::string mode;  ///< --mode → dic.mode
   std::string roi;   ///< --roi X0,Y0,X1,Y1 → dic.roi (and no roi_polygon, roi_mask)
 };
 
-/// A config file (or the defaults) with the flags over it, and which flag set which key.
-struct DicConfig {
-  io::Node root;
-  FlagKeys flags;
-  std::filesystem::path dir;  ///< the config's folder (a relative roi_mask is found there)
-};
-/// Reads `file` ("" = every key at its default) and applies `flags`. Throws InputError/FileError.
-DicConfig dic_config(const std::string& file, const DicFlags& flags);
+/// Reads `file` ("" = every key at its default) and sets the keys the flags give. Throws
+/// InputError/FileError for the file; the flags' values are checked by DicSpec::settings().
+DicSpec dic_spec(const std::string& file, const DicFlags& flags);
 
 struct DicRun {
   dic::SequenceResult result;
@@ -40,7 +36,7 @@ struct DicRun {
 /// Runs the sequence `images` (the first is the reference) and writes its tables to `out`. Every image
 /// must exist before any work starts (FileError); an image of another size than the reference is a
 /// FileError; a reference without texture in the region of interest an InputError.
-DicRun run_dic(const DicConfig& config, const std::vector<std::string>& images, const std::filesystem::path& out,
+DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, const std::filesystem::path& out,
                const Log& log);
 
 /// DIR/points.csv: frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy (empty cells where there is no value).

@@ -1,10 +1,9 @@
 // The config of `tricot dic` (THEORY §10): [dic] correlation and sequence settings, [strain] the strain
 // fit, [physical] pixels → specimen millimetres, [output] what is written besides points.csv. Every key
-// has a default, so a one-off run needs no file; command-line flags override the file (io::Node::set).
+// has a default, so a one-off run needs no file; command-line flags override the file's keys.
 #pragma once
 
 #include <filesystem>
-#include <map>
 #include <optional>
 #include <string>
 
@@ -13,11 +12,61 @@
 #include "tricot/dic/physical.hpp"
 #include "tricot/dic/sequence.hpp"
 #include "tricot/io/config.hpp"
+#include "tricot/project/spec.hpp"
 
 namespace tricot::project {
 
-/// The whole file: [dic], [strain], [physical], [output].
-io::SectionSpec dic_schema();
+/// [dic]: subsets, grid, correlation and sequence mode. Ranges: dic::IcgnOptions, dic::DicOptions and
+/// dic::SequenceOptions::validate() (the schema repeats them for --print-config and the file).
+struct DicTable {
+  int subset_size = 31;               ///< px, odd, 7–301
+  int step = 10;                      ///< px between subset centres, 1–1000
+  std::string mode = "incremental";   ///< incremental, reference or auto
+  std::string order = "first";        ///< shape function: first or second
+  io::Reals roi;                      ///< [x0, y0, x1, y1] px; [] = the whole image
+  io::Reals roi_polygon;              ///< [x0, y0, x1, y1, x2, y2, ...] px
+  std::string roi_mask;               ///< mask image, relative to the config's folder
+  io::Reals seeds;                    ///< [x0, y0, x1, y1, ...] px; [] = nearest the ROI centre
+  int search_radius = 50;
+  int max_seeds = 8;
+  double seed_min_zncc = 0.9;
+  int max_iterations = 50;
+  double tolerance = 1e-3;
+  double min_zncc = 0.7;
+  double min_texture = 0.005;
+  double prefilter_sigma = 0;
+  double update_zncc = 0.95;
+  double update_loss = 0.02;
+  int batch = 32;
+  int threads = 0;
+  Origin origin{"dic"};
+};
+
+/// [strain]: the least-squares plane fit of the Green–Lagrange strains (dic::StrainOptions).
+struct StrainTable {
+  int window = 5;             ///< grid points per side, odd, 3–51
+  double min_fraction = 0.35;
+  Origin origin{"strain"};
+};
+
+/// [physical]: specimen coordinates (dic::PhysicalFrame); mm_per_px = 0 writes no specimen.csv.
+struct PhysicalTable {
+  double mm_per_px = 0;
+  io::Reals centre_px;  ///< [x, y] px; [] = the image centre
+  double angle_deg = 0;
+  bool y_up = true;
+  Origin origin{"physical"};
+};
+
+/// [output]: what is written besides points.csv and frames.csv.
+struct OutputTable {
+  bool overlays = true;
+  io::Strings panels{"displacement", "exx", "eyy", "zncc"};
+  int panel_width = 800;
+  double zncc_floor = 0.9;
+  bool increments = false;
+  Origin origin{"output"};
+};
 
 /// What the run writes besides DIR/points.csv and DIR/frames.csv.
 struct DicOutputs {
@@ -27,26 +76,36 @@ struct DicOutputs {
   std::optional<dic::PhysicalFrame> physical;  ///< DIR/specimen.csv when [physical] mm_per_px > 0
 };
 
-/// Everything `tricot dic` needs, built from a validated config.
+/// Everything `tricot dic` needs, in the engine's types.
 struct DicSettings {
   dic::SequenceOptions sequence;
   dic::Roi roi;
   DicOutputs outputs;
 };
 
-/// Dotted keys set from the command line → the flag that set them ("dic.step" → "--step"), so that an
-/// error about them names the flag rather than the file.
-using FlagKeys = std::map<std::string, std::string>;
+/// The whole file.
+struct DicSpec {
+  DicTable dic;
+  StrainTable strain;
+  PhysicalTable physical;
+  OutputTable output;
+  std::filesystem::path dir;  ///< the config's folder: a relative roi_mask is found there
 
-/// Builds the settings. `reference` is the first image (its size places the default specimen centre and
-/// checks a mask); `config_dir` resolves a relative roi_mask path. Every library validate() error is
-/// rethrown located at its key in the file (or at the flag that set it). Throws InputError/FileError.
-DicSettings build_dic_settings(const io::Node& root, const image::Image& reference,
-                               const std::filesystem::path& config_dir, const FlagKeys& flags = {});
+  /// From a file read with dic_schema() (or its defaults).
+  static DicSpec from_config(const io::Node& root, std::filesystem::path dir = {});
 
-/// Rethrows an error of the dic engine (key `dic.step`, `strain.window`, ...) at that key of `root`,
-/// or at the flag that set it. Errors already located in a file are rethrown unchanged.
-[[noreturn]] void rethrow_in_config(const io::Node& root, const InputError& e, const FlagKeys& flags = {});
+  /// The engine's settings. `reference` is the first image (its size places the default specimen
+  /// centre and checks a mask). Checks what spans keys here and every range through the engines'
+  /// validate(), each error at its key's origin. Throws InputError (FileError for an unreadable mask).
+  DicSettings settings(const image::Image& reference) const;
+
+  /// Rethrows an engine's error (key `dic.step`, `strain.window`, ...) at that key's origin; an error
+  /// no table owns is rethrown unchanged. Call it from a handler.
+  [[noreturn]] void rethrow(const InputError& e) const;
+};
+
+/// The schema of the file: [dic], [strain], [physical], [output], defaults from DicSpec{}.
+io::SectionSpec dic_schema();
 
 /// Parses "X0,Y0,X1,Y1" (the --roi flag). Throws InputError (key --roi) when it is not four numbers.
 io::Reals parse_roi_flag(const std::string& text);

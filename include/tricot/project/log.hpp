@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 
+#include "tricot/core/format.hpp"
 #include "tricot/core/progress.hpp"
 
 namespace tricot::project {
@@ -27,7 +28,6 @@ class Log {
   std::function<void(const std::string&)> line_;
 };
 
-/// "1 h 02 min", "3 min 20 s", "12.3 s", "85 ms".
-std::string format_duration(double seconds);
+using tricot::format_duration;
 
 }  // namespace tricot::project
