@@ -71,10 +71,10 @@ ResponseSurface ResponseSurface::separable(int nC, int mC, int nW, int mW, doubl
                      ">= 0");
   std::vector<Monomial> course, wale;
   std::vector<std::string> names;
-  for (int i = 1; i <= nC; ++i) course.push_back({i, 0}), names.push_back(std::string("a").append(std::to_string(i)));
-  for (int j = 1; j <= mC; ++j) course.push_back({0, j}), names.push_back(std::string("b").append(std::to_string(j)));
-  for (int i = 1; i <= nW; ++i) wale.push_back({0, i}), names.push_back(std::string("c").append(std::to_string(i)));
-  for (int j = 1; j <= mW; ++j) wale.push_back({j, 0}), names.push_back(std::string("d").append(std::to_string(j)));
+  for (int i = 1; i <= nC; ++i) course.push_back({i, 0}), names.push_back("a" + std::to_string(i));
+  for (int j = 1; j <= mC; ++j) course.push_back({0, j}), names.push_back("b" + std::to_string(j));
+  for (int i = 1; i <= nW; ++i) wale.push_back({0, i}), names.push_back("c" + std::to_string(i));
+  for (int j = 1; j <= mW; ++j) wale.push_back({j, 0}), names.push_back("d" + std::to_string(j));
   return ResponseSurface(std::move(course), std::move(wale), G_s, std::move(names));
 }
 

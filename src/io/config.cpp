@@ -323,7 +323,7 @@ void print_section(std::string& out, const SectionSpec& s, const std::string& pa
   for (const auto& k : s.keys) {
     std::string help = k.help;
     const std::string r = range_text(k);
-    if (!r.empty()) help.append(help.empty() ? "" : " ").append("[").append(r).append("]");
+    if (!r.empty()) help += (help.empty() ? "" : " ") + std::string("[") + r + "]";
     print_comment(out, help);
     out += k.name + " = " + to_toml(k.default_value) + "\n";
   }

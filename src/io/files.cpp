@@ -87,10 +87,7 @@ std::string to_csv(const Table& t) {
   for (std::size_t i = 0; i < t.columns.size(); ++i) s += (i ? "," : "") + t.columns[i];
   s += "\n";
   for (const auto& r : t.rows) {
-    for (std::size_t i = 0; i < r.size(); ++i) {
-      if (i) s += ',';
-      s += fmt::format("{:.17g}", r[i]);
-    }
+    for (std::size_t i = 0; i < r.size(); ++i) s += (i ? "," : "") + fmt::format("{:.17g}", r[i]);
     s += "\n";
   }
   return s;

@@ -1,5 +1,5 @@
-// tricot identify PROJECT.toml -o DIR [--resume] (apps/tricot/identify.cpp): synth + identify round
-// trip, the result files, resume after a kill, and bad input.
+// tricot identify PROJECT.toml -o DIR [--resume] (apps/tricot/identify.cpp, src/project/identification.cpp):
+// synth + identify round trip, the result files, resume after a kill, and bad input.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
