@@ -283,8 +283,9 @@ TEST(Newton, ConvergesQuadraticallyOnAClampedBiaxialFabricTest) {
     constexpr double kQuadraticConstant = 20;  // 1/N; a linear rate 0.1 would break it below r = 5e-3 N
     const double floor = kRoundOff * std::abs(s.edge_force);
     for (size_t i = 1; i < s.residuals.size(); ++i)
-      if (s.residuals[i] > floor)
+      if (s.residuals[i] > floor) {
         EXPECT_LE(s.residuals[i], kQuadraticConstant * s.residuals[i - 1] * s.residuals[i - 1]) << "step " << k + 1;
+      }
     const double p = test::convergence_order(s.residuals, floor);
     if (std::isnan(p)) continue;
     ++checked;

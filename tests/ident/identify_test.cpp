@@ -38,7 +38,7 @@ TEST(Identify, RejectsOutOfRangeOptionsNamingTheKey) {
 }
 
 TEST(Identify, RecoversANoiseFreeCurveFromThreeStarts) {
-  for (const Eigen::Vector3d factor : {Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d(2, 2, 2), Eigen::Vector3d(0.5, 2, 1.5)}) {
+  for (const Eigen::Vector3d& factor : {Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d(2, 2, 2), Eigen::Vector3d(0.5, 2, 1.5)}) {
     const AnalyticProblem p = test::curve_fit(kTruth, kTruth.cwiseProduct(factor));
     const IdentifyResult r = identify(p);
     ASSERT_TRUE(r.converged()) << r.message;

@@ -25,7 +25,7 @@ TEST(MooneyIdentification, RecoversTheFourCoefficientsFromEdgeAndFieldDataFromTh
   Experiment data;
   data.tests.push_back(measure(fine, sim, test::field_points(3, 5)));
 
-  for (const Eigen::Vector4d factor : {Eigen::Vector4d(0.5, 0.5, 0.5, 0.5), Eigen::Vector4d(2, 2, 2, 2),
+  for (const Eigen::Vector4d& factor : {Eigen::Vector4d(0.5, 0.5, 0.5, 0.5), Eigen::Vector4d(2, 2, 2, 2),
                                        Eigen::Vector4d(1.5, 0.7, 0.5, 1.8)}) {
     std::vector<Parameter> params;
     for (int k = 0; k < 4; ++k)

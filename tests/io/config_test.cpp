@@ -9,15 +9,15 @@ namespace {
 
 SectionSpec schema() {
   SectionSpec root{"", "A test schema.", false, {}, {}};
-  root.keys.push_back({"name", std::string("strip"), "a name"});
-  root.keys.push_back({"width", 20.0, "full width in mm", 0.0, 1e4});
+  root.keys.push_back(key("name", std::string("strip"), "a name"));
+  root.keys.push_back(key("width", 20.0, "full width in mm", 0.0, 1e4));
   root.keys.push_back({"steps", Reals{1.0, 2.0}, "grip displacements", 0.0, 1e3, {}, true});
   root.keys.push_back({"element", std::string("q8"), "element type", -1, 1, {"q4", "q8"}});
   SectionSpec mesh{"mesh", "The mesh.", false, {}, {}};
-  mesh.keys.push_back({"nx", std::int64_t{10}, "elements along x", 1, 1000});
+  mesh.keys.push_back(key("nx", std::int64_t{10}, "elements along x", 1, 1000));
   root.sections.push_back(mesh);
   SectionSpec test{"test", "One test.", true, {}, {}};
-  test.keys.push_back({"angle", 0.0, "material angle in degrees", -180, 180});
+  test.keys.push_back(key("angle", 0.0, "material angle in degrees", -180, 180));
   root.sections.push_back(test);
   return root;
 }

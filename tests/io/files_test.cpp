@@ -12,7 +12,7 @@ using namespace tricot::io;
 
 TEST(Csv, RoundTripsDoublesExactly) {
   const auto dir = test::scratch_dir("csv_roundtrip");
-  Table t{{"step", "force"}, {{1, 0.1}, {2, 1.0 / 3.0}}};
+  Table t{{"step", "force"}, {{1, 0.1}, {2, 1.0 / 3.0}}, {}};
   write_atomic(dir / "a.csv", to_csv(t));
   Table r = read_csv(dir / "a.csv");
   EXPECT_EQ(r.columns, t.columns);
