@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -58,31 +57,51 @@ double golden_minimum(F&& f, double a, double b, double tolerance) {
   return 0.5 * (a + b);
 }
 
+/// Least squares from accumulated normal equations: the residual sum of squares min_c |y − Φc|² given
+/// A = ΦᵀΦ, r = Φᵀy, yy = yᵀy (m ≤ 6 unknowns). Columns are scaled to a unit diagonal, whatever the
+/// time unit; a column that is all zero (a hinge after every sample) gets a zero coefficient.
+double normal_rss(const double (&A)[6][6], const double (&r)[6], double yy, int m) {
+  // Scaled, ridged normal equations, solved by Cholesky (at most 6×6: plain loops; Eigen's AVX-512
+  // kernels draw false-positive warnings from GCC 12 at this size).
+  double s[6], L[6][6] = {}, z[6];
+  for (int j = 0; j < m; ++j) s[j] = A[j][j] > 0 ? 1 / std::sqrt(A[j][j]) : 0;
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j <= i; ++j) {
+      double v = s[i] * A[i][j] * s[j] + (i == j ? 1e-12 : 0);
+      for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k];
+      L[i][j] = i == j ? std::sqrt(std::max(v, 1e-300)) : v / L[j][j];
+    }
+  // c·rs = |L⁻¹ rs|²: forward substitution only
+  double explained = 0;
+  for (int i = 0; i < m; ++i) {
+    double v = s[i] * r[i];
+    for (int k = 0; k < i; ++k) v -= L[i][k] * z[k];
+    z[i] = v / L[i][i];
+    explained += z[i] * z[i];
+  }
+  return std::max(0.0, yy - explained);
+}
+
+/// Adds one row φ (m values) with data y to the normal equations.
+void accumulate(double (&A)[6][6], double (&r)[6], const double* phi, double y, int m) {
+  for (int i = 0; i < m; ++i) {
+    r[i] += phi[i] * y;
+    for (int j = 0; j < m; ++j) A[i][j] += phi[i] * phi[j];
+  }
+}
+
 /// Residual sum of squares of the hinge model with its hinge at t0 (THEORY §1: onset fits).
 double hinge_rss(const std::vector<double>& t, const std::vector<double>& y, int degree, double t0) {
-  using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
-  using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
   const int m = degree + 1;
-  Mat A = Mat::Zero(m, m);
-  Vec r = Vec::Zero(m), phi(m);
-  double yy = 0;
+  double A[6][6] = {}, r[6] = {}, phi[6], yy = 0;
   for (std::size_t i = 0; i < t.size(); ++i) {
     const double h = std::max(0.0, t[i] - t0);
-    phi(0) = 1;
-    for (int j = 1; j <= degree; ++j) phi(j) = phi(j - 1) * h;
-    A.noalias() += phi * phi.transpose();
-    r += phi * y[i];
+    phi[0] = 1;
+    for (int j = 1; j <= degree; ++j) phi[j] = phi[j - 1] * h;
+    accumulate(A, r, phi, y[i], m);
     yy += y[i] * y[i];
   }
-  // Columns scaled to a unit diagonal, whatever the time unit; a column that is all zero (hinge after
-  // every sample) gets a zero coefficient through the tiny ridge.
-  Vec s(m);
-  for (int j = 0; j < m; ++j) s(j) = A(j, j) > 0 ? 1 / std::sqrt(A(j, j)) : 0;
-  Mat As = s.asDiagonal() * A * s.asDiagonal();
-  As.diagonal().array() += 1e-12;
-  const Vec rs = s.asDiagonal() * r;
-  const Vec c = As.ldlt().solve(rs);
-  return std::max(0.0, yy - c.dot(rs));
+  return normal_rss(A, r, yy, m);
 }
 
 struct HingeScan {
@@ -176,6 +195,29 @@ MotionModel fit_motion(const ImageTimes& images, double fraction) {
   const double t1 = -hinge_onset(head(rt, std::min(nr, n)), head(rg, std::min(nr, n)), 1);
   const double frame = (images.time.back() - images.time.front()) / double(n - 1);
   if (t1 < images.time.back() - frame && t1 > m.t0) m.t1 = t1;  // at least one frame held
+  // Joint refinement over every frame: g = g0 + v·moved(t), linear in (g0, v) for given (t0, t1);
+  // alternate golden sections on t0 and t1 around the hinges' values.
+  auto rss = [&](const MotionModel& mm) {
+    double s0 = 0, s1 = 0, s11 = 0, y0 = 0, y1 = 0, yy = 0;  // normal equations of (g0, v), by hand
+    for (std::size_t k = 0; k < n; ++k) {
+      const double h = mm.moved(images.time[k]), g = images.grip[k];
+      s0 += 1, s1 += h, s11 += h * h, y0 += g, y1 += h * g, yy += g * g;
+    }
+    const double det = s0 * s11 - s1 * s1;
+    if (!(det > 0)) return yy - y0 * y0 / s0;
+    const double g0 = (s11 * y0 - s1 * y1) / det, v = (s0 * y1 - s1 * y0) / det;
+    return yy - g0 * y0 - v * y1;
+  };
+  for (int sweep = 0; sweep < 4; ++sweep) {
+    MotionModel trial = m;
+    m.t0 = golden_minimum([&](double t0) { trial.t0 = t0; return rss(trial); },
+                          std::max(images.time.front(), m.t0 - frame), std::min(m.t1, m.t0 + frame), 1e-7 * frame);
+    if (std::isfinite(m.t1)) {
+      trial = m;
+      m.t1 = golden_minimum([&](double t1) { trial.t1 = t1; return rss(trial); }, std::max(m.t0, m.t1 - frame),
+                            std::min(images.time.back(), m.t1 + frame), 1e-7 * frame);
+    }
+  }
   return m;
 }
 
@@ -183,29 +225,18 @@ MotionModel fit_motion(const ImageTimes& images, double fraction) {
 /// at log times in [from, to]; `tss` receives the total sum of squares about the mean.
 double force_motion_rss(const LoadLog& log, double from, double to, const MotionModel& m, double delta, int degree,
                         double* tss = nullptr) {
-  using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-  using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
   const int q = degree + 1;
-  Mat A = Mat::Zero(q, q);
-  Vec r = Vec::Zero(q), phi(q);
-  double yy = 0, sy = 0, count = 0;
+  double A[6][6] = {}, r[6] = {}, phi[6], yy = 0, sy = 0, count = 0;
   for (std::size_t i = 0; i < log.time.size(); ++i) {
     if (log.time[i] < from || log.time[i] > to) continue;
     const double h = m.moved(log.time[i] - delta);
-    phi(0) = 1;
-    for (int j = 1; j <= degree; ++j) phi(j) = phi(j - 1) * h;
-    A.noalias() += phi * phi.transpose();
-    r += phi * log.force[i];
+    phi[0] = 1;
+    for (int j = 1; j <= degree; ++j) phi[j] = phi[j - 1] * h;
+    accumulate(A, r, phi, log.force[i], q);
     yy += log.force[i] * log.force[i], sy += log.force[i], ++count;
   }
   if (tss) *tss = count > 0 ? yy - sy * sy / count : 0;
-  Vec s(q);
-  for (int j = 0; j < q; ++j) s(j) = A(j, j) > 0 ? 1 / std::sqrt(A(j, j)) : 0;
-  Mat As = s.asDiagonal() * A * s.asDiagonal();
-  As.diagonal().array() += 1e-12;
-  const Vec rs = s.asDiagonal() * r;
-  const Vec c = As.ldlt().solve(rs);
-  return std::max(0.0, yy - c.dot(rs));
+  return normal_rss(A, r, yy, q);
 }
 }  // namespace
 
@@ -319,19 +350,22 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
     const double h = options.max_offset_s / double(n);
     std::size_t ib = 0;
     std::vector<double> rss;
-    const double front = images.time.front(), back = images.time.back();
+    const double back = images.time.back();
     for (long i = -n; i <= n; ++i) {
       double tss = 0;
       const double d = double(i) * h;
       r.lag_s.push_back(d);
-      rss.push_back(force_motion_rss(log, front + d, back + d, *motion, d, options.force_degree, &tss));
+      // Before the images the grip was at rest (it still is in the first image); after them it holds
+      // when the images end on a hold, otherwise the motion there is unknown.
+      const double to = std::isfinite(motion->t1) ? log.time.back() : back + d;
+      rss.push_back(force_motion_rss(log, log.time.front(), to, *motion, d, options.force_degree, &tss));
       r.correlation.push_back(tss > 0 ? 1 - rss.back() / tss : 0);
       if (rss.back() < rss[ib]) ib = rss.size() - 1;
     }
     // Refinement with a fixed set of samples (the grid's moves samples in and out of the images' span,
     // which makes the residual jump at the grid's own nodes).
     const double d0 = r.lag_s[ib], margin = 2 * h;
-    const double from = front + d0 + margin, to = back + d0 - margin;
+    const double from = log.time.front(), to = std::isfinite(motion->t1) ? log.time.back() : back + d0 - margin;
     const double lo = std::max(-options.max_offset_s, d0 - margin);
     const double hi = std::min(options.max_offset_s, d0 + margin);
     r.clock_offset_s = golden_minimum(

@@ -29,7 +29,7 @@ struct LabRecordOptions {
   double grip_noise_mm = 0.002;   ///< σ of the grip displacement DIC measures, mm, ≥ 0
   double crosshead_travel_mm = 20;  ///< cross-head travel of the ramp, mm, > 0
   double rest_s = 3;              ///< rest after the first image, s, ≥ 0
-  double ramp_s = 20;             ///< duration of the constant-speed ramp, s, > 0
+  double ramp_s = 12;             ///< duration of the constant-speed ramp, s, > 0 (24 images at 2 fps: the paper has 21–28 steps)
   double hold_s = 3;              ///< hold after the ramp, images still taken, s, ≥ 0
   double log_lead_s = 2;          ///< the log starts this long before the first image, s, ≥ 0
   double log_tail_s = 2;          ///< ... and stops this long after the last, s, ≥ 0
