@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "tricot/core/error.hpp"
+#include "normal_equations.hpp"
 
 namespace tricot::lab {
 
@@ -57,51 +58,17 @@ double golden_minimum(F&& f, double a, double b, double tolerance) {
   return 0.5 * (a + b);
 }
 
-/// Least squares from accumulated normal equations: the residual sum of squares min_c |y − Φc|² given
-/// A = ΦᵀΦ, r = Φᵀy, yy = yᵀy (m ≤ 6 unknowns). Columns are scaled to a unit diagonal, whatever the
-/// time unit; a column that is all zero (a hinge after every sample) gets a zero coefficient.
-double normal_rss(const double (&A)[6][6], const double (&r)[6], double yy, int m) {
-  // Scaled, ridged normal equations, solved by Cholesky (at most 6×6: plain loops; Eigen's AVX-512
-  // kernels draw false-positive warnings from GCC 12 at this size).
-  double s[6], L[6][6] = {}, z[6];
-  for (int j = 0; j < m; ++j) s[j] = A[j][j] > 0 ? 1 / std::sqrt(A[j][j]) : 0;
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j <= i; ++j) {
-      double v = s[i] * A[i][j] * s[j] + (i == j ? 1e-12 : 0);
-      for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k];
-      L[i][j] = i == j ? std::sqrt(std::max(v, 1e-300)) : v / L[j][j];
-    }
-  // c·rs = |L⁻¹ rs|²: forward substitution only
-  double explained = 0;
-  for (int i = 0; i < m; ++i) {
-    double v = s[i] * r[i];
-    for (int k = 0; k < i; ++k) v -= L[i][k] * z[k];
-    z[i] = v / L[i][i];
-    explained += z[i] * z[i];
-  }
-  return std::max(0.0, yy - explained);
-}
-
-/// Adds one row φ (m values) with data y to the normal equations.
-void accumulate(double (&A)[6][6], double (&r)[6], const double* phi, double y, int m) {
-  for (int i = 0; i < m; ++i) {
-    r[i] += phi[i] * y;
-    for (int j = 0; j < m; ++j) A[i][j] += phi[i] * phi[j];
-  }
-}
-
 /// Residual sum of squares of the hinge model with its hinge at t0 (THEORY §1: onset fits).
 double hinge_rss(const std::vector<double>& t, const std::vector<double>& y, int degree, double t0) {
-  const int m = degree + 1;
-  double A[6][6] = {}, r[6] = {}, phi[6], yy = 0;
+  NormalEquations ne(degree + 1);
+  double phi[6];
   for (std::size_t i = 0; i < t.size(); ++i) {
     const double h = std::max(0.0, t[i] - t0);
     phi[0] = 1;
     for (int j = 1; j <= degree; ++j) phi[j] = phi[j - 1] * h;
-    accumulate(A, r, phi, y[i], m);
-    yy += y[i] * y[i];
+    ne.add(phi, y[i]);
   }
-  return normal_rss(A, r, yy, m);
+  return ne.solve();
 }
 
 struct HingeScan {
@@ -225,19 +192,19 @@ MotionModel fit_motion(const ImageTimes& images, double fraction) {
 /// at log times in [from, to]; `tss` receives the total sum of squares about the mean.
 double force_motion_rss(const LoadLog& log, double from, double to, const MotionModel& m, double delta, int degree,
                         double* tss = nullptr) {
-  const int q = degree + 1;
-  double A[6][6] = {}, r[6] = {}, phi[6], yy = 0, sy = 0, count = 0;
+  NormalEquations ne(degree + 1);
+  double phi[6];
   for (std::size_t i = 0; i < log.time.size(); ++i) {
     if (log.time[i] < from || log.time[i] > to) continue;
     const double h = m.moved(log.time[i] - delta);
     phi[0] = 1;
     for (int j = 1; j <= degree; ++j) phi[j] = phi[j - 1] * h;
-    accumulate(A, r, phi, log.force[i], q);
-    yy += log.force[i] * log.force[i], sy += log.force[i], ++count;
+    ne.add(phi, log.force[i]);
   }
-  if (tss) *tss = count > 0 ? yy - sy * sy / count : 0;
-  return normal_rss(A, r, yy, q);
+  if (tss) *tss = ne.total();
+  return ne.solve();
 }
+
 }  // namespace
 
 const char* to_string(SyncMethod m) {

@@ -83,7 +83,9 @@ TEST(Sync, OffsetErrorOverFortyNoiseDrawsStaysWithin10ms) {
     std::printf("%s: offset error rms %.2f ms, worst %.2f ms over %d draws\n", crosshead ? "crosshead" : "onset",
                 1e3 * rms, 1e3 * worst, draws);
     EXPECT_LT(rms, offset_tolerance_s);
-    if (crosshead) EXPECT_LT(worst, offset_tolerance_s);
+    if (crosshead) {
+      EXPECT_LT(worst, offset_tolerance_s);
+    }
   }
 }
 
