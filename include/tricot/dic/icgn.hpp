@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 
 #include "tricot/core/types.hpp"
@@ -80,6 +81,13 @@ struct PointMatch {
   double zncc = 0;          ///< zero-normalised cross-correlation, 1 = identical
   int iterations = 0;
   PointStatus status = PointStatus::not_computed;
+  /// Standard deviations of u and v (px) from image noise, set when the iteration converged (ok or
+  /// low_correlation), NaN otherwise. Gauss–Newton's covariance: Cov(p) = s² H⁻¹, with H = Σ J Jᵀ the
+  /// reference subset's Hessian (its gradient energy) and s² = Σ r² / (n − P) the residual variance
+  /// per pixel, r = (f − f̄) − (Δf/Δg)(g − ḡ), so that Σ r² = 2 Δf² (1 − ZNCC): the noise of both
+  /// images is measured by the match itself (no noise level to give). Ignores the bias of
+  /// interpolation and of an unsuited shape function, which are not noise.
+  Vec2 sigma{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
 };
 
 /// An image ready for correlation: its B-spline interpolant and pixel gradients.
