@@ -274,6 +274,12 @@ std::vector<FrameTime> read_camera_log(const std::filesystem::path& path, std::s
   return frames;
 }
 
+std::string to_camera_log_text(const std::vector<FrameTime>& frames) {
+  std::string s = "file,time [s]\n";
+  for (const auto& f : frames) s += fmt::format("{},{:.6f}\n", f.file, f.time);
+  return s;
+}
+
 double time_from_file_name(const std::string& file_name) {
   const std::string stem = std::filesystem::path(file_name).stem().string();
   static const std::regex number(R"(([0-9]+(?:[.,][0-9]+)?)\s*(ms|s)(?![a-zA-Z]))");

@@ -216,6 +216,15 @@ const char* to_string(SyncMethod m) {
   return "?";
 }
 
+std::vector<double> frame_times(int count, double fps, double start_s) {
+  if (!(fps > 0) || !std::isfinite(fps)) throw InputError({"", 0, "images.fps"}, "out of range", format_number(fps), "> 0 images/s");
+  if (count < 1) throw InputError({"", 0, "images.count"}, "out of range", std::to_string(count), "≥ 1");
+  if (!std::isfinite(start_s)) throw InputError({"", 0, "images.start_s"}, "not a finite time", format_number(start_s));
+  std::vector<double> t(static_cast<std::size_t>(count));
+  for (int k = 0; k < count; ++k) t[std::size_t(k)] = start_s + k / fps;
+  return t;
+}
+
 void LoadLog::validate() const {
   if (time.size() < 4)
     throw InputError({source, 0, "log.time"}, "too few samples", std::to_string(time.size()), "at least 4");

@@ -168,3 +168,8 @@ TEST(Sync, OutOfRangeOptionIsAnError) {
   s.exposure_s = -1;
   EXPECT_THROW(s.validate(), InputError);
 }
+
+TEST(Sync, FrameTimesFromARateAndAStart) {
+  EXPECT_EQ(frame_times(3, 2, 1.5), (std::vector<double>{1.5, 2.0, 2.5}));
+  EXPECT_THROW(frame_times(3, 0), InputError);
+}

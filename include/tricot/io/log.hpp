@@ -93,6 +93,9 @@ struct FrameTime {
 std::vector<FrameTime> read_camera_log(const std::filesystem::path& path, std::string_view file_column = "file",
                                        std::string_view time_column = "time", const LogFormat& format = {});
 
+/// A camera log's text: a `file,time [s]` CSV header, then one row per image (times to the µs).
+std::string to_camera_log_text(const std::vector<FrameTime>& frames);
+
 /// The time written in an image's file name: the last number followed by `s` or `ms`
 /// (`img_0003_t1.500s.tif` → 1.5, `cam-12500ms.png` → 12.5), a decimal comma allowed. Throws
 /// InputError naming the file when the name holds no time.

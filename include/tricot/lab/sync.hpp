@@ -51,6 +51,10 @@ struct ImageTimes {
   void validate() const;
 };
 
+/// Frame times from a frame rate and the first image's time (camera clock): start_s + k / fps.
+/// Throws InputError naming `images.fps` / `images.count` when fps ≤ 0 or count < 1.
+std::vector<double> frame_times(int count, double fps, double start_s = 0);
+
 /// How δ was fixed.
 enum class SyncMethod {
   given,      ///< SyncOptions::clock_offset_s
