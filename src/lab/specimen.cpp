@@ -56,6 +56,71 @@ std::string FoldedPoints::outside_report(const SpecimenGeometry& g) const {
                      g.free_length_mm);
 }
 
+QuarterField fold_sequence(const dic::SequenceResult& sequence, const dic::PhysicalFrame& frame,
+                           const SpecimenGeometry& geometry, FieldKind kind) {
+  const std::size_t images = sequence.frames.size();
+  if (images < 2) throw InputError({"", 0, "dic"}, "too few images for a field", std::to_string(images), "at least 2");
+  if (kind == FieldKind::incremental && sequence.increments.size() + 1 != images)
+    throw InputError({"", 0, "dic.fixed_point_fields"}, "the sequence has no fixed-point increments",
+                     std::to_string(sequence.increments.size()), std::to_string(images - 1) + " increments (fixed_point_fields = true)");
+  std::vector<Vec2> x0;
+  for (const auto& g : sequence.grid) x0.push_back(g.x);
+  const FoldedPoints folded = fold_to_quarter(frame, geometry, x0);
+  QuarterField q;
+  q.kind = kind;
+  const int steps = static_cast<int>(images) - 1;
+  auto measured = [&](int step, std::size_t p) {
+    return kind == FieldKind::cumulative ? sequence.frames[std::size_t(step) + 1].status[p] == dic::PointStatus::ok
+                                         : sequence.increments[std::size_t(step)].status[p] == dic::PointStatus::ok;
+  };
+  for (std::size_t p = 0; p < x0.size(); ++p) {
+    if (!folded.inside[p]) {
+      ++q.outside;
+      continue;
+    }
+    bool all = sequence.frames[0].status[p] == dic::PointStatus::ok;
+    for (int k = 0; k < steps && all; ++k) all = measured(k, p);
+    if (!all) {
+      ++q.incomplete;
+      continue;
+    }
+    q.point_ids.push_back(static_cast<int>(p));
+    q.X.push_back(folded.X[p]);
+  }
+  const int n = static_cast<int>(q.point_ids.size());
+  q.u.resize(steps, n), q.v.resize(steps, n), q.sigma_u.resize(steps, n), q.sigma_v.resize(steps, n);
+  for (int k = 0; k < steps; ++k)
+    for (int a = 0; a < n; ++a) {
+      const std::size_t p = std::size_t(q.point_ids[std::size_t(a)]);
+      Vec2 u_px, s_px;
+      if (kind == FieldKind::cumulative) {
+        u_px = sequence.frames[std::size_t(k) + 1].x[p] - x0[p];
+        s_px = sequence.frames[std::size_t(k) + 1].sigma[p];
+      } else {
+        u_px = sequence.increments[std::size_t(k)].u[p];
+        s_px = sequence.increments[std::size_t(k)].sigma[p];
+      }
+      const Vec2 u = folded.displacement(p, u_px), s = folded.sigma(p, s_px);
+      q.u(k, a) = u(0), q.v(k, a) = u(1), q.sigma_u(k, a) = s(0), q.sigma_v(k, a) = s(1);
+    }
+  q.report = fmt::format("{} of {} points kept; {} outside the {:g} × {:g} mm specimen, {} not measured in every image",
+                         n, x0.size(), q.outside, geometry.width_mm, geometry.free_length_mm, q.incomplete);
+  return q;
+}
+
+std::vector<double> grip_from_field(const QuarterField& field, const SpecimenGeometry& geometry) {
+  std::vector<double> grip(std::size_t(field.u.rows()), 0.0);
+  double yy = 0;
+  for (const Vec2& X : field.X) yy += X(1) * X(1);
+  if (!(yy > 0)) throw InputError({"", 0, "dic"}, "no field point off the axis Y = 0: the grip's motion cannot be estimated");
+  for (Eigen::Index k = 0; k < field.v.rows(); ++k) {
+    double vy = 0;
+    for (std::size_t a = 0; a < field.X.size(); ++a) vy += field.v(k, Eigen::Index(a)) * field.X[a](1);
+    grip[std::size_t(k)] = vy / yy * geometry.half_length();
+  }
+  return grip;
+}
+
 double scale_from_points(const Vec2& a_px, const Vec2& b_px, double distance_mm) {
   if (!a_px.allFinite() || !b_px.allFinite() || (a_px - b_px).norm() == 0)
     throw InputError({"", 0, "physical.scale_points"}, "the two points must be distinct and finite",

@@ -378,7 +378,9 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
                        fmt::format("within [{:.4f}, {:.4f}] s", log.time.front(), log.time.back()));
     r.log_time.push_back(t);
     r.force.push_back(mean_over(log.time, log.force, t - 0.5 * e, t + 0.5 * e) - r.tare_N);
+    if (log.has_crosshead()) r.crosshead.push_back(mean_over(log.time, log.crosshead, t - 0.5 * e, t + 0.5 * e));
   }
+  for (std::size_t k = r.crosshead.size(); k-- > 0;) r.crosshead[k] -= r.crosshead[0];
   return r;
 }
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "tricot/core/error.hpp"
 
 using namespace tricot;
@@ -78,4 +80,40 @@ TEST(Specimen, NonPositiveGeometryIsAnError) {
   SpecimenGeometry g;
   g.width_mm = 0;
   EXPECT_THROW(g.validate(), InputError);
+}
+
+TEST(Specimen, FoldedSequenceKeepsInsidePointsMeasuredInEveryStepWithTheirSigma) {
+  // A hand-made sequence: 3 points, 3 images, uniform stretch v = 0.01·Y per step in specimen axes.
+  dic::PhysicalFrame frame;
+  frame.mm_per_px = 0.1;
+  frame.centre_px = {100, 100};
+  const SpecimenGeometry g{20, 30, 0};  // quarter 10 × 15 mm
+  dic::SequenceResult s;
+  s.grid = {{{150, 50}, 0, 0}, {{50, 150}, 0, 0}, {{400, 100}, 0, 0}};  // (5, 5), (−5, −5), outside
+  for (int k = 0; k < 3; ++k) {
+    dic::TrackedFrame f;
+    for (const auto& p : s.grid) {
+      const Vec2 X = frame.point(p.x);
+      f.x.push_back(p.x + Vec2(0, -0.01 * k * X(1) / 0.1));  // v up = image y down
+      f.sigma.push_back(Vec2(0.02, 0.03) * std::sqrt(double(k)));
+      f.status.push_back(dic::PointStatus::ok);
+    }
+    s.frames.push_back(f);
+  }
+  const QuarterField q = fold_sequence(s, frame, g, FieldKind::cumulative);
+  EXPECT_EQ(q.point_ids, (std::vector<int>{0, 1}));
+  EXPECT_EQ(q.outside, 1);
+  EXPECT_EQ(q.incomplete, 0);
+  ASSERT_EQ(q.u.rows(), 2);
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_NEAR(q.X[a](1), 5, exact);
+    EXPECT_NEAR(q.v(1, a), 0.02 * 5, exact);  // step 2: both quadrants give +v in the quarter
+    EXPECT_NEAR(q.u(1, a), 0, exact);
+    EXPECT_NEAR(q.sigma_v(1, a), 0.1 * 0.03 * std::sqrt(2.0), exact);
+  }
+  const auto grip = grip_from_field(q, g);
+  EXPECT_NEAR(grip[1], 0.02 * 15, exact);
+  s.frames[2].status[1] = dic::PointStatus::lost;
+  EXPECT_EQ(fold_sequence(s, frame, g, FieldKind::cumulative).incomplete, 1);
+  EXPECT_THROW(fold_sequence(s, frame, g, FieldKind::incremental), InputError);
 }

@@ -118,6 +118,9 @@ TEST(Sync, GivenOffsetAndTareOverrideTheEstimates) {
   EXPECT_EQ(r.clock_offset_s, 0.37);
   EXPECT_TRUE(r.tare_given);
   for (std::size_t k = 0; k < r.force.size(); ++k) EXPECT_NEAR(r.force[k], record.force_true[k], 1e-6);
+  // the cross-head at the images: twice the quarter model's grip (noise 1 µm)
+  ASSERT_EQ(r.crosshead.size(), r.force.size());
+  for (std::size_t k = 0; k < r.crosshead.size(); ++k) EXPECT_NEAR(0.5 * r.crosshead[k], record.grip_true[k], 5e-3);
 }
 
 TEST(Sync, MeanOverIntegratesThePiecewiseLinearForce) {

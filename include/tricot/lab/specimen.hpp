@@ -7,11 +7,13 @@
 // counted, never silently dropped: the caller decides what to do with them and reports the count.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
 #include "tricot/core/types.hpp"
 #include "tricot/dic/physical.hpp"
+#include "tricot/dic/sequence.hpp"
 
 namespace tricot::lab {
 
@@ -45,6 +47,38 @@ struct FoldedPoints {
   /// "12 of 480 points lie outside the 150 × 150 mm specimen" or "" when none.
   std::string outside_report(const SpecimenGeometry& g) const;
 };
+
+/// What a field holds (THEORY §7, ident::FieldKind has the same meaning).
+enum class FieldKind {
+  cumulative,   ///< material points tracked from image 0: u(X, t_k) = x_k − x_0, X = x_0 folded
+  incremental,  ///< fixed grid points: u = x(t_k) − x(t_{k−1}) at the grid centres of image 0
+};
+
+/// A DIC sequence in the quarter model's mm, ready for an experiment's field: steps are the images
+/// 1..n−1 (image 0 is the unloaded reference, not a step). Only points inside the specimen that are
+/// measured (`ok`) in every step are kept; the others are counted, never silently dropped.
+struct QuarterField {
+  FieldKind kind = FieldKind::cumulative;
+  std::vector<int> point_ids;    ///< index of the kept points in the DIC grid
+  std::vector<Vec2> X;           ///< quarter-model position of each kept point, mm
+  Eigen::MatrixXd u, v;          ///< steps × kept points, mm, quarter-model axes
+  Eigen::MatrixXd sigma_u, sigma_v;  ///< their σ from IC-GN, mm
+  int outside = 0;               ///< grid points outside the specimen
+  int incomplete = 0;            ///< grid points inside but not measured in some step
+  std::string report;            ///< one line: kept, outside, incomplete
+};
+
+/// Folds a DIC sequence (dic::track_sequence, dic::SequenceTracker) into the quarter model. The
+/// incremental kind needs the sequence's fixed-point fields. Throws InputError (key `dic`) when the
+/// sequence holds fewer than 2 images, or no increments for the incremental kind.
+QuarterField fold_sequence(const dic::SequenceResult& sequence, const dic::PhysicalFrame& frame,
+                           const SpecimenGeometry& geometry, FieldKind kind);
+
+/// The grip displacement of the quarter model (u_Y at Y = H, mm) estimated per step from a cumulative
+/// field: the least-squares slope of v = a·Y over the kept points (odd in Y by symmetry), times H.
+/// Exact for a strain homogeneous along the pull; otherwise a proxy proportional to the grip's motion,
+/// which is all the synchronisation needs (it matches shapes, not sizes). Step 0 first.
+std::vector<double> grip_from_field(const QuarterField& field, const SpecimenGeometry& geometry);
 
 /// Folds image points (px) into the quarter model. Validates the frame (a scale of zero is an
 /// InputError naming `physical.mm_per_px`) and the geometry.

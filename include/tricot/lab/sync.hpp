@@ -93,6 +93,9 @@ struct SyncResult {
   double motion_onset_camera_s = 0;  ///< onset method: camera time of the same (NaN otherwise)
   std::vector<double> log_time;  ///< per image: t_k + δ
   std::vector<double> force;     ///< per image: mean log force over its exposure, minus the tare, N
+  /// per image: mean log cross-head over its exposure, minus its value at the first image (empty
+  /// without a cross-head column). Half of it is the quarter model's grip displacement.
+  std::vector<double> crosshead;
   /// The criterion that fixed δ, against the lag δ (s): the Pearson correlation of grip and cross-head
   /// (crosshead), or the R² of the force-follows-motion fit (onset); empty
   /// when δ was given. For the sync plot.
