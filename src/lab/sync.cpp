@@ -374,7 +374,8 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
     const double t = images.time[k] + r.clock_offset_s;
     if (t - 0.5 * e < log.time.front() || t + 0.5 * e > log.time.back())
       throw InputError({log.source, 0, images.name(k)}, "the load-cell log does not cover this image",
-                       fmt::format("log time {:.4f} s ± {:.4g} s of exposure", t, 0.5 * e),
+                       e > 0 ? fmt::format("log time {:.4f} s ± {:.4g} s of exposure", t, 0.5 * e)
+                             : fmt::format("log time {:.4f} s", t),
                        fmt::format("within [{:.4f}, {:.4f}] s", log.time.front(), log.time.back()));
     r.log_time.push_back(t);
     r.force.push_back(mean_over(log.time, log.force, t - 0.5 * e, t + 0.5 * e) - r.tare_N);
