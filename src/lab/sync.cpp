@@ -125,7 +125,7 @@ double crosshead_correlation(const LoadLog& log, const ImageTimes& images, doubl
     g.push_back(images.grip[k]);
     c.push_back(interpolate(log.time, log.crosshead, t));
   }
-  return g.size() >= 3 ? pearson(g, c) : -1;
+  return g.size() >= 3 ? pearson(g, c) : 0;
 }
 
 std::vector<double> head(const std::vector<double>& v, std::size_t n) { return {v.begin(), v.begin() + long(n)}; }
@@ -309,11 +309,13 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
     for (long i = -n; i <= n; ++i) {
       r.lag_s.push_back(double(i) * h);
       r.correlation.push_back(crosshead_correlation(log, images, r.lag_s.back()));
-      if (r.correlation.back() > r.correlation[ib]) ib = r.correlation.size() - 1;
+      // |r|: a grip measured with the opposite sign to the cross-head correlates at −1
+      if (std::abs(r.correlation.back()) > std::abs(r.correlation[ib])) ib = r.correlation.size() - 1;
     }
     const double lo = std::max(-options.max_offset_s, r.lag_s[ib] - h);
     const double hi = std::min(options.max_offset_s, r.lag_s[ib] + h);
-    r.clock_offset_s = golden_minimum([&](double d) { return -crosshead_correlation(log, images, d); }, lo, hi, 1e-6);
+    r.clock_offset_s =
+        golden_minimum([&](double d) { return -std::abs(crosshead_correlation(log, images, d)); }, lo, hi, 1e-6);
     r.peak_correlation = crosshead_correlation(log, images, r.clock_offset_s);
     r.at_search_limit = ib == 0 || ib + 1 == r.lag_s.size();
     r.message = "cross-head correlated with the grip motion";

@@ -56,6 +56,16 @@ TEST(Sync, CrossheadCorrelationRecoversAnOffsetOf370msWithin10ms) {
   EXPECT_GT(r.peak_correlation, 0.999);
 }
 
+TEST(Sync, GripMeasuredWithTheOppositeSignCorrelatesAsWell) {
+  synth::LabRecordOptions o;
+  const auto record = synth::make_lab_record(o, fabric_force);
+  ImageTimes images = images_of(record);
+  for (double& g : images.grip) g = -2 * g;  // another sign convention and unit
+  const SyncResult r = synchronise(log_of(record), images);
+  EXPECT_NEAR(r.clock_offset_s, 0.37, offset_tolerance_s) << r.brief_report();
+  EXPECT_LT(r.peak_correlation, -0.999);
+}
+
 TEST(Sync, OnsetMatchingRecoversAnOffsetOf370msWithin10msWithoutCrosshead) {
   synth::LabRecordOptions o;
   o.crosshead_column = false;
@@ -102,6 +112,8 @@ TEST(Sync, ForcesAtImageTimesAreWithinTheExpectedNoiseOfTheTruth) {
   double ss = 0;
   for (std::size_t k = 0; k < r.force.size(); ++k) ss += std::pow(r.force[k] - record.force_true[k], 2);
   const double rms = std::sqrt(ss / double(r.force.size()));
+  std::printf("%s; force at %zu images: rms error %.4f N, expected %.4f N (log noise %.4f N)\n", r.brief_report().c_str(),
+              r.force.size(), rms, expected, record.force_noise_N);
   EXPECT_LT(rms, noise_margin * expected) << "rms " << rms << " expected " << expected;
   EXPECT_GT(rms, expected / noise_margin) << "rms " << rms << " expected " << expected;
 }

@@ -2,8 +2,8 @@
 // that pictures are taken"). The two have their own clocks: an image taken at camera time t_k happened
 // at log time t_k + δ, δ = clock_offset_s. δ is estimated, never assumed zero:
 //   - crosshead: the log's cross-head displacement c(t) is cross-correlated with the grip displacement
-//     g_k that DIC measures: δ maximises the Pearson correlation of g_k with c(t_k + δ) (an affine
-//     relation, so units and the quarter model's factor ½ do not matter), on a grid of one log sample,
+//     g_k that DIC measures: δ maximises |r|, r the Pearson correlation of g_k with c(t_k + δ) (an
+//     affine relation, so units, signs and the quarter model's factor ½ do not matter), on a grid of one log sample,
 //     then refined by golden-section search on the piecewise-linear interpolant (sub-sample δ);
 //   - onset: without a cross-head column, the onset of force in the log is matched with the onset of
 //     motion in the images. The images give the grip's motion as a constant-speed machine makes it:
