@@ -50,6 +50,7 @@ TEST(Sync, CrossheadCorrelationRecoversAnOffsetOf370msWithin10ms) {
   const auto record = synth::make_lab_record(o, fabric_force);
   const SyncResult r = synchronise(log_through_file(record, o), images_of(record));
   EXPECT_EQ(r.method, SyncMethod::crosshead);
+  std::printf("with cross-head: %s\n", r.brief_report().c_str());
   EXPECT_NEAR(r.clock_offset_s, 0.37, offset_tolerance_s) << r.brief_report();
   EXPECT_FALSE(r.at_search_limit);
   EXPECT_EQ(r.lag_s.size(), r.correlation.size());
@@ -72,6 +73,7 @@ TEST(Sync, OnsetMatchingRecoversAnOffsetOf370msWithin10msWithoutCrosshead) {
   const auto record = synth::make_lab_record(o, fabric_force);
   const SyncResult r = synchronise(log_through_file(record, o), images_of(record));
   EXPECT_EQ(r.method, SyncMethod::onset);
+  std::printf("without cross-head: %s\n", r.brief_report().c_str());
   EXPECT_NEAR(r.clock_offset_s, 0.37, offset_tolerance_s) << r.brief_report();
 }
 
