@@ -317,7 +317,7 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
     r.clock_offset_s =
         golden_minimum([&](double d) { return -std::abs(crosshead_correlation(log, images, d)); }, lo, hi, 1e-6);
     r.peak_correlation = crosshead_correlation(log, images, r.clock_offset_s);
-    r.at_search_limit = ib == 0 || ib + 1 == r.lag_s.size();
+    if (ib == 0 || ib + 1 == r.lag_s.size()) r.termination = SyncTermination::at_search_limit;
     r.message = "cross-head correlated with the grip motion";
   } else {
     // Force follows motion: F(t) = tare + P(moved(t − δ)), P a polynomial with P(0) = 0; the force's
@@ -351,7 +351,7 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
     double tss = 0;
     const double best = force_motion_rss(log, from, to, *motion, r.clock_offset_s, options.force_degree, &tss);
     r.peak_correlation = tss > 0 ? 1 - best / tss : 0;
-    r.at_search_limit = ib == 0 || ib + 1 == r.lag_s.size();
+    if (ib == 0 || ib + 1 == r.lag_s.size()) r.termination = SyncTermination::at_search_limit;
     r.message = "onset of force matched with the onset of motion";
   }
   if (motion) r.motion_onset_log_s = motion->t0 + r.clock_offset_s;
@@ -393,7 +393,7 @@ std::string SyncResult::brief_report() const {
   if (method == SyncMethod::onset) s += fmt::format(", R² = {:.6f}", peak_correlation);
   s += "), tare " + format_number(tare_N) + " N";
   s += tare_given ? " (given)" : fmt::format(" from {} samples", tare_samples);
-  if (at_search_limit) s += "; at the edge of the search range";
+  if (termination == SyncTermination::at_search_limit) s += "; at the edge of the search range (raise sync.max_offset_s)";
   return s;
 }
 

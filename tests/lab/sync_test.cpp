@@ -52,7 +52,7 @@ TEST(Sync, CrossheadCorrelationRecoversAnOffsetOf370msWithin10ms) {
   EXPECT_EQ(r.method, SyncMethod::crosshead);
   std::printf("with cross-head: %s\n", r.brief_report().c_str());
   EXPECT_NEAR(r.clock_offset_s, 0.37, offset_tolerance_s) << r.brief_report();
-  EXPECT_FALSE(r.at_search_limit);
+  EXPECT_EQ(r.termination, SyncTermination::found);
   EXPECT_EQ(r.lag_s.size(), r.correlation.size());
   EXPECT_GT(r.peak_correlation, 0.999);
 }
@@ -178,6 +178,16 @@ TEST(Sync, TimeGoingBackwardsInTheLogIsAnError) {
   std::swap(log.time[10], log.time[11]);
   EXPECT_EQ(error_of(log, images_of(record)),
             "synthetic.lvm: log.time: time does not increase at index 11 (got 0.1, expected > 0.11)");
+}
+
+TEST(Sync, AnOffsetBeyondTheSearchRangeIsFlagged) {
+  synth::LabRecordOptions o;
+  o.clock_offset_s = 1.5;
+  const auto record = synth::make_lab_record(o, fabric_force);
+  SyncOptions s;
+  s.max_offset_s = 1.0;
+  const SyncResult r = synchronise(log_of(record), images_of(record), s);
+  EXPECT_EQ(r.termination, SyncTermination::at_search_limit) << r.brief_report();
 }
 
 TEST(Sync, OutOfRangeOptionIsAnError) {

@@ -83,7 +83,13 @@ struct SyncOptions {
   void validate() const;
 };
 
+enum class SyncTermination {
+  found,            ///< δ given, or the criterion's optimum lies inside the search range
+  at_search_limit,  ///< the optimum lies at ±max_offset_s: the true offset may lie beyond (raise it)
+};
+
 struct SyncResult {
+  SyncTermination termination = SyncTermination::found;
   SyncMethod method = SyncMethod::given;
   double clock_offset_s = 0;  ///< δ: log time = camera time + δ
   double tare_N = 0;          ///< removed from every force
@@ -101,8 +107,6 @@ struct SyncResult {
   /// when δ was given. For the sync plot.
   std::vector<double> lag_s, correlation;
   double peak_correlation = 0;  ///< the criterion at δ
-  /// δ lies at the edge of the search range: the true offset may lie beyond it (raise max_offset_s).
-  bool at_search_limit = false;
   std::string message;
 
   /// One line: "clock offset 0.370 s (crosshead, r = 0.99998), tare 0.512 N from 150 samples".
