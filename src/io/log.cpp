@@ -6,6 +6,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <regex>
 
 #include "tricot/core/error.hpp"
@@ -23,26 +24,33 @@ std::string_view trim(std::string_view s) {
   return s.substr(b, e - b + 1);
 }
 
-std::vector<std::string> split_cells(std::string_view line, char delimiter) {
-  std::vector<std::string> cells;
+/// The cells of a line (trimmed views into it); trailing empty cells dropped.
+void split_cells(std::string_view line, char delimiter, std::vector<std::string_view>& cells) {
+  cells.clear();
   std::size_t start = 0;
   for (;;) {
     const auto end = line.find(delimiter, start);
-    cells.emplace_back(trim(line.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start)));
+    cells.push_back(trim(line.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start)));
     if (end == std::string_view::npos) break;
     start = end + 1;
   }
   while (cells.size() > 1 && cells.back().empty()) cells.pop_back();  // LabVIEW ends rows with a tab
-  return cells;
+}
+
+std::vector<std::string> split_cells(std::string_view line, char delimiter) {
+  std::vector<std::string_view> views;
+  split_cells(line, delimiter, views);
+  return {views.begin(), views.end()};
 }
 
 /// Parses a whole cell as a number (NaN and inf included: they are numbers that are not finite).
 bool parse_number(std::string_view cell, bool decimal_comma, double& v) {
-  if (cell.empty()) return false;
-  std::string s(cell);
-  if (decimal_comma) std::replace(s.begin(), s.end(), ',', '.');
-  const char* b = s.data();
-  const char* e = s.data() + s.size();
+  if (cell.empty() || cell.size() > 64) return false;
+  char buffer[64];
+  std::size_t n = 0;
+  for (char ch : cell) buffer[n++] = decimal_comma && ch == ',' ? '.' : ch;
+  const char* b = buffer;
+  const char* e = buffer + n;
   if (*b == '+') ++b;
   const auto r = std::from_chars(b, e, v);
   return r.ec == std::errc() && r.ptr == e;
@@ -50,7 +58,7 @@ bool parse_number(std::string_view cell, bool decimal_comma, double& v) {
 
 struct Line {
   int number;  // 1-based
-  std::string text;
+  std::string_view text;
 };
 
 std::vector<Line> split_lines(std::string_view text) {
@@ -64,17 +72,18 @@ std::vector<Line> split_lines(std::string_view text) {
     ++n;
     std::string_view l = text.substr(start, end - start);
     if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
-    lines.push_back({n, std::string(l)});
+    lines.push_back({n, l});
     start = end + 1;
   }
   while (!lines.empty() && trim(lines.back().text).empty()) lines.pop_back();
   return lines;
 }
 
-bool blank(const std::string& s) { return trim(s).empty(); }
+bool blank(std::string_view s) { return trim(s).empty(); }
 
 enum class RowKind { text, data };
-RowKind kind(const std::vector<std::string>& cells, bool decimal_comma) {
+template <class Cells>
+RowKind kind(const Cells& cells, bool decimal_comma) {
   double v;
   for (const auto& c : cells)
     if (parse_number(c, decimal_comma, v)) return RowKind::data;
@@ -153,8 +162,9 @@ LogTable parse_log(std::string_view text, const std::string& file, const LogForm
     // The header is the all-text row followed by the longest run of data rows with as many cells
     // (metadata lines are short runs; a run ends at the next all-text row of that width).
     std::vector<std::pair<bool, std::size_t>> shape(rows.size());  // (is data, cell count) per row
+    std::vector<std::string_view> cells;
     for (std::size_t r = 0; r < rows.size(); ++r) {
-      const auto cells = split_cells(lines[rows[r]].text, d);
+      split_cells(lines[rows[r]].text, d, cells);
       shape[r] = {kind(cells, dc) == RowKind::data, cells.size()};
     }
     std::size_t best = 0;
@@ -173,20 +183,42 @@ LogTable parse_log(std::string_view text, const std::string& file, const LogForm
                        "", std::string("a row of column names followed by rows of numbers separated by ") +
                                (d == '\t' ? "tabs" : d == ';' ? "';'" : "','"));
   }
-  for (std::size_t i = 0; i < header; ++i) t.metadata.push_back(lines[i].text);
+  for (std::size_t i = 0; i < header; ++i) t.metadata.emplace_back(lines[i].text);
   t.columns = split_cells(lines[header].text, d);
   for (const auto& c : t.columns) t.units.push_back(split_unit(c).second);
-  t.cells_.assign(t.columns.size(), {});
+  const std::size_t nc = t.columns.size();
+  t.values_.assign(nc, {});
+  t.text_.assign(nc, {});
+  std::vector<std::string_view> cells;
+  std::vector<std::size_t> first_text(nc, std::string::npos);  // row of a column's first non-number
   for (std::size_t i = header + 1; i < lines.size(); ++i) {
     if (blank(lines[i].text)) continue;
-    auto cells = split_cells(lines[i].text, d);
-    if (cells.size() > t.columns.size())
+    split_cells(lines[i].text, d, cells);
+    if (cells.size() > nc)
       throw InputError({file, lines[i].number, ""}, "more cells than the header has columns", std::to_string(cells.size()),
-                       std::to_string(t.columns.size()));
-    cells.resize(t.columns.size());
-    for (std::size_t c = 0; c < cells.size(); ++c) t.cells_[c].push_back(std::move(cells[c]));
+                       std::to_string(nc));
+    const std::size_t row = t.lines.size();
+    for (std::size_t c = 0; c < nc; ++c) {
+      const std::string_view cell = c < cells.size() ? cells[c] : std::string_view{};
+      double v;
+      if (!parse_number(cell, dc, v) || !std::isfinite(v)) {
+        v = std::numeric_limits<double>::quiet_NaN();
+        if (first_text[c] == std::string::npos) first_text[c] = row;
+      }
+      t.values_[c].push_back(v);
+    }
     t.lines.push_back(lines[i].number);
   }
+  // The text of the columns that hold some non-number: a second pass over those columns only.
+  for (std::size_t c = 0; c < nc; ++c)
+    if (first_text[c] != std::string::npos) t.text_[c].reserve(t.lines.size());
+  if (std::any_of(first_text.begin(), first_text.end(), [](std::size_t r) { return r != std::string::npos; }))
+    for (std::size_t i = header + 1; i < lines.size(); ++i) {
+      if (blank(lines[i].text)) continue;
+      split_cells(lines[i].text, d, cells);
+      for (std::size_t c = 0; c < nc; ++c)
+        if (first_text[c] != std::string::npos) t.text_[c].emplace_back(c < cells.size() ? cells[c] : std::string_view{});
+    }
   if (t.lines.empty()) throw InputError({file, lines[header].number, ""}, "the log has a header but no data rows");
   return t;
 }
@@ -221,14 +253,14 @@ bool LogTable::has_column(std::string_view name) const {
 
 std::vector<double> LogTable::numbers(std::string_view name) const {
   const std::size_t c = column(name);
-  std::vector<double> v(rows());
-  for (std::size_t r = 0; r < rows(); ++r) {
-    const std::string& cell = cells_[c][r];
-    if (!parse_number(cell, format.decimal_comma, v[r]) || !std::isfinite(v[r]))
-      throw InputError({file, lines[r], columns[c]}, cell.empty() ? "empty cell" : "not a finite number",
-                       "\"" + cell + "\"", "a finite number");
-  }
-  return v;
+  if (!text_[c].empty())
+    for (std::size_t r = 0; r < rows(); ++r)
+      if (!std::isfinite(values_[c][r])) {
+        const std::string& cell = text_[c][r];
+        throw InputError({file, lines[r], columns[c]}, cell.empty() ? "empty cell" : "not a finite number",
+                         "\"" + cell + "\"", "a finite number");
+      }
+  return values_[c];
 }
 
 std::vector<double> LogTable::times(std::string_view name) const {
@@ -241,7 +273,14 @@ std::vector<double> LogTable::times(std::string_view name) const {
   return t;
 }
 
-std::vector<std::string> LogTable::text(std::string_view name) const { return cells_[column(name)]; }
+std::vector<std::string> LogTable::text(std::string_view name) const {
+  const std::size_t c = column(name);
+  if (!text_[c].empty()) return text_[c];
+  std::vector<std::string> out;
+  out.reserve(rows());
+  for (double v : values_[c]) out.push_back(fmt::format("{:.17g}", v));
+  return out;
+}
 
 std::string to_log_text(const LogWriter& log) {
   const char* eol = log.crlf ? "\r\n" : "\n";

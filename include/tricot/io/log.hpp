@@ -50,12 +50,16 @@ class LogTable {
   /// numbers(), which must also increase strictly down the column (a time): the error names the
   /// first line where it goes backwards or repeats.
   std::vector<double> times(std::string_view name) const;
-  /// The cells of a column as written (trimmed).
+  /// The cells of a column: as written (trimmed) in a column that holds some word, empty cell or
+  /// NaN; re-formatted (`%.17g`) in a column of finite numbers only.
   std::vector<std::string> text(std::string_view name) const;
 
  private:
   friend LogTable parse_log(std::string_view, const std::string&, const LogFormat&);
-  std::vector<std::vector<std::string>> cells_;  ///< per column, per row
+  // Numbers are parsed once (a 1 kHz log of an hour has millions of cells): per column, its values
+  // (NaN where a cell is not a finite number) and, only for columns with such cells, every cell's text.
+  std::vector<std::vector<double>> values_;
+  std::vector<std::vector<std::string>> text_;
 };
 
 /// The key a column name is matched by: lowercase letters and digits only, units in [...] or (...)
