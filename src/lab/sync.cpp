@@ -387,6 +387,20 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
   return r;
 }
 
+std::vector<ForceStep> force_steps(const ImageTimes& images, const SyncResult& sync, const std::vector<double>& grip_mm,
+                                   double width_mm) {
+  if (!(width_mm > 0) || !std::isfinite(width_mm))
+    throw InputError({"", 0, "specimen.width_mm"}, "out of range", format_number(width_mm), "> 0 mm");
+  const std::size_t n = images.time.size();
+  if (sync.force.size() != n || grip_mm.size() != n)
+    throw InputError({"", 0, "images"}, "images, forces and grip displacements differ in number",
+                     fmt::format("{}, {} and {}", n, sync.force.size(), grip_mm.size()), "one of each per image");
+  std::vector<ForceStep> steps;
+  for (std::size_t k = 1; k < n; ++k)
+    steps.push_back({int(k), images.time[k] - images.time[0], grip_mm[k], sync.force[k], sync.force[k] / width_mm});
+  return steps;
+}
+
 std::string SyncResult::brief_report() const {
   std::string s = fmt::format("clock offset {:.4f} s ({}", clock_offset_s, to_string(method));
   if (method == SyncMethod::crosshead) s += fmt::format(", r = {:.6f}", peak_correlation);

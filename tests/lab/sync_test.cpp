@@ -200,3 +200,18 @@ TEST(Sync, FrameTimesFromARateAndAStart) {
   EXPECT_EQ(frame_times(3, 2, 1.5), (std::vector<double>{1.5, 2.0, 2.5}));
   EXPECT_THROW(frame_times(3, 0), InputError);
 }
+
+TEST(Sync, ForceStepsStartAfterTheReferenceImageAndDivideByTheWidth) {
+  const ImageTimes images{{10, 10.5, 11}, {0, 0.1, 0.2}, {}};
+  SyncResult sync;
+  sync.force = {0, 3, 6};
+  const auto steps = force_steps(images, sync, {0, 0.1, 0.2}, 150);
+  ASSERT_EQ(steps.size(), 2u);
+  EXPECT_EQ(steps[1].step, 2);
+  EXPECT_EQ(steps[1].time_s, 1.0);
+  EXPECT_EQ(steps[1].grip_mm, 0.2);
+  EXPECT_EQ(steps[1].force_N, 6);
+  EXPECT_DOUBLE_EQ(steps[1].force_per_width, 6.0 / 150);
+  EXPECT_THROW(force_steps(images, sync, {0, 0.1}, 150), InputError);
+  EXPECT_THROW(force_steps(images, sync, {0, 0.1, 0.2}, 0), InputError);
+}

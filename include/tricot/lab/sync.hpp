@@ -118,6 +118,20 @@ struct SyncResult {
 /// when the grip does not move, or when the onset method finds no rest before the motion.
 SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncOptions& options = {});
 
+/// One load step of an experiment (`forces.csv`): image k ≥ 1 (image 0 is the unloaded reference).
+struct ForceStep {
+  int step = 0;               ///< 1-based, = the image's index
+  double time_s = 0;          ///< camera time since image 0
+  double grip_mm = 0;         ///< grip displacement of the quarter model (the FE load of the step)
+  double force_N = 0;         ///< full-specimen grip force, tare removed
+  double force_per_width = 0; ///< force per unit initial width, N/mm
+};
+/// The steps of a synchronised test. `grip_mm` per image (image 0 included), from DIC or half the
+/// synchronised cross-head. Throws InputError for lengths that differ from the images' or a width ≤ 0
+/// (key `specimen.width_mm`).
+std::vector<ForceStep> force_steps(const ImageTimes& images, const SyncResult& sync, const std::vector<double>& grip_mm,
+                                   double width_mm);
+
 /// The mean of the piecewise-linear f(t) over [a, b] (its value at a when a == b). The caller
 /// guarantees t.front() ≤ a ≤ b ≤ t.back().
 double mean_over(const std::vector<double>& t, const std::vector<double>& f, double a, double b);
