@@ -232,6 +232,47 @@ inline float spline_value(const float* origin, int stride, double X, double Y) {
   return v;
 }
 
+/// σ of u and v of a converged match (icgn.hpp, PointMatch::sigma). The residual's variance per pixel,
+/// s² = Σ r² / (n − P) with Σ r² = 2 Δf² (1 − ZNCC), is the variance of n_f − n_g (both images' noise).
+/// The steepest-descent images J hold the reference's noise gradient too, so H = Σ J Jᵀ = H0 + N with
+/// N = k σ_f² Σ_ξ blockdiag(ξ ξᵀ, ξ ξᵀ), ξ the shape function's monomials, σ_f² ≈ s²/2 and
+/// k = 6√3 − 9 ≈ 1.392 the white-noise power gain of the cubic B-spline derivative at a node. At the
+/// converged point Σ J r = 0, so δp = H0⁻¹ Σ J (n_f − n_g) and Cov(p) = s² H0⁻¹ H H0⁻¹.
+template <int NP>
+Vec2 match_sigma(const Reference<NP>& R, int N, double zncc) {
+  using MatP = Eigen::Matrix<double, NP, NP>;
+  constexpr int K = NP / 2, iv = K;
+  const int M = N / 2, n = N * N;
+  const double s2 = std::max(0.0, 2 * R.df * R.df * (1 - zncc)) / std::max(1, n - NP);
+  // Σ ξ ξᵀ over the subset, cached per subset size
+  thread_local int cached_N = 0;
+  thread_local Eigen::Matrix<double, K, K> Xi;
+  if (cached_N != N) {
+    Xi.setZero();
+    for (int y = -M; y <= M; ++y)
+      for (int x = -M; x <= M; ++x) {
+        Eigen::Matrix<double, K, 1> xi;
+        if constexpr (K == 3) xi << 1, x, y;
+        else xi << 1, x, y, 0.5 * x * x, double(x) * y, 0.5 * y * y;
+        Xi.noalias() += xi * xi.transpose();
+      }
+    cached_N = N;
+  }
+  constexpr double k = 1.3923048454132637;  // 6√3 − 9
+  MatP H0 = R.H;
+  H0.template topLeftCorner<K, K>() -= k * 0.5 * s2 * Xi;
+  H0.template bottomRightCorner<K, K>() -= k * 0.5 * s2 * Xi;
+  const Eigen::LDLT<MatP> H0_ldlt(H0);
+  MatP cov;
+  if (H0_ldlt.info() == Eigen::Success && H0_ldlt.isPositive() && H0_ldlt.rcond() > 1e-12) {
+    const MatP A = H0_ldlt.solve(MatP::Identity());
+    cov = s2 * A * R.H * A;
+  } else {  // noise comparable with the texture: no correction
+    cov = s2 * R.H_ldlt.solve(MatP::Identity());
+  }
+  return {std::sqrt(std::max(0.0, cov(0, 0))), std::sqrt(std::max(0.0, cov(iv, iv)))};
+}
+
 template <int NP>
 PointMatch icgn_order(const Frame& ref, const Frame& cur, const Vec2& c, const Shape& guess, const IcgnOptions& o) {
   using VecP = Eigen::Matrix<double, NP, 1>;
@@ -332,6 +373,7 @@ PointMatch icgn_order(const Frame& ref, const Frame& cur, const Vec2& c, const S
                (dP.template segment<3>(3).squaredNorm() + dP.template segment<3>(9).squaredNorm());
     if (norm2 < o.tolerance * o.tolerance) {
       out.status = out.zncc >= o.min_zncc ? PointStatus::ok : PointStatus::low_correlation;
+      out.sigma = match_sigma<NP>(R, N, out.zncc);
       return out;
     }
   }

@@ -10,7 +10,7 @@ namespace tricot::dic {
 
 void PhysicalFrame::validate() const {
   if (!(mm_per_px > 0) || !std::isfinite(mm_per_px))
-    throw InputError(Location{"", 0, "physical.mm_per_px"}, "out of range", std::to_string(mm_per_px), "> 0 mm/px");
+    throw InputError(Location{"", 0, "physical.mm_per_px"}, "out of range", format_number(mm_per_px), "> 0 mm/px");
   if (!centre_px.allFinite()) throw InputError(Location{"", 0, "physical.centre_px"}, "not a finite point");
   if (!std::isfinite(angle_deg)) throw InputError(Location{"", 0, "physical.angle_deg"}, "not a finite number");
 }

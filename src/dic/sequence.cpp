@@ -40,6 +40,7 @@ struct SequenceTracker::State {
   std::shared_ptr<const Frame> ref, prev;  ///< the current reference image r and the previous image
   int r = 0;
   std::vector<Vec2> ref_x;                  ///< positions in image r
+  std::vector<Vec2> ref_sigma;              ///< σ of those positions (px), 0 in image 0
   std::vector<char> alive;                  ///< the point has a position in image r
   std::vector<PointStatus> dead;            ///< what a point that is not alive reports: why frame 0 rejected it, or lost
   std::vector<std::optional<Shape>> last;   ///< starting shapes for the next frame
@@ -87,6 +88,7 @@ SequenceTracker::SequenceTracker(const image::Image& reference, std::vector<Grid
   s.ref = std::make_shared<const Frame>(prepare_frame(reference, s.o.dic.prefilter_sigma));
   s.prev = s.ref;
   s.ref_x.resize(n);
+  s.ref_sigma.assign(n, Vec2::Zero());
   s.alive.assign(n, 1);
   s.dead.assign(n, PointStatus::lost);
   s.last.assign(n, std::nullopt);
@@ -95,6 +97,7 @@ SequenceTracker::SequenceTracker(const image::Image& reference, std::vector<Grid
   f0.x.resize(n);
   f0.zncc.assign(n, 1.0);
   f0.status.assign(n, PointStatus::ok);
+  f0.sigma.assign(n, Vec2::Zero());
   for (int k = 0; k < n; ++k) {
     s.ref_x[k] = f0.x[k] = g[k].x;
     if (!has_texture(*s.ref, g[k].x, s.o.dic.icgn)) {
@@ -140,6 +143,7 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
       for (int p = 0; p < n; ++p) {
         s.alive[p] = before.status[p] == PointStatus::ok;
         s.ref_x[p] = before.x[p];
+        s.ref_sigma[p] = before.sigma[p];
       }
       pair = s.correlate(*cur, guess);
       note = "reference updated to frame " + std::to_string(k - 1) + "; ";
@@ -152,6 +156,7 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
   f.x.assign(n, nowhere);
   f.zncc.assign(n, nan);
   f.status.assign(n, PointStatus::lost);
+  f.sigma.assign(n, nowhere);
   std::vector<char> good(n, 0);
   double sum = 0;
   for (int p = 0; p < n; ++p) {
@@ -161,6 +166,7 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
     f.zncc[p] = m.zncc;
     if (m.status == PointStatus::ok) {
       f.x[p] = s.ref_x[p] + Vec2(m.p(0), m.p(6));
+      f.sigma[p] = (s.ref_sigma[p].cwiseAbs2() + m.sigma.cwiseAbs2()).cwiseSqrt();
       good[p] = 1;
       ++f.ok;
       sum += m.zncc;
@@ -182,6 +188,7 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
     const PairResult fp = correlate_pair(*s.prev, *cur, X, s.neighbours, s.o.dic,
                                          any ? s.fixed_last : std::vector<std::optional<Shape>>{});
     inc.u.assign(n, nowhere);
+    inc.sigma.assign(n, nowhere);
     inc.zncc.resize(n);
     inc.status.resize(n);
     for (int p = 0; p < n; ++p) {
@@ -190,6 +197,7 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
       inc.status[p] = m.status;
       if (m.status == PointStatus::ok) {
         inc.u[p] = Vec2(m.p(0), m.p(6));
+        inc.sigma[p] = m.sigma;
         s.fixed_last[p] = m.p;
       }
     }
@@ -203,6 +211,7 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
     for (int p = 0; p < n; ++p) {
       s.alive[p] = good[p];
       s.ref_x[p] = f.x[p];
+      s.ref_sigma[p] = f.sigma[p];
       s.last[p] = good[p] ? std::optional<Shape>(pair.points[p].p) : std::nullopt;
     }
   } else {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "tricot/core/error.hpp"
@@ -137,4 +138,51 @@ TEST(IcgnOptions, EvenSubsetSizeIsRejectedWithItsKey) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().key, "dic.subset_size");
   }
+}
+
+namespace {
+/// The predicted σ must match the scatter measured over ~870 matches (whose own sampling error is ~2.5 %)
+/// to this ratio: the reference's noise is taken as half the residual's variance, which the
+/// interpolation of the current image lowers at sub-pixel shifts (measured 0.90–1.02).
+constexpr double kSigmaRatioTol = 0.12;
+}  // namespace
+
+TEST(Icgn, PredictedSigmaMatchesTheScatterOnNoisyImages) {
+  for (const double shift : {0.0, 0.5, 0.3}) {
+    const int size = 200;
+    const double noise = 0.02;  // of full scale, both images
+    const auto P = pattern(size);
+    const image::Image ref = synth::render(P, size, size, synth::no_motion);
+    const image::Image cur = synth::render(P, size, size, [&](const Vec2& x) { return Vec2(x(0) - shift, x(1) + 0.25); });
+    double s2_pred_u = 0, s2_pred_v = 0, eu = 0, eu2 = 0, ev = 0, ev2 = 0;
+    int n = 0;
+    for (std::uint64_t draw = 0; draw < 3; ++draw) {
+      const Frame f = prepare_frame(synth::add_noise(ref, noise, 100 + 2 * draw));
+      const Frame g = prepare_frame(synth::add_noise(cur, noise, 101 + 2 * draw));
+      for (int y = 20; y <= 180; y += 10)
+        for (int x = 20; x <= 180; x += 10) {
+          const PointMatch m = icgn(f, g, Vec2(x, y), Shape::Zero(), IcgnOptions{});
+          ASSERT_EQ(m.status, PointStatus::ok);
+          const double du = m.p(0) - shift, dv = m.p(6) + 0.25;
+          eu += du, eu2 += du * du, ev += dv, ev2 += dv * dv;
+          s2_pred_u += m.sigma(0) * m.sigma(0), s2_pred_v += m.sigma(1) * m.sigma(1);
+          ++n;
+        }
+    }
+    const double sd_u = std::sqrt(eu2 / n - (eu / n) * (eu / n)), sd_v = std::sqrt(ev2 / n - (ev / n) * (ev / n));
+    const double pred_u = std::sqrt(s2_pred_u / n), pred_v = std::sqrt(s2_pred_v / n);
+    std::printf("shift %.2f px: sd_u %.5f predicted %.5f, sd_v %.5f predicted %.5f px (%d matches)\n", shift, sd_u, pred_u,
+                sd_v, pred_v, n);
+    EXPECT_NEAR(pred_u / sd_u, 1.0, kSigmaRatioTol) << "shift " << shift;
+    EXPECT_NEAR(pred_v / sd_v, 1.0, kSigmaRatioTol) << "shift " << shift;
+  }
+}
+
+TEST(Icgn, SigmaIsZeroWithoutNoiseAndNanWhenNotConverged) {
+  const auto [f, g] = frames(120, [](const Vec2& x) { return Vec2(x(0) - 0.4, x(1)); });
+  const PointMatch m = icgn(f, g, Vec2(60, 60), Shape::Zero(), IcgnOptions{});
+  ASSERT_EQ(m.status, PointStatus::ok);
+  EXPECT_LT(m.sigma.maxCoeff(), 2e-3);  // only the tiny interpolation residual remains
+  const PointMatch out = icgn(f, g, Vec2(5, 5), Shape::Zero(), IcgnOptions{});
+  EXPECT_TRUE(std::isnan(out.sigma(0)));
 }

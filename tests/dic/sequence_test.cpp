@@ -163,3 +163,24 @@ TEST(SequenceMode, NamesAreTheConfigWords) {
   EXPECT_STREQ(to_string(SequenceMode::reference), "reference");
   EXPECT_STREQ(to_string(SequenceMode::automatic), "auto");
 }
+
+TEST(Sequence, PositionSigmaStartsAtZeroAndAccumulatesOverIncrements) {
+  StretchSequence s;
+  s.frames = 4;
+  SequenceOptions o = options(SequenceMode::incremental);
+  o.fixed_point_fields = true;
+  const SequenceResult r = test::track(s, o);
+  ASSERT_EQ(r.frames.size(), 5u);
+  for (const Vec2& z : r.frames[0].sigma) EXPECT_EQ(z, Vec2::Zero());
+  for (std::size_t k = 1; k < r.frames.size(); ++k)
+    for (std::size_t p = 0; p < r.grid.size(); ++p) {
+      if (r.frames[k].status[p] != PointStatus::ok) continue;
+      EXPECT_TRUE(r.frames[k].sigma[p].allFinite());
+      // each increment adds its own variance
+      EXPECT_GE(r.frames[k].sigma[p](0), r.frames[k - 1].sigma[p](0));
+      EXPECT_GE(r.frames[k].sigma[p](1), r.frames[k - 1].sigma[p](1));
+    }
+  ASSERT_EQ(r.increments.size(), 4u);
+  for (std::size_t p = 0; p < r.grid.size(); ++p)
+    if (r.increments[0].status[p] == PointStatus::ok) EXPECT_TRUE(r.increments[0].sigma[p].allFinite());
+}

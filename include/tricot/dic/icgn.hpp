@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 
 #include "tricot/core/types.hpp"
@@ -80,6 +81,15 @@ struct PointMatch {
   double zncc = 0;          ///< zero-normalised cross-correlation, 1 = identical
   int iterations = 0;
   PointStatus status = PointStatus::not_computed;
+  /// Standard deviations of u and v (px) from image noise, set when the iteration converged (ok or
+  /// low_correlation), NaN otherwise. Gauss–Newton's covariance from the match itself (no noise level
+  /// to give): the residual r = (f − f̄) − (Δf/Δg)(g − ḡ) has the variance s² = Σ r² / (n − P) per
+  /// pixel, Σ r² = 2 Δf² (1 − ZNCC), that of both images' noise; the Hessian H = Σ J Jᵀ (the subset's
+  /// gradient energy) holds the reference's noise gradient as well, H = H0 + N, so that
+  /// Cov(p) = s² H0⁻¹ H H0⁻¹ (≈ s² H⁻¹ when the texture dominates the noise; icgn.cpp). Checked against
+  /// the scatter of matches on noisy synthetic speckle (icgn_test). Ignores the bias of interpolation
+  /// and of an unsuited shape function, which are not noise.
+  Vec2 sigma{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
 };
 
 /// An image ready for correlation: its B-spline interpolant and pixel gradients.

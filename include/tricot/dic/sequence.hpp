@@ -51,6 +51,10 @@ struct TrackedFrame {
   std::vector<double> zncc;   ///< of the last match (1 in frame 0)
   std::vector<PointStatus> status;
   std::vector<StrainPoint> strain;  ///< Green–Lagrange, relative to frame 0
+  /// σ of x (px, image axes) from image noise (PointMatch::sigma): 0 in frame 0; a position that
+  /// accumulates matches (incremental, or auto after a reference update) adds their variances,
+  /// treating the matches as independent. NaN when not measured.
+  std::vector<Vec2> sigma;
   int ok = 0;
   double mean_zncc = 0;
   double seconds = 0;
@@ -61,6 +65,7 @@ struct TrackedFrame {
 struct IncrementField {
   int from = 0, to = 0;
   std::vector<Vec2> u;  ///< px (NaN when not ok)
+  std::vector<Vec2> sigma;  ///< σ of u, px (PointMatch::sigma; NaN when not ok)
   std::vector<double> zncc;
   std::vector<PointStatus> status;
 };
