@@ -31,9 +31,12 @@ DofMap make_dof_map(const TestModel& test) {
     if (test.grip_holds_x && test.grip_follows_guide && test.side == SideEdge::guide)
       d.guide[2 * n] = m.X(0, n) / W;  // the pantograph clamp: u_x = c·X/W
   }
+  const double guide_end = m.X.row(1).maxCoeff() - test.guide_gap;
   for (int n : m.right) {
     d.right_x.push_back(2 * n);
-    if (test.side == SideEdge::guide) {
+    // The rig's guide ends guide_gap short of the grip (THEORY §6): the nodes above it are free.
+    const bool guided = test.guide_gap <= 0 || m.X(1, n) <= guide_end + 1e-9 * guide_end;
+    if (test.side == SideEdge::guide && guided) {
       d.eq[2 * n] = -1;
       d.guide[2 * n] = 1;
     }

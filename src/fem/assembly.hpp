@@ -31,7 +31,8 @@ struct DofMap {
   std::vector<int> top_y;        ///< u_y dofs of the top edge (the grip reaction)
   std::vector<int> right_x;      ///< u_x dofs of the right edge (the guide reaction)
 };
-/// The guide wins over a clamped grip at the top-right corner node: the guide sets the width. A grip that
+/// The guide wins over a clamped grip at the top-right corner node: the guide sets the width (unless
+/// it ends short of the grip, TestModel::guide_gap). A grip that
 /// follows the guide (TestModel::grip_follows_guide) prescribes u_x = c·X/W on the top edge.
 DofMap make_dof_map(const TestModel& test);
 

@@ -41,6 +41,15 @@ struct TestModel {
   /// Guide: u_x = c on the side edge, mm (negative = the specimen is narrowed). One value for all
   /// steps, or one per step (the guide is moved proportionally otherwise: c · load/load_last).
   std::vector<double> guide;
+  /// The paper's rig (THEORY §6): the guide ends this far (mm, ≥ 0, < the specimen's half height)
+  /// short of the grip: right-edge nodes with Y > H − guide_gap are free, so the clip–guide corner is
+  /// not a singular point. 0 = the guide covers the whole side edge.
+  double guide_gap = 0;
+  /// > 0 (needs a guide with one value): the transverse dimension is set first, in this many
+  /// increments with the grip at rest (clips follow the guide when grip_follows_guide), then held at
+  /// `guide` for every load step, as the paper does ("uniaxial tests are repeated for various fixed
+  /// transverse dimensions"). 0 = the guide moves with the load (see `guide`). 0–1000.
+  int guide_setting_steps = 0;
 
   /// Throws InputError naming `test.<field>` (with the test's name) when inconsistent.
   void validate() const;
