@@ -78,6 +78,21 @@ void TestModel::validate() const {
   if (guide_setting_steps > 0 && (side != SideEdge::guide || guide.size() != 1))
     bad("test.guide_setting_steps", "setting the transverse dimension first needs a guide with one value",
         std::to_string(guide_setting_steps), "0, or side = guide with one guide value");
+  if (!std::isfinite(guide_tie_stiffness) || guide_tie_stiffness < 0)
+    bad("test.guide_tie_stiffness", "out of range", format_number(guide_tie_stiffness), ">= 0 N/mm per mm");
+  if (guide_tie_stiffness > 0 && side != SideEdge::guide)
+    bad("test.guide_tie_stiffness", "ties need a guide (side = guide)", format_number(guide_tie_stiffness), "0");
+  if (!std::isfinite(guide_taper) || guide_taper < 0 || !(guide_taper < H - guide_gap) ||
+      (guide_taper > 0 && !(guide_tie_stiffness > 0)))
+    bad("test.guide_taper", "out of range (a taper needs ties)", format_number(guide_taper),
+        ">= 0 and < the guided length " + format_number(H - guide_gap) + " mm, with guide_tie_stiffness > 0");
+  const double W = mesh.X.row(0).maxCoeff();
+  if (!std::isfinite(grip_tie_stiffness) || grip_tie_stiffness < 0 || (grip_tie_stiffness > 0 && !grip_holds_x))
+    bad("test.grip_tie_stiffness", "out of range (clip ties need grip_holds_x)", format_number(grip_tie_stiffness),
+        ">= 0 N/mm per mm");
+  if (!std::isfinite(grip_taper) || grip_taper < 0 || !(grip_taper < W) || (grip_taper > 0 && !(grip_tie_stiffness > 0)))
+    bad("test.grip_taper", "out of range (a taper needs clip ties)", format_number(grip_taper),
+        ">= 0 and < the half width " + format_number(W) + " mm, with grip_tie_stiffness > 0");
   if (grip_follows_guide && (side != SideEdge::guide || !grip_holds_x))
     bad("test.grip_follows_guide", "a grip that follows the guide needs a guide and a clamp (grip_holds_x)", "true",
         "false, or side = guide with grip_holds_x = true");

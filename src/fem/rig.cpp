@@ -27,6 +27,10 @@ void RigOptions::validate() const {
   if (!(grading_x > 0) || !std::isfinite(grading_x)) bad("grading_x", grading_x, "> 0");
   if (!(grading_y > 0) || !std::isfinite(grading_y)) bad("grading_y", grading_y, "> 0");
   if (!(guide_gap >= 0 && guide_gap < 0.5)) bad("guide_gap", guide_gap, "[0, 0.5)");
+  if (!(tie_stiffness > 0) || !std::isfinite(tie_stiffness)) bad("tie_stiffness", tie_stiffness, "> 0 N/mm per mm");
+  if (!(guide_taper >= 0 && guide_taper + guide_gap < 1)) bad("guide_taper", guide_taper, "[0, 1 - guide_gap)");
+  if (!(clip_tie_stiffness > 0) || !std::isfinite(clip_tie_stiffness)) bad("clip_tie_stiffness", clip_tie_stiffness, "> 0 N/mm per mm");
+  if (!(clip_taper >= 0 && clip_taper < 1)) bad("clip_taper", clip_taper, "[0, 1)");
   if (setting_steps < 1 || setting_steps > 1000) bad("setting_steps", setting_steps, "1 to 1000");
 }
 
@@ -47,6 +51,10 @@ TestModel make_rig_test(const RigOptions& o) {
   t.guide = {m.width * (std::sqrt(1 + 2 * o.transverse_strain) - 1)};
   t.guide_gap = o.guide_gap * m.height;
   t.guide_setting_steps = o.setting_steps;
+  t.guide_tie_stiffness = o.tie_stiffness;
+  t.guide_taper = o.guide_taper * m.height;
+  t.grip_tie_stiffness = o.clip_tie_stiffness;
+  t.grip_taper = o.clip_taper * m.width;
   const double d_last = m.height * (std::sqrt(1 + 2 * o.pull_strain) - 1);
   for (int k = 1; k <= o.steps; ++k) t.loads.push_back(d_last * k / o.steps);
   t.validate();

@@ -118,7 +118,7 @@ bool Simulation::evaluate(const Eigen::VectorXd& z, const Load& L, bool tangent,
   req.sensitivities = sensitivities;
   if (tangent) factor_current_ = false;
   tangent_fresh_ = tangent;
-  return asm_.assemble(u_, req, a_);
+  return asm_.assemble(u_, req, a_, L.c);
 }
 
 // K(a_) x = b (b may have several columns), factorizing a_.K unless the factorization is of it. With
@@ -360,7 +360,7 @@ void Simulation::record(const Load& L, StepResult& step) {
   step.edge_displacement = dofs_.master >= 0 ? z_(dofs_.master) : L.d;
   double top = 0, side = 0;
   for (int k : dofs_.top_y) top += a_.f(k);
-  for (int k : dofs_.right_x) side += a_.f(k);
+  for (int k : dofs_.right_x) side += a_.f(k) - dofs_.tie[k] * (u_(k) - L.c * dofs_.guide[k]);  // the fabric's pull
   step.edge_force = 2 * top;
   step.force_per_width = step.edge_force / (2 * test_.mesh.X.row(0).maxCoeff());
   step.side_force = test_.side == SideEdge::guide ? 2 * side : 0.0;

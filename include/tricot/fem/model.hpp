@@ -50,6 +50,21 @@ struct TestModel {
   /// `guide` for every load step, as the paper does ("uniaxial tests are repeated for various fixed
   /// transverse dimensions"). 0 = the guide moves with the load (see `guide`). 0–1000.
   int guide_setting_steps = 0;
+  /// > 0: the fabric is tied to the guide by compliant ties (N/mm per mm of edge, lumped on the
+  /// side-edge nodes) instead of having u_x prescribed: a spring t·(u_x − c) per node. Together with
+  /// guide_taper this removes the singular point where the guide ends. 0 = a rigid guide.
+  double guide_tie_stiffness = 0;
+  /// Over the last guide_taper mm of the guide (≥ 0; needs ties) the tie stiffness falls linearly to
+  /// zero, as the fabric leaves the guide's rounded end.
+  double guide_taper = 0;
+  /// > 0 (needs grip_holds_x): the clips hold u_x through compliant ties (N/mm per mm of grip) toward
+  /// their prescribed position (0, or c·X/W when grip_follows_guide) instead of prescribing it; u_y
+  /// stays prescribed. 0 = rigid clips.
+  double grip_tie_stiffness = 0;
+  /// Over the last grip_taper mm of the grip before the side edge (≥ 0, < the half width; needs grip
+  /// ties) the clip ties fall linearly to zero: the corner where the clips meet the free stretch of the
+  /// side is then a roller, not a singular clamp–free corner.
+  double grip_taper = 0;
 
   /// Throws InputError naming `test.<field>` (with the test's name) when inconsistent.
   void validate() const;

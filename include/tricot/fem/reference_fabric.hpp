@@ -18,7 +18,7 @@
 // - coupling k_X: each force stiffens when both directions are stretched (∂F_C/∂εC grows by k_X s²).
 // The strain-space tangent [[∂F_C/∂εC, ∂F_C/∂εW], [∂F_W/∂εC, ∂F_W/∂εW]] is symmetric, and positive
 // definite over εC ∈ [−0.45, 1.2] × εW ∈ [−0.45, 1] with the defaults (docs/theory/fabric.md §4).
-// Defaults: F_C(1, 0) = 0.329 N/mm, F_W(0, 1) = 0.126 N/mm; a free-side wale pull narrows the course
+// Defaults: F_C(1, 0) = 0.329 N/mm, F_W(0, 1) = 0.121 N/mm; a free-side wale pull narrows the course
 // by −εC/εW = 0.40 (10 %), 0.40 (30 %), 0.39 (60 %); a held width under a wale pull carries
 // F_C/F_W ≈ 1.6.
 #pragma once

@@ -38,6 +38,14 @@ struct RigOptions {
   double grading_y = 0.5, grading_x = 0.5;
   /// How far the guide ends short of the grip, as a fraction of the quarter's height, [0, 0.5).
   double guide_gap = 0.15;
+  /// Ties to the guide, N/mm per mm of edge (> 0), and the length of the guide's tapered end as a
+  /// fraction of the quarter's height, [0, 0.5): compliant, tapered ties leave no singular point.
+  double tie_stiffness = 2.0;
+  double guide_taper = 0.15;
+  /// Clip ties along x, N/mm per mm of grip (> 0), and their taper toward the side edge as a fraction
+  /// of the quarter's width, [0, 1): the clip–free-side corner becomes a roller.
+  double clip_tie_stiffness = 2.0;
+  double clip_taper = 0;
   /// Increments that set the transverse dimension before the pull, 1–1000.
   int setting_steps = 4;
   /// Clips spread with the guide setting (u_x = c·X/W on the grip, the guide bars being mounted on
