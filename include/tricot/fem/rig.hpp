@@ -45,7 +45,7 @@ struct RigOptions {
   /// Clip ties along x, N/mm per mm of grip (> 0), and their taper toward the side edge as a fraction
   /// of the quarter's width, [0, 1): the clip–free-side corner becomes a roller.
   double clip_tie_stiffness = 2.0;
-  double clip_taper = 0;
+  double clip_taper = 0.15;
   /// Increments that set the transverse dimension before the pull, 1–1000.
   int setting_steps = 4;
   /// Clips spread with the guide setting (u_x = c·X/W on the grip, the guide bars being mounted on
