@@ -131,9 +131,9 @@ std::vector<ident::SurfacePoint> surface_points(const Campaign& c, fem::PullDire
 }
 
 /// Linear least squares of each force's monomials (of total degree ≤ max_degree; the others 0) on its
-/// eq. 9 points. The full fit sets LM's scales; the degree-1 fit is LM's start: the full polynomial
-/// extrapolates wildly to the compressed strips of the fields (εW down to −0.36 below the clips), where
-/// the FE then fails.
+/// eq. 9 points. The full fit sets LM's scales; LM starts from the own-direction slopes alone: the full
+/// polynomial extrapolates wildly to the compressed strips of the fields (εW down to −0.36 below the
+/// clips), and a fitted linear coupling is not positive definite (b1 d1 > a1 c1): the FE fails there.
 Eigen::VectorXd polynomial_start(const fem::ResponseSurface& law, const Campaign& c, int max_degree = 99) {
   Eigen::VectorXd J(law.coefficients().size());
   int col = 0;
@@ -141,8 +141,10 @@ Eigen::VectorXd polynomial_start(const fem::ResponseSurface& law, const Campaign
     const auto& mono = force == 0 ? law.course_monomials() : law.wale_monomials();
     const auto pts = surface_points(c, force == 0 ? fem::PullDirection::course : fem::PullDirection::wale, nullptr);
     std::vector<size_t> kept;
+    // Degree 1: the own-direction slope only (εC in F_C, εW in F_W), an uncoupled and so stable start.
     for (size_t m = 0; m < mono.size(); ++m)
-      if (mono[m].p + mono[m].q <= max_degree) kept.push_back(m);
+      if (max_degree > 1 || (force == 0 ? mono[m].p == 1 && mono[m].q == 0 : mono[m].p == 0 && mono[m].q == 1))
+        kept.push_back(m);
     Eigen::MatrixXd A(pts.size(), kept.size());
     Eigen::VectorXd b(pts.size());
     for (size_t i = 0; i < pts.size(); ++i) {
@@ -293,9 +295,14 @@ void report(benchmark::State& state, const Campaign& c, const Run& r, const std:
               r.errors.wale.points_practical);
   row("LS fit of the points (no FE)", r.start_errors);
   row("identified (FE, field + force)", r.errors);
-  // Identifiability at J*.
+  // Identifiability at J* (only when LM ended at a point the FE solves with sensitivities).
+  if (res.termination == ident::Termination::fe_failure) return;
   const ident::Evaluation e = r.objective->evaluate(res.parameters, true);
-  if (!e.ok) return;
+  std::fflush(stdout);
+  if (!e.ok || e.jacobian.cols() != res.parameters.size()) {
+    std::printf("#   no Jacobian at J* (%s; %td x %td)\n", e.message.c_str(), e.jacobian.rows(), e.jacobian.cols());
+    return;
+  }
   std::vector<std::vector<int>> rows(r.objective->experiment().tests.size());
   for (const auto& g : r.objective->data().groups())
     for (int i = 0; i < g.size; ++i) rows[g.test].push_back(g.offset + i);
