@@ -20,8 +20,9 @@ using namespace tricot::fem;
 namespace {
 /// Residuals below this fraction of the grip force are round-off (sums over ~10⁵ terms).
 constexpr double kRoundOff = 1e-11;
-/// r_k+1 ≤ C r_k² above round-off, C in 1/N.
-constexpr double kQuadraticConstant = 20;
+/// r_k+1 ≤ C r_k² above round-off, C in 1/N: measured up to 39 /N here (the norm sums ~24 000
+/// dofs); a linear rate 0.1 would break it below r = 1e-3 N.
+constexpr double kQuadraticConstant = 100;
 }  // namespace
 
 TEST(RigRefined, HeldWidthTestsConvergeQuadraticallyAtAbout24000Dofs) {
@@ -36,6 +37,7 @@ TEST(RigRefined, HeldWidthTestsConvergeQuadraticallyAtAbout24000Dofs) {
     const SimulationResult r = simulate(t, law);
     ASSERT_TRUE(r.usable()) << r.message;
     std::ostringstream table;
+    int ordered = 0;
     for (size_t k = 0; k < r.steps.size(); ++k) {
       const StepResult& s = r.steps[k];
       EXPECT_EQ(s.cutbacks, 0) << o.name << " step " << k + 1;
@@ -47,7 +49,11 @@ TEST(RigRefined, HeldWidthTestsConvergeQuadraticallyAtAbout24000Dofs) {
           EXPECT_LE(s.residuals[i], kQuadraticConstant * s.residuals[i - 1] * s.residuals[i - 1]) << o.name << " step " << k + 1;
       }
       table << "; ";
+      const double p = test::convergence_order(s.residuals, floor);
+      // ≥ 1.8 once in the asymptotic range; a last residual near round-off can pull it to ~1.7.
+      if (!std::isnan(p) && p >= 1.8) ++ordered;
     }
+    EXPECT_GE(ordered, 1) << o.name << ": " << table.str();
     RecordProperty("newton_residuals_" + o.name, table.str());
     const StrainSpread s = strain_spread(t, r.steps.back().u);
     EXPECT_GT(s.eC_spread(), 0.05) << o.name;
