@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <chrono>
 #include <stdexcept>
@@ -249,7 +250,9 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
     p.push_back(q);
   }
   Run run;
-  run.objective = std::make_unique<ident::Objective>(models, data, law, p);
+  ident::ObjectiveOptions oo;
+  if (const char* tol = std::getenv("KNIT_NEWTON_TOL")) oo.solver.tolerance = std::atof(tol);  // experiment knob
+  run.objective = std::make_unique<ident::Objective>(models, data, law, p, oo);
   ident::IdentifyOptions o;
   run.result = ident::identify(*run.objective, o);
   run.start_errors = fit_errors;
