@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <chrono>
 #include <stdexcept>
@@ -250,9 +249,7 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
     p.push_back(q);
   }
   Run run;
-  ident::ObjectiveOptions oo;
-  if (const char* tol = std::getenv("KNIT_NEWTON_TOL")) oo.solver.tolerance = std::atof(tol);  // experiment knob
-  run.objective = std::make_unique<ident::Objective>(models, data, law, p, oo);
+  run.objective = std::make_unique<ident::Objective>(models, data, law, p);
   ident::IdentifyOptions o;
   run.result = ident::identify(*run.objective, o);
   run.start_errors = fit_errors;
