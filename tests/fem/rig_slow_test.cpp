@@ -45,8 +45,9 @@ TEST(RigRefined, HeldWidthTestsConvergeQuadraticallyAtAbout24000Dofs) {
       table << "step " << k + 1 << ":";
       for (size_t i = 0; i < s.residuals.size(); ++i) {
         table << " " << s.residuals[i];
-        if (i > 0 && s.residuals[i] > floor)
+        if (i > 0 && s.residuals[i] > floor) {
           EXPECT_LE(s.residuals[i], kQuadraticConstant * s.residuals[i - 1] * s.residuals[i - 1]) << o.name << " step " << k + 1;
+        }
       }
       table << "; ";
       const double p = test::convergence_order(s.residuals, floor);

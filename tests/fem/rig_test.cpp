@@ -38,20 +38,26 @@ std::string expect_quadratic_newton(const SimulationResult& r, bool order) {
   int checked = 0;
   for (size_t k = 0; k < r.steps.size(); ++k) {
     const StepResult& s = r.steps[k];
-    if (!order) EXPECT_EQ(s.cutbacks, 0) << "step " << k + 1;  // the 3-step runs may halve a step
+    if (!order) {  // the 3-step runs may halve a step
+      EXPECT_EQ(s.cutbacks, 0) << "step " << k + 1;
+    }
     table << "step " << k + 1 << ":";
     for (double x : s.residuals) table << " " << x;
     table << "; ";
     const double floor = kRoundOff * std::abs(s.edge_force);
-    for (size_t i = 1; i < s.residuals.size(); ++i)
-      if (s.residuals[i] > floor)
+    for (size_t i = 1; i < s.residuals.size(); ++i) {
+      if (s.residuals[i] > floor) {
         EXPECT_LE(s.residuals[i], kQuadraticConstant * s.residuals[i - 1] * s.residuals[i - 1]) << "step " << k + 1;
+      }
+    }
     // The order from the last three residuals: ≥ 1.8 once Newton is in its asymptotic range (a
     // step that starts far off, with line-search halvings, may show less: the C r² bound holds).
     const double p = test::convergence_order(s.residuals, floor);
     if (!std::isnan(p) && p >= 1.8) ++checked;
   }
-  if (order) EXPECT_GE(checked, 1) << table.str();
+  if (order) {
+    EXPECT_GE(checked, 1) << table.str();
+  }
   return table.str();
 }
 
