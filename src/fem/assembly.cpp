@@ -16,10 +16,12 @@ DofMap make_dof_map(const TestModel& test) {
   d.eq.assign(ndof, 0);  // 0 = free for now, −1 = prescribed, −2 = shared grip
   d.grip.assign(ndof, 0);
   d.guide.assign(ndof, 0.0);
+  d.tie.assign(ndof, 0.0);
   const double W = m.X.row(0).maxCoeff();
   for (int n : m.left) d.eq[2 * n] = -1;    // symmetry: u_x = 0
   for (int n : m.bottom) d.eq[2 * n + 1] = -1;  // symmetry: u_y = 0
-  for (int n : m.top) {
+  for (size_t i = 0; i < m.top.size(); ++i) {
+    const int n = m.top[i];
     d.top_y.push_back(2 * n + 1);
     if (test.control == GripControl::displacement) {
       d.eq[2 * n + 1] = -1;
@@ -30,10 +32,35 @@ DofMap make_dof_map(const TestModel& test) {
     if (test.grip_holds_x) d.eq[2 * n] = -1;
     if (test.grip_holds_x && test.grip_follows_guide && test.side == SideEdge::guide)
       d.guide[2 * n] = m.X(0, n) / W;  // the pantograph clamp: u_x = c·X/W
+    if (test.grip_holds_x && test.grip_tie_stiffness > 0 && m.X(0, n) > 1e-12 * W) {  // x = 0: symmetry
+      // Clip ties: lumped over the node's share of the grip, tapered to zero at the side edge.
+      const double x = m.X(0, n);
+      const double left = i > 0 ? x - m.X(0, m.top[i - 1]) : 0;
+      const double right = i + 1 < m.top.size() ? m.X(0, m.top[i + 1]) - x : 0;
+      const double taper = test.grip_taper > 0 ? std::clamp((W - x) / test.grip_taper, 0.0, 1.0) : 1.0;
+      d.eq[2 * n] = 0;
+      d.tie[2 * n] = test.grip_tie_stiffness * 0.5 * (left + right) * taper;
+    }
   }
-  for (int n : m.right) {
-    d.right_x.push_back(2 * n);
-    if (test.side == SideEdge::guide) {
+  const double guide_end = m.X.row(1).maxCoeff() - test.guide_gap;
+  for (size_t i = 0; i < m.right.size(); ++i) {
+    const int n = m.right[i];
+    // The rig's guide ends guide_gap short of the grip (THEORY §6): the nodes above it are free.
+    const double y = m.X(1, n);
+    const bool guided = test.guide_gap <= 0 || y <= guide_end + 1e-9 * guide_end;
+    if (test.side == SideEdge::guide && guided) d.right_x.push_back(2 * n);
+    if (test.side == SideEdge::guide && guided && test.guide_tie_stiffness > 0) {
+      // Lumped tie: stiffness per length × the node's share of the edge, tapered near the guide's end.
+      const double below = i > 0 ? y - m.X(1, m.right[i - 1]) : 0;
+      const double above = i + 1 < m.right.size() ? std::min(m.X(1, m.right[i + 1]), guide_end) - y : 0;
+      const double taper = test.guide_taper > 0 ? std::clamp((guide_end - y) / test.guide_taper, 0.0, 1.0) : 1.0;
+      d.tie[2 * n] = test.guide_tie_stiffness * 0.5 * (below + std::max(above, 0.0)) * taper;
+      d.guide[2 * n] = 1;
+      if (d.eq[2 * n] < 0) d.eq[2 * n] = 0;  // the top-right node: the guide's tie, not the clip
+      continue;
+    }
+    if (test.side == SideEdge::guide && guided) {
+      d.tie[2 * n] = 0;  // a rigid guide wins over a clip tie at the top-right node
       d.eq[2 * n] = -1;
       d.guide[2 * n] = 1;
     }
@@ -115,7 +142,7 @@ Assembler::Assembler(const TestModel& test, const DofMap& dofs, const Law& law)
       const int d = element_dof(m, e, i);
       dof_[e * D_ + i] = d, eq_[e * D_ + i] = dofs.eq[d];
       if (dofs.grip[d]) grip_local_[e].push_back(i);
-      if (dofs.guide[d] != 0) guide_local_[e].push_back(i);
+      if (dofs.guide[d] != 0 && dofs.eq[d] < 0) guide_local_[e].push_back(i);
       if (top[d]) top_local_[e].push_back(i);
     }
 
@@ -148,7 +175,7 @@ Assembler::Assembler(const TestModel& test, const DofMap& dofs, const Law& law)
   }
 }
 
-bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assembled& a) const {
+bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assembled& a, double c) const {
   const Mesh& m = test_.mesh;
   const int ndof = m.dofs(), neq = dofs_.equations;
   a.f.setZero(ndof);
@@ -225,6 +252,16 @@ bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assemb
     {
       if (req.tangent) a.symmetric = a.symmetric && symmetric;
       if (a.status == ElementStatus::ok) a.min_detF = std::min(a.min_detF, min_detF);
+    }
+  }
+  // Ties: f += t (u − c w), ∂R/∂u = t, ∂R/∂c = −t w.
+  for (int k = 0; k < ndof && !failed; ++k) {
+    const double t = dofs_.tie[k];
+    if (t == 0) continue;
+    a.f(k) += t * (u(k) - c * dofs_.guide[k]);
+    if (req.tangent) {
+      a.K.coeffRef(dofs_.eq[k], dofs_.eq[k]) += t;
+      a.g_guide(dofs_.eq[k]) -= t * dofs_.guide[k];
     }
   }
   if (probe >= 0) {

@@ -30,8 +30,12 @@ struct DofMap {
   std::vector<double> guide;     ///< per node dof: u = guide·c (1 on the side edge, X/W on a pantograph clamp)
   std::vector<int> top_y;        ///< u_y dofs of the top edge (the grip reaction)
   std::vector<int> right_x;      ///< u_x dofs of the right edge (the guide reaction)
+  /// Per node dof: stiffness of a tie (N/mm; a free dof with a spring t·(u − c·guide)), else 0. The
+  /// guide's ties anchor at c (guide = 1), the clips' at c·X/W or 0.
+  std::vector<double> tie;
 };
-/// The guide wins over a clamped grip at the top-right corner node: the guide sets the width. A grip that
+/// The guide wins over a clamped grip at the top-right corner node: the guide sets the width (unless
+/// it ends short of the grip, TestModel::guide_gap). A grip that
 /// follows the guide (TestModel::grip_follows_guide) prescribes u_x = c·X/W on the top edge.
 DofMap make_dof_map(const TestModel& test);
 
@@ -57,7 +61,8 @@ class Assembler {
   /// Evaluates every element at u; without `request.tangent`, K, g_*, h_top and `symmetric` keep the
   /// values of the last assembly that had one. Returns false (with a.status/element set) on an inverted element
   /// or a non-finite law value; a's vectors are then meaningless.
-  bool assemble(const Eigen::VectorXd& u, const LawRequest& request, Assembled& a) const;
+  /// `c` is the guide position the ties (DofMap::tie) pull toward; f then includes the tie forces.
+  bool assemble(const Eigen::VectorXd& u, const LawRequest& request, Assembled& a, double c = 0) const;
   /// The free-free pattern (values zero), for the symbolic factorization.
   const Eigen::SparseMatrix<double>& pattern() const { return pattern_; }
 

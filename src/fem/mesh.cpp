@@ -21,6 +21,7 @@ void MeshOptions::validate() const {
   if (nx < 1 || nx > 2000) bad("mesh.nx", std::to_string(nx), "1 to 2000");
   if (ny < 1 || ny > 2000) bad("mesh.ny", std::to_string(ny), "1 to 2000");
   if (!(grading > 0) || !std::isfinite(grading)) bad("mesh.grading", std::to_string(grading), "> 0");
+  if (!(grading_x > 0) || !std::isfinite(grading_x)) bad("mesh.grading_x", std::to_string(grading_x), "> 0");
 }
 
 namespace {
@@ -44,6 +45,7 @@ Mesh make_quarter_mesh(const MeshOptions& o) {
   const int s = q8 ? 2 : 1;  // grid points per element edge
   const int gx = s * o.nx + 1, gy = s * o.ny + 1;
   const std::vector<double> level = graded_levels(o.height, o.ny, o.grading);
+  const std::vector<double> column = graded_levels(o.width, o.nx, o.grading_x);
 
   // Grid point (i, j) -> node id; Q8 skips the element centres (odd i and odd j).
   std::vector<int> id(static_cast<size_t>(gx) * gy, -1);
@@ -59,8 +61,10 @@ Mesh make_quarter_mesh(const MeshOptions& o) {
   for (int j = 0; j < gy; ++j) {
     // Mid-side rows of Q8 sit half-way between their element's levels: straight-sided elements.
     const double y = q8 && j % 2 == 1 ? 0.5 * (level[j / 2] + level[j / 2 + 1]) : level[j / s];
-    for (int i = 0; i < gx; ++i)
-      if (at(i, j) >= 0) m.X.col(at(i, j)) = Vec2(o.width * i / (gx - 1), y);
+    for (int i = 0; i < gx; ++i) {
+      const double x = q8 && i % 2 == 1 ? 0.5 * (column[i / 2] + column[i / 2 + 1]) : column[i / s];
+      if (at(i, j) >= 0) m.X.col(at(i, j)) = Vec2(x, y);
+    }
   }
   // Exact edges, whatever the rounding of i/(gx−1).
   for (int j = 0; j < gy; ++j)

@@ -68,6 +68,31 @@ void TestModel::validate() const {
     bad("test.guide", "guide values given but the side edge is free", std::to_string(guide.size()) + " values",
         "none (or side = guide)");
   }
+  const double H = mesh.X.row(1).maxCoeff();
+  if (!std::isfinite(guide_gap) || guide_gap < 0 || !(guide_gap < H))
+    bad("test.guide_gap", "out of range", format_number(guide_gap), ">= 0 and < the half height " + format_number(H) + " mm");
+  if (guide_gap > 0 && side != SideEdge::guide)
+    bad("test.guide_gap", "a guide gap needs a guide (side = guide)", format_number(guide_gap), "0");
+  if (guide_setting_steps < 0 || guide_setting_steps > 1000)
+    bad("test.guide_setting_steps", "out of range", std::to_string(guide_setting_steps), "0 to 1000");
+  if (guide_setting_steps > 0 && (side != SideEdge::guide || guide.size() != 1))
+    bad("test.guide_setting_steps", "setting the transverse dimension first needs a guide with one value",
+        std::to_string(guide_setting_steps), "0, or side = guide with one guide value");
+  if (!std::isfinite(guide_tie_stiffness) || guide_tie_stiffness < 0)
+    bad("test.guide_tie_stiffness", "out of range", format_number(guide_tie_stiffness), ">= 0 N/mm per mm");
+  if (guide_tie_stiffness > 0 && side != SideEdge::guide)
+    bad("test.guide_tie_stiffness", "ties need a guide (side = guide)", format_number(guide_tie_stiffness), "0");
+  if (!std::isfinite(guide_taper) || guide_taper < 0 || !(guide_taper < H - guide_gap) ||
+      (guide_taper > 0 && !(guide_tie_stiffness > 0)))
+    bad("test.guide_taper", "out of range (a taper needs ties)", format_number(guide_taper),
+        ">= 0 and < the guided length " + format_number(H - guide_gap) + " mm, with guide_tie_stiffness > 0");
+  const double W = mesh.X.row(0).maxCoeff();
+  if (!std::isfinite(grip_tie_stiffness) || grip_tie_stiffness < 0 || (grip_tie_stiffness > 0 && !grip_holds_x))
+    bad("test.grip_tie_stiffness", "out of range (clip ties need grip_holds_x)", format_number(grip_tie_stiffness),
+        ">= 0 N/mm per mm");
+  if (!std::isfinite(grip_taper) || grip_taper < 0 || !(grip_taper < W) || (grip_taper > 0 && !(grip_tie_stiffness > 0)))
+    bad("test.grip_taper", "out of range (a taper needs clip ties)", format_number(grip_taper),
+        ">= 0 and < the half width " + format_number(W) + " mm, with grip_tie_stiffness > 0");
   if (grip_follows_guide && (side != SideEdge::guide || !grip_holds_x))
     bad("test.grip_follows_guide", "a grip that follows the guide needs a guide and a clamp (grip_holds_x)", "true",
         "false, or side = guide with grip_holds_x = true");

@@ -72,7 +72,8 @@ class Simulation {
   double reaction_norm(const Load& L) const;
   bool factorize(Failure& fail);
   bool newton(const Load& from, const Load& to, StepResult& step, Failure& fail);
-  bool solve_step(size_t k, StepResult& step, Failure& fail);
+  bool solve_step(const Load& target, StepResult& step, Failure& fail);
+  bool set_transverse_dimension(Failure& fail, std::string& where);
   void record(const Load& L, StepResult& step);
   std::string describe_element_failure() const;
 
@@ -103,8 +104,10 @@ Load Simulation::load_at(size_t k) const {
   Load L;
   const double v = test_.loads[k];
   (test_.control == GripControl::displacement ? L.d : L.F) = v;
-  if (test_.side == SideEdge::guide)
-    L.c = test_.guide.size() == 1 ? test_.guide[0] * v / test_.loads.back() : test_.guide[k];
+  if (test_.side == SideEdge::guide) {
+    if (test_.guide_setting_steps > 0) L.c = test_.guide[0];  // set first, then held
+    else L.c = test_.guide.size() == 1 ? test_.guide[0] * v / test_.loads.back() : test_.guide[k];
+  }
   return L;
 }
 
@@ -115,7 +118,7 @@ bool Simulation::evaluate(const Eigen::VectorXd& z, const Load& L, bool tangent,
   req.sensitivities = sensitivities;
   if (tangent) factor_current_ = false;
   tangent_fresh_ = tangent;
-  return assembler_.assemble(u_, req, assembled_);
+  return assembler_.assemble(u_, req, assembled_, L.c);
 }
 
 // K(assembled_) x = b (b may have several columns), factorizing assembled_.K unless the factorization is of it. With
@@ -299,9 +302,27 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
   return true;
 }
 
+// The rig's first stage (THEORY §6): the guide moves to its setting with the grip at rest, in
+// guide_setting_steps increments (each with its own cutbacks); `where` names the failed increment.
+bool Simulation::set_transverse_dimension(Failure& fail, std::string& where) {
+  const int n = test_.guide_setting_steps;
+  for (int i = 1; i <= n; ++i) {
+    StepResult scratch;
+    Load to;
+    to.c = test_.guide[0] * i / n;
+    if (reporter_.log) reporter_.info("setting the transverse dimension: increment " + std::to_string(i) + "/" + std::to_string(n));
+    if (!solve_step(to, scratch, fail)) {
+      where = "setting the transverse dimension (increment " + std::to_string(i) + " of " + std::to_string(n) +
+              ", guide " + fmt("%.6g", to.c) + " mm) failed after " + std::to_string(scratch.cutbacks) + " cutbacks";
+      return false;
+    }
+  }
+  return true;
+}
+
 // One step of the list, halving the increment on failure (up to max_cutbacks halvings).
-bool Simulation::solve_step(size_t k, StepResult& step, Failure& fail) {
-  const Load start = load_, target = load_at(k);
+bool Simulation::solve_step(const Load& target, StepResult& step, Failure& fail) {
+  const Load start = load_;
   auto lerp = [&](double s) {
     return Load{start.d + s * (target.d - start.d), start.F + s * (target.F - start.F),
                 start.c + s * (target.c - start.c)};
@@ -310,8 +331,7 @@ bool Simulation::solve_step(size_t k, StepResult& step, Failure& fail) {
   while (s < 1) {
     const double s1 = std::min(1.0, s + ds);
     const Load to = s1 == 1.0 ? target : lerp(s1);
-    if (reporter_.log)
-      reporter_.info("step " + std::to_string(k + 1) + ": increment to " + fmt("%.6g", s1) + " of the step");
+    if (reporter_.log) reporter_.info("increment to " + fmt("%.6g", s1) + " of the step");
     const Eigen::VectorXd z_keep = z_;
     fail = Failure{};
     if (newton(load_, to, step, fail)) {
@@ -340,7 +360,7 @@ void Simulation::record(const Load& L, StepResult& step) {
   step.edge_displacement = dofs_.master >= 0 ? z_(dofs_.master) : L.d;
   double top = 0, side = 0;
   for (int k : dofs_.top_y) top += assembled_.f(k);
-  for (int k : dofs_.right_x) side += assembled_.f(k);
+  for (int k : dofs_.right_x) side += assembled_.f(k) - dofs_.tie[k] * (u_(k) - L.c * dofs_.guide[k]);  // the fabric's pull
   step.edge_force = 2 * top;
   step.force_per_width = step.edge_force / (2 * test_.mesh.X.row(0).maxCoeff());
   step.side_force = test_.side == SideEdge::guide ? 2 * side : 0.0;
@@ -359,11 +379,18 @@ SimulationResult Simulation::run() {
     result.message = "test '" + test_.name + "': the reference state cannot be solved: " +
                      (assembled_.status != ElementStatus::ok ? describe_element_failure() : fail.why);
   }
+  if (result.usable() && test_.guide_setting_steps > 0) {
+    std::string where;
+    if (!set_transverse_dimension(fail, where)) {
+      result.termination = fail.invalid ? SolveTermination::invalid_state : SolveTermination::not_converged;
+      result.message = "test '" + test_.name + "': " + where + ": " + fail.why;
+    }
+  }
   for (size_t k = 0; k < n && result.usable(); ++k) {
     StepResult step;
     step.load = test_.loads[k];
     if (reporter_.log) reporter_.info("step " + std::to_string(k + 1) + "/" + std::to_string(n) + ", load " + fmt("%.6g", step.load));
-    if (!solve_step(k, step, fail)) {
+    if (!solve_step(load_at(k), step, fail)) {
       result.termination = fail.invalid ? SolveTermination::invalid_state : SolveTermination::not_converged;
       result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) + " of " + std::to_string(n) +
                        " (load " + fmt("%.6g", step.load) + ") failed after " + std::to_string(step.cutbacks) +

@@ -73,6 +73,22 @@ TEST(QuarterMesh, GradingSetsTheRatioOfFirstToLastElementHeight) {
   }
 }
 
+TEST(QuarterMesh, GradingXSetsTheRatioOfFirstToLastElementWidth) {
+  for (ElementType t : {ElementType::Q4, ElementType::Q8}) {
+    MeshOptions o = options(t, 5, 2);
+    o.grading_x = 0.5;  // refined toward the side edge
+    const Mesh m = make_quarter_mesh(o);
+    const auto& c0 = m.connectivity.front();
+    const auto& cl = m.connectivity[4];  // last of the first row
+    const double first = m.X(0, c0[1]) - m.X(0, c0[0]), last = m.X(0, cl[1]) - m.X(0, cl[0]);
+    EXPECT_NEAR(first / last, 0.5, 1e-12);
+    EXPECT_NEAR(m.X(0, m.right[0]), 10, kExact);
+  }
+  MeshOptions o;
+  o.grading_x = -1;
+  EXPECT_THROW(o.validate(), InputError);
+}
+
 TEST(MeshOptions, BadValuesThrowNamingTheKey) {
   auto key_of = [](MeshOptions o) -> std::string {
     try {

@@ -264,13 +264,14 @@ TEST(Newton, ConvergesQuadraticallyOnAClampedBiaxialFabricTest) {
   MeshOptions m;
   m.width = m.height = 55, m.nx = 10, m.ny = 12;
   TestModel t = model(make_quarter_mesh(m), {});
-  for (int k = 1; k <= 21; ++k) t.loads.push_back(40.0 * k / 21);
+  // 5 steps: with 21 the predictor leaves Newton two iterations, too few to measure an order.
+  for (int k = 1; k <= 5; ++k) t.loads.push_back(40.0 * k / 5);
   t.side = SideEdge::guide;
   t.guide = {3};
   t.material_angle = 90;
   const SimulationResult r = simulate(t, law);
   ASSERT_TRUE(r.usable()) << r.message;
-  ASSERT_EQ(r.steps.size(), 21u);
+  ASSERT_EQ(r.steps.size(), 5u);
   int checked = 0;
   std::ostringstream table;
   for (size_t k = 0; k < r.steps.size(); ++k) {

@@ -44,6 +44,9 @@ struct MeshOptions {
   /// Ratio of the first (y = 0) to the last (y = height) element height, > 0. 1 = uniform;
   /// < 1 refines toward the grip, where the clamp makes the field steep.
   double grading = 1;
+  /// Ratio of the first (x = 0) to the last (x = width) element width, > 0. 1 = uniform; < 1 refines
+  /// toward the side edge (the guide's end and the free edge of the rig, THEORY §6).
+  double grading_x = 1;
 
   /// Throws InputError naming `mesh.<field>` when out of range.
   void validate() const;

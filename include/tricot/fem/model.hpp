@@ -41,6 +41,30 @@ struct TestModel {
   /// Guide: u_x = c on the side edge, mm (negative = the specimen is narrowed). One value for all
   /// steps, or one per step (the guide is moved proportionally otherwise: c · load/load_last).
   std::vector<double> guide;
+  /// The paper's rig (THEORY §6): the guide ends this far (mm, ≥ 0, < the specimen's half height)
+  /// short of the grip: right-edge nodes with Y > H − guide_gap are free, so the clip–guide corner is
+  /// not a singular point. 0 = the guide covers the whole side edge.
+  double guide_gap = 0;
+  /// > 0 (needs a guide with one value): the transverse dimension is set first, in this many
+  /// increments with the grip at rest (clips follow the guide when grip_follows_guide), then held at
+  /// `guide` for every load step, as the paper does ("uniaxial tests are repeated for various fixed
+  /// transverse dimensions"). 0 = the guide moves with the load (see `guide`). 0–1000.
+  int guide_setting_steps = 0;
+  /// > 0: the fabric is tied to the guide by compliant ties (N/mm per mm of edge, lumped on the
+  /// side-edge nodes) instead of having u_x prescribed: a spring t·(u_x − c) per node. Together with
+  /// guide_taper this removes the singular point where the guide ends. 0 = a rigid guide.
+  double guide_tie_stiffness = 0;
+  /// Over the last guide_taper mm of the guide (≥ 0; needs ties) the tie stiffness falls linearly to
+  /// zero, as the fabric leaves the guide's rounded end.
+  double guide_taper = 0;
+  /// > 0 (needs grip_holds_x): the clips hold u_x through compliant ties (N/mm per mm of grip) toward
+  /// their prescribed position (0, or c·X/W when grip_follows_guide) instead of prescribing it; u_y
+  /// stays prescribed. 0 = rigid clips.
+  double grip_tie_stiffness = 0;
+  /// Over the last grip_taper mm of the grip before the side edge (≥ 0, < the half width; needs grip
+  /// ties) the clip ties fall linearly to zero: the corner where the clips meet the free stretch of the
+  /// side is then a roller, not a singular clamp–free corner.
+  double grip_taper = 0;
 
   /// Throws InputError naming `test.<field>` (with the test's name) when inconsistent.
   void validate() const;

@@ -4,16 +4,23 @@
 // model error, as the paper's did against the real fabric.
 //
 // Same kinematic frame as ResponseSurface: εC, εW, E_CW are the Green–Lagrange strains in the
-// material frame, T = [[F_C, 2 G_s E_CW], [2 G_s E_CW, F_W]], P = R Q T Qᵀ, λ3 = 1/det F. Forces [N/mm]:
-//   F_C = k_C εC + k_CL s_CL (exp((εC − eps_CL)/s_CL) − exp(−eps_CL/s_CL)) + k_X εC εW²
-//   F_W = k_W εW + k_WL s_WL (exp((εW − eps_WL)/s_WL) − exp(−eps_WL/s_WL)) + k_X εC² εW
+// material frame, T = [[F_C, 2 G_s E_CW], [2 G_s E_CW, F_W]], P = R Q T Qᵀ, λ3 = 1/det F. With
+// L(ε; k, e, s) = k s (exp((ε − e)/s) − exp(−e/s)) (locking) and s = εC + εW, forces [N/mm]:
+//   F_C = k_C εC + L(εC; k_CL, eps_CL, s_CL) − L(−εC; k_J, eps_J, s_J) + k_P εW + (k_X/3) s³
+//   F_W = k_W εW + L(εW; k_WL, eps_WL, s_WL) − L(−εW; k_J, eps_J, s_J) + k_P εC + (k_X/3) s³
 // - course: the inlaid yarn gives a near-linear response (k_C) up to ~eps_CL, then the loops lock
 //   and the stiffness grows like k_CL exp((εC − eps_CL)/s_CL) (J shape);
 // - wale: softer, same J shape (k_W, k_WL, eps_WL, s_WL);
-// - coupling k_X: each force stiffens when the other direction is stretched too
-//   (∂F_C/∂εC grows by k_X εW², ∂F_W/∂εW by k_X εC²).
-// Defaults give F_C(1, 0) = 0.278 N/mm, F_C(1.5, 0) = 1.17 N/mm (λ = 2) and F_W(0, 1) = 0.071 N/mm
-// (wale 3.9× softer at equal strain); at (εC, εW) = (0.8, 0.3) the coupling is 61 % of F_W.
+// - transverse shrinkage k_P: pulling one direction loads the other (a held width carries a
+//   transverse tension; a free side narrows), the knit's "Poisson" effect (paper §3.1.2);
+// - jamming k_J, eps_J, s_J: the loops jam when a direction is compressed past ~eps_J, which bounds
+//   the shrinkage (GL strain cannot go below −½);
+// - coupling k_X: each force stiffens when both directions are stretched (∂F_C/∂εC grows by k_X s²).
+// The strain-space tangent [[∂F_C/∂εC, ∂F_C/∂εW], [∂F_W/∂εC, ∂F_W/∂εW]] is symmetric, and positive
+// definite over εC ∈ [−0.45, 1.2] × εW ∈ [−0.45, 1] with the defaults (docs/theory/fabric.md §4).
+// Defaults: F_C(1, 0) = 0.329 N/mm, F_W(0, 1) = 0.121 N/mm; a free-side wale pull narrows the course
+// by −εC/εW = 0.40 (10 %), 0.40 (30 %), 0.39 (60 %); a held width under a wale pull carries
+// F_C/F_W ≈ 1.6.
 #pragma once
 
 #include "tricot/fem/law.hpp"
@@ -31,7 +38,11 @@ struct ReferenceFabricParameters {
   double eps_WL = 0.7;  ///< wale locking onset [-], > 0
   double s_WL = 0.15;   ///< wale locking width [-], > 0
   double k_X = 0.15;    ///< biaxial coupling [N/mm], ≥ 0
-  double G_s = 0.01;    ///< fixed in-plane shear stiffness [N/mm], > 0; not a coefficient
+  double k_P = 0.1;     ///< transverse-shrinkage ("Poisson") coupling [N/mm], k_P² < k_C k_W
+  double k_J = 0.05;    ///< compression jamming modulus [N/mm], ≥ 0
+  double eps_J = 0.2;   ///< jamming onset (compressive GL strain magnitude) [-], > 0
+  double s_J = 0.05;    ///< jamming width [-], > 0
+  double G_s = 0.05;    ///< fixed in-plane shear stiffness [N/mm], > 0; not a coefficient
 
   /// Throws InputError (key `material.<field>`) for a value out of the ranges above or not finite.
   void validate() const;
@@ -43,7 +54,8 @@ class ReferenceFabric : public Law {
   explicit ReferenceFabric(const ReferenceFabricParameters& p = {});
 
   std::string name() const override { return "reference_fabric"; }
-  /// "k_C", "k_CL", "eps_CL", "s_CL", "k_W", "k_WL", "eps_WL", "s_WL", "k_X" (G_s is fixed).
+  /// "k_C", "k_CL", "eps_CL", "s_CL", "k_W", "k_WL", "eps_WL", "s_WL", "k_X", "k_P", "k_J", "eps_J",
+  /// "s_J" (G_s is fixed).
   std::vector<std::string> coefficient_names() const override;
   Eigen::VectorXd coefficients() const override;
   /// InputError for a wrong size or a value out of range.
@@ -56,6 +68,8 @@ class ReferenceFabric : public Law {
 
   /// (F_C, F_W) [N/mm] at the material-axis Green–Lagrange strains (εC, εW).
   Vec2 forces(double eps_C, double eps_W) const;
+  /// ∂(F_C, F_W)/∂(εC, εW): symmetric (a strain-space potential).
+  Mat2 force_jacobian(double eps_C, double eps_W) const;
   /// T in the material frame (course, wale) [N/mm]; unchanged by a rigid rotation.
   Mat2 material_frame_stress(const LawInput& in) const;
   const ReferenceFabricParameters& parameters() const { return p_; }

@@ -1,0 +1,344 @@
+// The paper's §4 campaign through the engine APIs (issue 12): biaxial-induced tests on the rig
+// (fem::make_rig_test) synthesised from the reference knit on a finer mesh, then the response
+// surface `paper14` / `paper24` identified from the field and the grip force of all tests together on
+// the paper's 120 Q8 elements. Reports Table 4 (objective, iterations, evaluations, wall time,
+// condition number, largest correlation) and Table 5 (eq. 9, whole and practical range, course and
+// wale) as counters, beside the paper's values, and prints the campaign's field spreads, the
+// identifiability report and a D-optimal added test once per run.
+//
+//   build/bench/knit_campaign_benchmark --benchmark_filter=110/paper14
+#include <benchmark/benchmark.h>
+
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <chrono>
+#include <stdexcept>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tricot/core/error.hpp"
+#include "tricot/fem/reference_fabric.hpp"
+#include "tricot/fem/response_surface.hpp"
+#include "tricot/fem/rig.hpp"
+#include "tricot/fem/solver.hpp"
+#include "tricot/ident/identifiability.hpp"
+#include "tricot/ident/identify.hpp"
+#include "tricot/ident/objective.hpp"
+#include "tricot/ident/surface_error.hpp"
+#include "tricot/ident/synthetic.hpp"
+
+namespace {
+
+using namespace tricot;
+
+constexpr double kShear = 0.05;  // G_s of the truth and of the identified surface (not identified)
+
+/// One specimen size of the campaign (THEORY §6; issue 12).
+struct CampaignSpec {
+  double side;
+  int steps;
+  double wale_pull, course_pull;            // GL strain along the pull at the last step
+  std::vector<double> course_settings;      // transverse course strains of the wale-pulled tests
+  std::vector<double> wale_settings;        // transverse wale strains of the course-pulled tests
+};
+const CampaignSpec k110{110, 21, 0.65, 1.0, {0, 0.2, 0.4, 0.55, 0.7}, {0, 0.15, 0.3, 0.45, 0.6}};
+const CampaignSpec k150{150, 28, 0.35, 0.45, {0, 0.15, 0.3, 0.45}, {0, 0.12, 0.24, 0.35}};
+
+fem::RigOptions rig(const CampaignSpec& s, fem::PullDirection pull, double transverse, int nx, int ny) {
+  fem::RigOptions o;
+  o.side = s.side, o.pull = pull, o.transverse_strain = transverse, o.steps = s.steps;
+  o.pull_strain = pull == fem::PullDirection::wale ? s.wale_pull : s.course_pull;
+  o.name = std::string(to_string(pull)) + "-" + std::to_string(static_cast<int>(std::lround(100 * transverse)));
+  o.nx = nx, o.ny = ny;
+  return o;
+}
+
+/// A test of the campaign: coarse model (identification), data from the fine one, and the strains
+/// at the specimen centre per step (the "DIC" strains of eq. 9's points).
+struct CampaignTest {
+  fem::PullDirection pull;
+  double transverse;
+  fem::TestModel model;
+  ident::TestData data;
+  std::vector<Eigen::Vector2d> centre;  // (εC, εW) per step
+  fem::StrainSpread last;
+};
+
+struct Campaign {
+  CampaignSpec spec;
+  std::vector<CampaignTest> tests;
+  double synth_seconds = 0;
+};
+
+CampaignTest synthesise(const CampaignSpec& s, fem::PullDirection pull, double transverse) {
+  const fem::ReferenceFabric truth([] {
+    fem::ReferenceFabricParameters p;
+    p.G_s = kShear;
+    return p;
+  }());
+  CampaignTest t{pull, transverse, fem::make_rig_test(rig(s, pull, transverse, 12, 10)), {}, {}, {}};
+  const fem::TestModel fine = fem::make_rig_test(rig(s, pull, transverse, 24, 20));
+  const fem::SimulationResult r = fem::simulate(fine, truth);
+  if (!r.usable()) throw std::runtime_error(r.message);
+  // 6 × 6 points over the quarter, clear of the guides and clips (a DIC window of the centre region).
+  const double h = 0.5 * s.side;
+  Eigen::Matrix2Xd points(2, 36);
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) points.col(6 * j + i) = Eigen::Vector2d(0.05 + 0.7 * i / 5, 0.05 + 0.7 * j / 5) * h;
+  t.data = ident::measure(fine, r, points);
+  for (const auto& step : r.steps) {
+    const fem::StrainSpread sp = fem::strain_spread(fine, step.u);
+    t.centre.emplace_back(sp.eC_centre, sp.eW_centre);
+  }
+  t.last = fem::strain_spread(fine, r.steps.back().u);
+  return t;
+}
+
+Campaign& campaign(int size) {
+  static std::map<int, Campaign> cache;
+  auto it = cache.find(size);
+  if (it != cache.end()) return it->second;
+  Campaign c;
+  c.spec = size == 110 ? k110 : k150;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (double x : c.spec.course_settings) c.tests.push_back(synthesise(c.spec, fem::PullDirection::wale, x));
+  for (double x : c.spec.wale_settings) c.tests.push_back(synthesise(c.spec, fem::PullDirection::course, x));
+  c.synth_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("\n# %d x %d campaign: %zu tests x %d steps (data: 24 x 20 Q8, %.1f s)\n", size, size, c.tests.size(),
+              c.spec.steps, c.synth_seconds);
+  std::printf("# test         eC range at last step   eW range at last step   centre (eC, eW)\n");
+  for (const auto& t : c.tests)
+    std::printf("# %-12s [%6.3f, %6.3f]        [%6.3f, %6.3f]        (%.3f, %.3f)\n", t.model.name.c_str(),
+                t.last.eC_min, t.last.eC_max, t.last.eW_min, t.last.eW_max, t.last.eC_centre, t.last.eW_centre);
+  return cache.emplace(size, std::move(c)).first->second;
+}
+
+/// Eq. 9's points (THEORY §9): course points from the course-pulled tests, wale from wale-pulled.
+std::vector<ident::SurfacePoint> surface_points(const Campaign& c, fem::PullDirection pull, bool (*keep)(const CampaignTest&, int)) {
+  std::vector<ident::SurfacePoint> p;
+  for (const auto& t : c.tests) {
+    if (t.pull != pull) continue;
+    for (int k = 0; k < t.data.steps(); ++k)
+      if (!keep || keep(t, k)) p.push_back({t.centre[k](0), t.centre[k](1), t.data.edge_force[k] / c.spec.side});
+  }
+  return p;
+}
+
+/// Linear least squares of each force's monomials (of total degree ≤ max_degree; the others 0) on its
+/// eq. 9 points. The full fit sets LM's scales; LM starts from the own-direction slopes alone: the full
+/// polynomial extrapolates wildly to the compressed strips of the fields (εW down to −0.36 below the
+/// clips), and a fitted linear coupling is not positive definite (b1 d1 > a1 c1): the FE fails there.
+Eigen::VectorXd polynomial_start(const fem::ResponseSurface& law, const Campaign& c, int max_degree = 99) {
+  Eigen::VectorXd J(law.coefficients().size());
+  int col = 0;
+  for (int force = 0; force < 2; ++force) {
+    const auto& mono = force == 0 ? law.course_monomials() : law.wale_monomials();
+    const auto pts = surface_points(c, force == 0 ? fem::PullDirection::course : fem::PullDirection::wale, nullptr);
+    std::vector<size_t> kept;
+    // Degree 1: the own-direction slope only (εC in F_C, εW in F_W), an uncoupled and so stable start.
+    for (size_t m = 0; m < mono.size(); ++m)
+      if (max_degree > 1 || (force == 0 ? mono[m].p == 1 && mono[m].q == 0 : mono[m].p == 0 && mono[m].q == 1))
+        kept.push_back(m);
+    Eigen::MatrixXd A(pts.size(), kept.size());
+    Eigen::VectorXd b(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) {
+      for (size_t m = 0; m < kept.size(); ++m)
+        A(i, m) = std::pow(pts[i].eC, mono[kept[m]].p) * std::pow(pts[i].eW, mono[kept[m]].q);
+      b(i) = pts[i].force;
+    }
+    const Eigen::VectorXd x = A.colPivHouseholderQr().solve(b);
+    J.segment(col, mono.size()).setZero();
+    for (size_t m = 0; m < kept.size(); ++m) J(col + kept[m]) = x(m);
+    col += static_cast<int>(mono.size());
+  }
+  return J;
+}
+
+struct Surfaces {
+  ident::Eq9Error course, wale;            // against the experimental points (Table 5)
+  ident::Eq9Error course_true, wale_true;  // against the reference knit at the same strains
+};
+
+/// eq9_error, or only the whole-range mean when the practical domain holds no point (the 150 mm
+/// campaign stops at 45 % course: its practical error is reported as NaN).
+ident::Eq9Error eq9(const std::vector<ident::SurfacePoint>& p, const std::function<double(double, double)>& f) {
+  try {
+    return ident::eq9_error(p, f);
+  } catch (const InputError&) {
+    ident::StrainDomain all;
+    all.eC_min = all.eW_min = -1e9, all.eC_max = all.eW_max = 1e9;
+    ident::Eq9Error e = ident::eq9_error(p, f, all);
+    e.practical = NAN, e.points_practical = 0;
+    return e;
+  }
+}
+
+Surfaces errors(const Campaign& c, const fem::ResponseSurface& law) {
+  const fem::ReferenceFabric truth;
+  Surfaces s;
+  const auto pc = surface_points(c, fem::PullDirection::course, nullptr);
+  const auto pw = surface_points(c, fem::PullDirection::wale, nullptr);
+  s.course = eq9(pc, [&](double a, double b) { return law.forces(a, b)(0); });
+  s.wale = eq9(pw, [&](double a, double b) { return law.forces(a, b)(1); });
+  auto as_truth = [&](std::vector<ident::SurfacePoint> p, int i) {
+    for (auto& x : p) x.force = truth.forces(x.eC, x.eW)(i);
+    return p;
+  };
+  s.course_true = eq9(as_truth(pc, 0), [&](double a, double b) { return law.forces(a, b)(0); });
+  s.wale_true = eq9(as_truth(pw, 1), [&](double a, double b) { return law.forces(a, b)(1); });
+  return s;
+}
+
+/// The practical domain's neighbourhood (§4.3.2): tests whose transverse setting lies in the
+/// practical range ± margin, cut after the step whose pulled centre strain passes its upper bound.
+bool restricted_test(const CampaignTest& t) {
+  const ident::StrainDomain d;
+  constexpr double kMargin = 0.1;
+  const double x = t.transverse;
+  return t.pull == fem::PullDirection::wale ? x >= d.eC_min - kMargin && x <= d.eC_max + kMargin
+                                            : x >= d.eW_min - kMargin && x <= d.eW_max + kMargin;
+}
+int restricted_steps(const CampaignTest& t) {
+  const ident::StrainDomain d;
+  int k = 0;
+  while (k < t.data.steps()) {
+    const double pulled = t.pull == fem::PullDirection::wale ? t.centre[k](1) : t.centre[k](0);
+    ++k;
+    if (pulled > (t.pull == fem::PullDirection::wale ? d.eW_max : d.eC_max)) break;
+  }
+  return k;
+}
+
+struct Run {
+  ident::IdentifyResult result;
+  std::unique_ptr<ident::Objective> objective;
+  Surfaces start_errors, errors, truth_errors;
+};
+
+Run identify(const Campaign& c, const std::string& preset, bool restricted) {
+  fem::ResponseSurface law = fem::ResponseSurface::preset(preset, kShear);
+  const Eigen::VectorXd J_fit = polynomial_start(law, c), J0 = polynomial_start(law, c, 1);
+  law.set_coefficients(J_fit);
+  const Surfaces fit_errors = errors(c, law);
+  law.set_coefficients(J0);
+  std::vector<fem::TestModel> models;
+  ident::Experiment data;
+  for (const auto& t : c.tests) {
+    if (restricted && !restricted_test(t)) continue;
+    fem::TestModel m = t.model;
+    ident::TestData d = t.data;
+    if (restricted) {
+      const int n = restricted_steps(t);
+      m.loads.resize(n), d.loads.resize(n), d.edge_displacement.resize(n), d.edge_force.resize(n);
+      d.u.conservativeResize(n, Eigen::NoChange), d.v.conservativeResize(n, Eigen::NoChange);
+    }
+    models.push_back(std::move(m));
+    data.tests.push_back(std::move(d));
+  }
+  std::vector<ident::Parameter> p;
+  const auto names = law.coefficient_names();
+  for (size_t k = 0; k < names.size(); ++k) {
+    ident::Parameter q;
+    q.name = names[k], q.start = J0(k), q.scale = std::max(std::abs(J_fit(k)), 1e-3);
+    p.push_back(q);
+  }
+  Run run;
+  run.objective = std::make_unique<ident::Objective>(models, data, law, p);
+  ident::IdentifyOptions o;
+  run.result = ident::identify(*run.objective, o);
+  run.start_errors = fit_errors;
+  fem::ResponseSurface found = law;
+  found.set_coefficients(run.result.parameters);
+  run.errors = errors(c, found);
+  return run;
+}
+
+double max_correlation(const ident::Uncertainty& u) {
+  double m = 0;
+  for (Eigen::Index i = 0; i < u.correlation.rows(); ++i)
+    for (Eigen::Index j = 0; j < i; ++j)
+      if (std::isfinite(u.correlation(i, j))) m = std::max(m, std::abs(u.correlation(i, j)));
+  return m;
+}
+
+void report(benchmark::State& state, const Campaign& c, const Run& r, const std::string& label) {
+  const auto& res = r.result;
+  state.counters["objective"] = res.objective;
+  state.counters["iterations"] = res.iterations;
+  state.counters["evaluations"] = res.evaluations;
+  state.counters["wall_s"] = res.wall_seconds;
+  state.counters["condition"] = res.uncertainty.condition_number;
+  state.counters["max_corr"] = max_correlation(res.uncertainty);
+  state.counters["eq9_C_whole"] = r.errors.course.whole;
+  state.counters["eq9_W_whole"] = r.errors.wale.whole;
+  state.counters["eq9_C_pract"] = r.errors.course.practical;
+  state.counters["eq9_W_pract"] = r.errors.wale.practical;
+  state.counters["true_C_pract"] = r.errors.course_true.practical;
+  state.counters["true_W_pract"] = r.errors.wale_true.practical;
+  state.SetLabel(label + " " + ident::to_string(res.termination));
+  std::printf("\n# %s: %s (%s)\n# f = %.4g, %d iterations, %d evaluations, %.1f s, cond %.3g, max |corr| %.3f\n",
+              label.c_str(), ident::to_string(res.termination), res.message.c_str(), res.objective, res.iterations, res.evaluations,
+              res.wall_seconds, res.uncertainty.condition_number, max_correlation(res.uncertainty));
+  auto row = [](const char* what, const Surfaces& s) {
+    std::printf("#   %-34s course %.3f / %.3f   wale %.3f / %.3f   (true: course %.3f / %.3f, wale %.3f / %.3f)\n", what,
+                s.course.whole, s.course.practical, s.wale.whole, s.wale.practical, s.course_true.whole,
+                s.course_true.practical, s.wale_true.whole, s.wale_true.practical);
+  };
+  std::printf("#   eq. 9 whole / practical (points: course %d / %d, wale %d / %d); paper 110/14: course 0.218 / 0.084, wale 0.313 / 0.079\n",
+              r.errors.course.points_whole, r.errors.course.points_practical, r.errors.wale.points_whole,
+              r.errors.wale.points_practical);
+  row("LS fit of the points (no FE)", r.start_errors);
+  row("identified (FE, field + force)", r.errors);
+  // Identifiability at J* (only when LM ended at a point the FE solves with sensitivities).
+  if (res.termination == ident::Termination::fe_failure) return;
+  const ident::Evaluation e = r.objective->evaluate(res.parameters, true);
+  std::fflush(stdout);
+  if (!e.ok || e.jacobian.cols() != res.parameters.size()) {
+    std::printf("#   no Jacobian at J* (%s; %td x %td)\n", e.message.c_str(), e.jacobian.rows(), e.jacobian.cols());
+    return;
+  }
+  std::vector<std::vector<int>> rows(r.objective->experiment().tests.size());
+  for (const auto& g : r.objective->data().groups())
+    for (int i = 0; i < g.size; ++i) rows[g.test].push_back(g.offset + i);
+  Eigen::VectorXd scale(res.parameters.size());
+  for (Eigen::Index k = 0; k < scale.size(); ++k) scale(k) = r.objective->parameters()[k].resolved_scale();
+  ident::IdentifiabilityOptions io;
+  io.sigma2 = res.uncertainty.sigma2;
+  const ident::IdentifiabilityReport id = ident::identifiability(e.jacobian, res.parameters, scale, rows, io);
+  std::printf("#   coefficient   value        rel. std error  pinned\n");
+  for (size_t k = 0; k < res.names.size(); ++k)
+    std::printf("#   %-12s %12.5g  %10.3g      %s\n", res.names[k].c_str(), res.parameters(k), id.relative_std_error(k),
+                id.pinned[k] ? "yes" : "no");
+  std::printf("#   least identifiable direction:");
+  for (Eigen::Index k = 0; k < id.least_identifiable.size(); ++k)
+    if (std::abs(id.least_identifiable(k)) > 0.2) std::printf(" %+.2f %s", id.least_identifiable(k), res.names[k].c_str());
+  std::printf("\n#   share of tr M / of the weak direction per test:");
+  for (size_t t = 0; t < rows.size(); ++t)
+    std::printf(" %s %.2f/%.2f", r.objective->experiment().tests[t].name.c_str(), id.trace_share[t], id.weak_direction_share[t]);
+  std::printf("\n");
+  (void)c;
+}
+
+void BM_Identify(benchmark::State& state, int size, std::string preset, bool restricted) {
+  Campaign& c = campaign(size);
+  for (auto _ : state) {
+    Run r = identify(c, preset, restricted);
+    state.SetIterationTime(r.result.wall_seconds);
+    report(state, c, r, std::to_string(size) + "/" + preset + (restricted ? "/restricted" : ""));
+  }
+  state.counters["paper_ratio"] = 80 * 3600.0 / state.counters["wall_s"];  // the paper's ~80 h class
+}
+
+BENCHMARK_CAPTURE(BM_Identify, 110/paper14, 110, "paper14", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Identify, 110/paper14/restricted, 110, "paper14", true)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Identify, 110/paper24, 110, "paper24", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Identify, 150/paper14, 150, "paper14", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Identify, 150/paper24, 150, "paper24", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+
+}  // namespace

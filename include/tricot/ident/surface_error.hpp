@@ -1,0 +1,44 @@
+// The paper's error measure, eq. (9) (THEORY §9, paper §4.3.2): the mean relative distance between
+// an identified response surface and the experimental forces per unit width, over the whole strain
+// range and over the strains of practical use.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <vector>
+
+namespace tricot::ident {
+
+/// A rectangle of material-frame Green–Lagrange strains (εC, εW), bounds included.
+struct StrainDomain {
+  double eC_min = 0.6, eC_max = 1.0;  ///< course (the paper's practical range: 60–100 %)
+  double eW_min = 0.2, eW_max = 0.4;  ///< wale (20–40 %)
+
+  bool contains(double eC, double eW) const {
+    return eC >= eC_min && eC <= eC_max && eW >= eW_min && eW <= eW_max;
+  }
+  /// InputError naming `eq9.practical.<field>` for a non-finite bound or min > max.
+  void validate() const;
+};
+
+/// One experimental point of a surface (THEORY §9 [choice]): a step of a test pulled along that
+/// direction, its grip force per unit initial width [N/mm] against the strains at the specimen centre.
+struct SurfacePoint {
+  double eC = 0, eW = 0;
+  double force = 0;
+};
+
+struct Eq9Error {
+  double whole = std::numeric_limits<double>::quiet_NaN();      ///< ē over every point
+  double practical = std::numeric_limits<double>::quiet_NaN();  ///< ē over the points in the domain
+  int points_whole = 0, points_practical = 0;                   ///< N of each (points with F^exp = 0 left out)
+};
+
+/// ē = (1/N) Σ_i |F^id(εC_i, εW_i) − F_i^exp| / |F_i^exp| over `points` (those with F^exp = 0 are left
+/// out: the relative distance is undefined there), and over those inside `practical`. Throws
+/// InputError (key `eq9.practical`, naming the domain and the data's strain range) when the practical
+/// domain holds no point, and (key `eq9.points`) when no point has a non-zero force.
+Eq9Error eq9_error(const std::vector<SurfacePoint>& points, const std::function<double(double, double)>& identified,
+                   const StrainDomain& practical = {});
+
+}  // namespace tricot::ident

@@ -1,0 +1,135 @@
+#include "tricot/fem/rig.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "testing/newton.hpp"
+#include "testing/record.hpp"
+#include "tricot/core/error.hpp"
+#include "tricot/fem/reference_fabric.hpp"
+#include "tricot/fem/solver.hpp"
+
+using namespace tricot;
+using namespace tricot::fem;
+using tricot::test::record;
+
+namespace {
+
+/// Residuals below this fraction of the grip force are round-off (the assembly sums O(1e3) terms).
+constexpr double kRoundOff = 1e-11;
+/// r_k+1 ≤ C r_k² above round-off, C in 1/N: a linear rate 0.1 would break it below r = 5e-3 N.
+constexpr double kQuadraticConstant = 20;
+
+RigOptions campaign_test(PullDirection pull, double transverse, double pull_strain) {
+  RigOptions o;
+  o.name = std::string(to_string(pull)) + "-" + std::to_string(static_cast<int>(std::lround(100 * transverse)));
+  o.side = 110, o.pull = pull, o.transverse_strain = transverse, o.pull_strain = pull_strain, o.steps = 21;
+  o.nx = 12, o.ny = 10;  // the paper's 120 Q8 elements
+  return o;
+}
+
+/// Every step converged without cutback, quadratically (r_k+1 ≤ C r_k²), and at least one step shows
+/// an order ≥ 1.8 when `order` (needs steps long enough for three residuals above round-off).
+std::string expect_quadratic_newton(const SimulationResult& r, bool order) {
+  std::ostringstream table;
+  int checked = 0;
+  for (size_t k = 0; k < r.steps.size(); ++k) {
+    const StepResult& s = r.steps[k];
+    if (!order) {  // the 3-step runs may halve a step
+      EXPECT_EQ(s.cutbacks, 0) << "step " << k + 1;
+    }
+    table << "step " << k + 1 << ":";
+    for (double x : s.residuals) table << " " << x;
+    table << "; ";
+    const double floor = kRoundOff * std::abs(s.edge_force);
+    for (size_t i = 1; i < s.residuals.size(); ++i) {
+      if (s.residuals[i] > floor) {
+        EXPECT_LE(s.residuals[i], kQuadraticConstant * s.residuals[i - 1] * s.residuals[i - 1]) << "step " << k + 1;
+      }
+    }
+    // The order from the last three residuals: ≥ 1.8 once Newton is in its asymptotic range (a
+    // step that starts far off, with line-search halvings, may show less: the C r² bound holds).
+    const double p = test::convergence_order(s.residuals, floor);
+    if (!std::isnan(p) && p >= 1.8) ++checked;
+  }
+  if (order) {
+    EXPECT_GE(checked, 1) << table.str();
+  }
+  return table.str();
+}
+
+}  // namespace
+
+TEST(Rig, BuildsTheGuidedClippedQuarterWithTheGuideEndingShortOfTheClips) {
+  RigOptions o = campaign_test(PullDirection::course, 0.3, 1.0);
+  const TestModel t = make_rig_test(o);
+  EXPECT_EQ(t.mesh.elements(), 120);
+  EXPECT_EQ(t.material_angle, 90);
+  EXPECT_EQ(t.side, SideEdge::guide);
+  EXPECT_NEAR(t.guide[0], 55 * (std::sqrt(1.6) - 1), 1e-12);
+  EXPECT_NEAR(t.loads.back(), 55 * (std::sqrt(3.0) - 1), 1e-12);
+  EXPECT_NEAR(t.guide_gap, 0.15 * 55, 1e-12);
+  EXPECT_EQ(t.guide_setting_steps, 4);
+  EXPECT_EQ(t.guide_tie_stiffness, 2.0);
+  EXPECT_NEAR(t.guide_taper, 0.15 * 55, 1e-12);
+  o.guide_gap = 0.6;
+  EXPECT_THROW(make_rig_test(o), InputError);
+}
+
+// Held width, wale pull: the knit's shrinkage loads the guide (THEORY §6), which it would not do if
+// the knit did not shrink. A guide that covered the whole edge up to the clips that follow it would
+// make the field homogeneous; the free stretch below the clips does not.
+TEST(Rig, HeldWidthLoadsTheGuideAndTheFieldIsNotHomogeneous) {
+  const ReferenceFabric law;
+  const TestModel t = make_rig_test(campaign_test(PullDirection::wale, 0.0, 0.65));
+  const SimulationResult r = simulate(t, law);
+  ASSERT_TRUE(r.usable()) << r.message;
+  const StepResult& last = r.steps.back();
+  // Course force per unit height on the guide against the wale force per unit width at the grip.
+  const double course_per_height = last.side_force / (2 * (55 - t.guide_gap - 0.5 * t.guide_taper));
+  EXPECT_GT(course_per_height, 0.3 * last.force_per_width);
+  record("held_width_course_over_wale_force", course_per_height / last.force_per_width);
+  const StrainSpread s = strain_spread(t, last.u);
+  EXPECT_GT(s.eC_spread(), 0.05);
+  record("held_width_eC_spread", s.eC_spread());
+  record("held_width_eW_spread", s.eW_spread());
+}
+
+// The campaign's harshest settings on the paper's 120 Q8 elements: widest transverse setting and
+// the full pull, both directions. No inversion, no cutback, quadratic Newton; fields recorded.
+TEST(Rig, HarshestCampaignTestsConvergeQuadraticallyOnThePapersMesh) {
+  const ReferenceFabric law;
+  for (const RigOptions& o : {campaign_test(PullDirection::course, 0.6, 1.0), campaign_test(PullDirection::wale, 0.75, 0.65)}) {
+    const TestModel t = make_rig_test(o);
+    const SimulationResult r = simulate(t, law);
+    ASSERT_TRUE(r.usable()) << r.message;
+    ASSERT_EQ(r.steps.size(), 21u);
+    RecordProperty("newton_residuals_" + o.name, expect_quadratic_newton(r, false));
+    // The same pull in 3 steps: long enough steps for Newton's order to show (the 21-step run's
+    // predictor leaves it two iterations).
+    RigOptions coarse = o;
+    coarse.steps = 3;
+    const SimulationResult r3 = simulate(make_rig_test(coarse), law);
+    ASSERT_TRUE(r3.usable()) << r3.message;
+    RecordProperty("newton_residuals_3_steps_" + o.name, expect_quadratic_newton(r3, true));
+    const StrainSpread s = strain_spread(t, r.steps.back().u);
+    EXPECT_GT(s.eC_spread(), 0.02) << o.name;
+    EXPECT_GT(s.eW_spread(), 0.02) << o.name;
+    record(o.name + "_eC_min", s.eC_min), record(o.name + "_eC_max", s.eC_max);
+    record(o.name + "_eW_min", s.eW_min), record(o.name + "_eW_max", s.eW_max);
+    record(o.name + "_centre_eC", s.eC_centre), record(o.name + "_centre_eW", s.eW_centre);
+  }
+}
+
+TEST(Rig, ATransverseSettingThatInvertsAnElementIsAStatusNamingTheTestAndTheSetting) {
+  RigOptions o = campaign_test(PullDirection::wale, 1.5, 0.3);
+  o.clips_follow_guide = false;  // clips at the initial width, guide at 1.45× it, a 1.4 mm gap
+  o.guide_gap = 0.025, o.guide_taper = 0;
+  const SimulationResult r = simulate(make_rig_test(o), ReferenceFabric());
+  EXPECT_FALSE(r.usable());
+  EXPECT_NE(r.message.find(o.name), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("transverse"), std::string::npos) << r.message;
+}
