@@ -31,7 +31,7 @@ void IcgnOptions::validate() const {
                 const char* problem = "out of range") { throw InputError(Location{"", 0, key}, problem, got, expected); };
   if (subset_size < 7 || subset_size > 301 || subset_size % 2 == 0)
     bad("dic.subset_size", std::to_string(subset_size), "an odd number of px from 7 to 301",
-        subset_size % 2 == 0 ? "must be odd" : "out of range");
+        subset_size >= 7 && subset_size <= 301 ? "must be odd" : "out of range");
   if (max_iterations < 1 || max_iterations > 1000) bad("dic.max_iterations", std::to_string(max_iterations), "1 to 1000");
   if (!(tolerance > 0) || !std::isfinite(tolerance)) bad("dic.tolerance", std::to_string(tolerance), "> 0 px");
   if (!(min_zncc >= 0 && min_zncc <= 1)) bad("dic.min_zncc", std::to_string(min_zncc), "0 to 1");

@@ -161,30 +161,55 @@ std::vector<ident::Parameter> build_parameters(const Node& root, const fem::Law&
   return out;
 }
 
-ident::IdentifyOptions build_options(const Node& s) {
+
+}  // namespace
+
+IdentifyTable IdentifyTable::from_config(const io::Node& s) {
+  IdentifyTable t;
+  t.origin = Origin(s);
+  t.epsilon = s.real("epsilon");
+  t.delta = s.real("delta");
+  t.function_tolerance = s.real("function_tolerance");
+  t.gradient_tolerance = s.real("gradient_tolerance");
+  t.max_iterations = static_cast<int>(s.integer("max_iterations"));
+  t.stability_test = s.boolean("stability_test");
+  t.stability_eta = s.real("stability_eta");
+  t.max_restarts = static_cast<int>(s.integer("max_restarts"));
+  t.jacobian = s.string("jacobian");
+  t.difference = s.string("difference");
+  t.fd_step = s.real("fd_step");
+  t.threads = static_cast<int>(s.integer("threads"));
+  t.initial_trust_region_radius = s.real("initial_trust_region_radius");
+  return t;
+}
+
+ident::IdentifyOptions IdentifyTable::options() const {
   ident::IdentifyOptions o;
-  o.epsilon = s.real("epsilon");
-  o.delta = s.real("delta");
-  o.function_tolerance = s.real("function_tolerance");
-  o.gradient_tolerance = s.real("gradient_tolerance");
-  o.max_iterations = static_cast<int>(s.integer("max_iterations"));
-  o.stability_test = s.boolean("stability_test");
-  o.stability_eta = s.real("stability_eta");
-  o.max_restarts = static_cast<int>(s.integer("max_restarts"));
-  o.jacobian = s.string("jacobian") == "exact" ? ident::JacobianMode::exact : ident::JacobianMode::finite_difference;
-  o.difference = s.string("difference") == "central" ? ident::Difference::central : ident::Difference::forward;
-  o.fd_step = s.real("fd_step");
-  o.threads = static_cast<int>(s.integer("threads"));
-  o.initial_trust_region_radius = s.real("initial_trust_region_radius");
+  o.epsilon = epsilon;
+  o.delta = delta;
+  o.function_tolerance = function_tolerance;
+  o.gradient_tolerance = gradient_tolerance;
+  o.max_iterations = max_iterations;
+  o.stability_test = stability_test;
+  o.stability_eta = stability_eta;
+  o.max_restarts = max_restarts;
+  if (jacobian != "exact" && jacobian != "finite_difference")
+    origin.fail("jacobian", "unknown Jacobian", "\"" + jacobian + "\"", "exact or finite_difference");
+  o.jacobian = jacobian == "exact" ? ident::JacobianMode::exact : ident::JacobianMode::finite_difference;
+  if (difference != "forward" && difference != "central")
+    origin.fail("difference", "unknown difference", "\"" + difference + "\"", "forward or central");
+  o.difference = difference == "central" ? ident::Difference::central : ident::Difference::forward;
+  o.fd_step = fd_step;
+  o.threads = threads;
+  o.initial_trust_region_radius = initial_trust_region_radius;
   try {
     o.validate();
   } catch (const InputError& e) {
-    rethrow_in(s, e);  // ident names the keys of [identify]
+    if (!origin.owns(e)) throw;
+    origin.rethrow(e);  // ident names the keys of [identify]
   }
   return o;
 }
-
-}  // namespace
 
 io::SectionSpec identify_schema() {
   io::SectionSpec root = case_schema();
@@ -212,7 +237,7 @@ Project build_project(const io::Node& root, const fs::path& base) {
     names.push_back(t.string("name"));
   }
   std::vector<ident::Parameter> parameters = build_parameters(root, *P.law);
-  P.options = build_options(root.section("identify"));
+  P.options = IdentifyTable::from_config(root.section("identify")).options();
 
   // The experiment.
   const Node& ex = root.section("experiment");

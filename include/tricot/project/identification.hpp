@@ -14,12 +14,37 @@
 #include "tricot/ident/identify.hpp"
 #include "tricot/ident/objective.hpp"
 #include "tricot/io/config.hpp"
+#include "tricot/project/spec.hpp"
 
 namespace tricot::project {
 
 /// The project file: the case sections ([mesh], [law], [solver], [[test]]) with [experiment],
 /// [[parameter]], [data] and [identify].
 io::SectionSpec identify_schema();
+
+/// [identify]: Levenberg–Marquardt and its stopping criteria, the keys of ident::IdentifyOptions
+/// (defaults and ranges there: IdentifyOptions::validate() names these keys).
+struct IdentifyTable {
+  double epsilon = ident::IdentifyOptions{}.epsilon;
+  double delta = ident::IdentifyOptions{}.delta;
+  double function_tolerance = ident::IdentifyOptions{}.function_tolerance;
+  double gradient_tolerance = ident::IdentifyOptions{}.gradient_tolerance;
+  int max_iterations = ident::IdentifyOptions{}.max_iterations;
+  bool stability_test = ident::IdentifyOptions{}.stability_test;
+  double stability_eta = ident::IdentifyOptions{}.stability_eta;
+  int max_restarts = ident::IdentifyOptions{}.max_restarts;
+  std::string jacobian = "exact";      ///< exact or finite_difference
+  std::string difference = "forward";  ///< forward or central
+  double fd_step = ident::IdentifyOptions{}.fd_step;
+  int threads = ident::IdentifyOptions{}.threads;
+  double initial_trust_region_radius = ident::IdentifyOptions{}.initial_trust_region_radius;
+  Origin origin{"identify"};
+
+  /// From the [identify] table of a file read with identify_schema().
+  static IdentifyTable from_config(const io::Node& table);
+  /// The engine's options, validated: an error names its key at its origin.
+  ident::IdentifyOptions options() const;
+};
 
 /// A project's model of its experiment, ready for ident::identify.
 struct Project {
