@@ -181,6 +181,9 @@ TEST(Sequence, PositionSigmaStartsAtZeroAndAccumulatesOverIncrements) {
       EXPECT_GE(r.frames[k].sigma[p](1), r.frames[k - 1].sigma[p](1));
     }
   ASSERT_EQ(r.increments.size(), 4u);
-  for (std::size_t p = 0; p < r.grid.size(); ++p)
-    if (r.increments[0].status[p] == PointStatus::ok) EXPECT_TRUE(r.increments[0].sigma[p].allFinite());
+  for (std::size_t p = 0; p < r.grid.size(); ++p) {
+    if (r.increments[0].status[p] == PointStatus::ok) {
+      EXPECT_TRUE(r.increments[0].sigma[p].allFinite());
+    }
+  }
 }
