@@ -122,7 +122,17 @@ TEST(SimulateExamples, BiaxialFabricReachesTheFullStrainRangeWithoutCutbacks) {
       ++ordered;
       EXPECT_GE(p, 1.8) << "step " << k + 1;
     }
-    EXPECT_GE(ordered, 1);
+    // With the shrinking knit (docs/theory/fabric.md) the predictor starts every step within ~1e-5 N,
+    // so Newton reaches round-off in two iterations and rarely leaves three residuals to measure an
+    // order from; the order on the paper's rig is measured in tests/fem/rig_test.cpp and
+    // rig_slow_test.cpp. Here every step ends at round-off within three iterations.
+    for (std::size_t k = 0; k < steps.rows.size(); ++k) {
+      int iterations = 0;
+      for (const auto& row : newton.rows)
+        if (row[newton.column("step")] == double(k + 1)) ++iterations;
+      EXPECT_LE(iterations, 4) << "step " << k + 1 << " (residuals at iterations 0..3)";
+    }
+    RecordProperty("steps_with_measurable_order", ordered);
   }
 
   if (!test::have_meshio()) GTEST_SKIP() << "python3 lacks meshio: VTU not read back";
