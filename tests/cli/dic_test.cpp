@@ -111,7 +111,7 @@ TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays)
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto rows = read_rows(out / "points.csv");
   ASSERT_FALSE(rows.empty());
-  EXPECT_EQ(first_line(out / "points.csv"), "frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy");
+  EXPECT_EQ(first_line(out / "points.csv"), "frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy,sigma_x,sigma_y");
   const std::size_t n = dic::make_grid(dic::Roi::rectangle(20, 20, 140, 100), kW, kH, 31, 20).size();
   ASSERT_EQ(rows.size(), 1 + 3 * n);
   for (std::size_t i = 1; i < rows.size(); ++i) {
@@ -267,7 +267,7 @@ TEST(CliDic, IncrementsAndSpecimenCoordinatesAreWrittenOnRequest) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto inc = read_rows(out / "increments.csv");
   ASSERT_GT(inc.size(), 1u);
-  EXPECT_EQ(first_line(out / "increments.csv"), "from,to,id,x,y,u,v,zncc,status");
+  EXPECT_EQ(first_line(out / "increments.csv"), "from,to,id,x,y,u,v,zncc,status,sigma_x,sigma_y");
   for (std::size_t i = 1; i < inc.size(); ++i) EXPECT_NEAR(std::stod(inc[i][5]), 1.5, kShiftTol);  // each step moves 1.5 px
   const auto sp = read_rows(out / "specimen.csv");
   EXPECT_EQ(sp[0][2], "X0");
