@@ -60,6 +60,8 @@ io::SectionSpec lab_schema() {
        key("exposure_s", 0.0, "Exposure of each image, s: the force is averaged over it (0 = the instant).", 0, 1e3),
        key("onset_fraction", 0.3, "Onset method: fit up to this fraction of the travel, (0, 1].", 1e-3, 1),
        key("force_degree", std::int64_t{3}, "Onset method: degree of the force–motion polynomial.", 1, 5),
+       key("crosshead_degree", std::int64_t{3},
+           "Cross-head method: degree of the cross-head–grip polynomial (1 = affine, Pearson's r).", 1, 4),
        key("tare_margin_s", 0.05, "Log samples this close before the motion are left out of the tare, s.", 0, 1e3)},
       {}});
   io::SectionSpec test{
@@ -484,6 +486,7 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     sync_options.exposure_s = so.real("exposure_s");
     sync_options.onset_fraction = so.real("onset_fraction");
     sync_options.force_degree = static_cast<int>(so.integer("force_degree"));
+    sync_options.crosshead_degree = static_cast<int>(so.integer("crosshead_degree"));
     sync_options.tare_margin_s = so.real("tare_margin_s");
     const lab::SyncResult sync = lab::synchronise(load, images, sync_options);
 
