@@ -296,6 +296,10 @@ std::string project_skeleton(const io::Node& root, const std::vector<LabTestResu
                      tests[i].name, t.string("model"), e.string("control"), loads);
   }
   s += fmt::format("[experiment]\ndir = \".\"\nfield_kind = \"{}\"\n", e.string("field_kind"));
+  double noise = 0;
+  for (const auto& t : tests) noise = std::max(noise, t.force_noise_N);
+  if (e.string("control") == "displacement" && noise > 0)
+    s += "sigma_edge_force = " + num(noise) + "   # N: the logs' largest spread at rest (sync.json force_noise_N)\n";
   if (e.real("sigma_edge_displacement") > 0) s += "sigma_edge_displacement = " + num(e.real("sigma_edge_displacement")) + "\n";
   return s;
 }
@@ -490,6 +494,16 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     sync_options.tare_margin_s = so.real("tare_margin_s");
     const lab::SyncResult sync = lab::synchronise(load, images, sync_options);
 
+    // The force's noise σ: the spread of the log at rest (the samples the tare averages).
+    double noise = 0;
+    {
+      const double until = std::isfinite(sync.motion_onset_log_s) ? sync.motion_onset_log_s - sync_options.tare_margin_s
+                                                                  : load.time.front() + 0.1 * (load.time.back() - load.time.front());
+      double s1 = 0, s2 = 0;
+      int n = 0;
+      for (std::size_t i = 0; i < load.time.size() && load.time[i] < until; ++i) s1 += load.force[i], s2 += load.force[i] * load.force[i], ++n;
+      if (n > 1) noise = std::sqrt(std::max(0.0, (s2 - s1 * s1 / n) / (n - 1)));
+    }
     std::vector<double> grip = images.grip;
     const std::string grip_source = e.string("grip");
     if (grip_source == "crosshead" && !load.has_crosshead())
@@ -503,7 +517,7 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     write_field(tdir / kFieldFile, field);
     write_sync_data(tdir, load, sync);
 
-    LabTestResult r{name, sync, static_cast<int>(steps.size()), static_cast<int>(field.point_ids.size()), field.outside, field.incomplete, {}};
+    LabTestResult r{name, sync, static_cast<int>(steps.size()), static_cast<int>(field.point_ids.size()), field.outside, field.incomplete, {}, noise};
     for (const auto& f : steps) r.loads.push_back(e.string("control") == "force" ? f.force_N : f.grip_mm);
     sync_json[name] = {{"clock_offset_s", sync.clock_offset_s},
                        {"method", lab::to_string(sync.method)},
@@ -511,6 +525,7 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
                        {"tare_given", sync.tare_given},
                        {"termination", sync.termination == lab::SyncTermination::found ? "found" : "at_search_limit"},
                        {"peak_correlation", sync.peak_correlation},
+                       {"force_noise_N", noise},
                        {"images", images.time.size()},
                        {"grip", load.has_crosshead() && grip_source != "field" ? "crosshead" : "field"},
                        {"points", field.point_ids.size()},

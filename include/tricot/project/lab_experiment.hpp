@@ -5,7 +5,9 @@
 //   DIR/<test>/forces.csv   step, time, load, edge_displacement, edge_force, force_per_width
 //   DIR/<test>/field.csv    step, id, x, y, u, v, sigma_u, sigma_v   (quarter model, mm)
 //   DIR/<test>/dic/         the DIC run's tables, when the experiment ran it
-//   DIR/sync.json           per test: clock_offset_s, method, tare_N, termination, peak correlation
+//   DIR/sync.json           per test: clock_offset_s, method, tare_N, termination, peak correlation,
+//                           force_noise_N (the log's spread at rest: written to project.toml as
+//                           sigma_edge_force for a single displacement-controlled test)
 //   DIR/sync.png            per test: the log's force against time, the image instants, the criterion
 //   DIR/project.toml        a skeleton for `tricot identify`: one [[test]] per test
 //
@@ -36,6 +38,7 @@ struct LabTestResult {
   int points = 0;
   int outside = 0, incomplete = 0;
   std::vector<double> loads;  ///< forces.csv's load column, step 1 first
+  double force_noise_N = 0;   ///< σ of the log's force at rest (sync.json force_noise_N)
 };
 
 struct LabExperimentResult {
