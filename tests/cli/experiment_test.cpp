@@ -36,6 +36,11 @@ constexpr double kForceSigmas = 4;
 constexpr double kImageNoise = 0.01;
 constexpr int kSize = 200;           // px
 constexpr double kMmPerPx = 0.25;    // 50 mm across the image
+// forces.csv writes 9 significant digits.
+constexpr double kCsvDigits = 1e-8;
+// points.csv writes positions to 1e-5 px: a DIC folder read back gives the grip proxy to ~1e-5 px,
+// hence the same δ and forces to ~1e-5 N.
+constexpr double kReadBackN = 1e-4;
 
 double fabric_force(double g) { return 1.5 * g + 0.03 * g * g * g; }
 
@@ -76,7 +81,7 @@ Lab make_lab(const std::string& name, synth::LabRecordOptions o = {}) {
 
 // A lab file for make_lab's record; `test_keys` are added to (or replace, being later) the test's keys.
 std::string lab_file(const std::string& test_keys = {}, const std::string& crosshead = "Traverse",
-                     const std::string& physical = "mm_per_px = 0.25") {
+                     const std::string& physical = "mm_per_px = 0.25", double width_mm = 40) {
   return fmt::format(R"([experiment]
 field_kind = "cumulative"
 plot = false
@@ -99,19 +104,19 @@ log = "load.txt"
 time_column = "Temps"
 force_column = "Force"
 crosshead_column = "{}"
-width_mm = 40.0
+width_mm = {}
 free_length_mm = 50.0
 {}
 )",
-                     physical, crosshead, test_keys);
+                     physical, crosshead, width_mm, test_keys);
 }
 
-struct Run {
+struct LabRun {
   test::CliRun cli;
   fs::path out;
 };
 
-Run experiment(const Lab& lab, const std::string& lab_text, const std::string& out_name = "out") {
+LabRun experiment(const Lab& lab, const std::string& lab_text, const std::string& out_name = "out") {
   const fs::path file = write_file(lab.dir / "lab.toml", lab_text);
   const fs::path out = lab.dir / out_name;
   return {run_tricot("experiment " + file.string() + " -o " + out.string() + " -q"), out};
@@ -127,7 +132,7 @@ const Lab& shared_lab() {
 
 TEST(Experiment, RecoversTheClockOffsetWithTheCrossheadAndGivesForcesWithinTheNoise) {
   const Lab& lab = shared_lab();
-  const Run r = experiment(lab, lab_file(), "with_crosshead");
+  const LabRun r = experiment(lab, lab_file(), "with_crosshead");
   ASSERT_EQ(r.cli.exit_code, 0) << r.cli.err;
   const auto j = read_json(r.out / "sync.json");
   EXPECT_EQ(j["pull"]["method"], "crosshead");
@@ -139,7 +144,7 @@ TEST(Experiment, RecoversTheClockOffsetWithTheCrossheadAndGivesForcesWithinTheNo
   for (std::size_t k = 0; k < f.rows.size(); ++k) {
     EXPECT_NEAR(f.rows[k][4], lab.record.force_true[k + 1], kForceSigmas * lab.record.force_noise_N) << "step " << k + 1;
     EXPECT_NEAR(f.rows[k][3], lab.record.grip_true[k + 1], 0.01) << "step " << k + 1;  // half the cross-head (σ 1 µm)
-    EXPECT_NEAR(f.rows[k][5], f.rows[k][4] / 40.0, 1e-9);
+    EXPECT_NEAR(f.rows[k][5], f.rows[k][4] / 40.0, kCsvDigits * std::abs(f.rows[k][5]) + 1e-300);
   }
   EXPECT_TRUE(fs::exists(r.out / "project.toml"));
   EXPECT_TRUE(fs::exists(r.out / "pull" / "dic" / "points.csv"));
@@ -147,7 +152,7 @@ TEST(Experiment, RecoversTheClockOffsetWithTheCrossheadAndGivesForcesWithinTheNo
 
 TEST(Experiment, RecoversTheClockOffsetWithoutACrossheadFromTheOnsetOfMotion) {
   const Lab& lab = shared_lab();
-  const Run r = experiment(lab, lab_file({}, ""), "without_crosshead");
+  const LabRun r = experiment(lab, lab_file({}, ""), "without_crosshead");
   ASSERT_EQ(r.cli.exit_code, 0) << r.cli.err;
   const auto j = read_json(r.out / "sync.json");
   EXPECT_EQ(j["pull"]["method"], "onset");
@@ -157,7 +162,7 @@ TEST(Experiment, RecoversTheClockOffsetWithoutACrossheadFromTheOnsetOfMotion) {
 
 TEST(Experiment, WritesTheFieldInTheQuarterModelWithTheDicSigma) {
   const Lab& lab = shared_lab();
-  const Run r = experiment(lab, lab_file(), "field");
+  const LabRun r = experiment(lab, lab_file(), "field");
   ASSERT_EQ(r.cli.exit_code, 0) << r.cli.err;
   const io::Table t = io::read_csv(r.out / "pull" / "field.csv");
   EXPECT_EQ(t.columns, (std::vector<std::string>{"step", "id", "x", "y", "u", "v", "sigma_u", "sigma_v"}));
@@ -182,24 +187,26 @@ TEST(Experiment, WritesTheFieldInTheQuarterModelWithTheDicSigma) {
 
 TEST(Experiment, ReusesATricotDicFolderAndWritesIncrementalFields) {
   const Lab& lab = shared_lab();
-  const Run first = experiment(lab, lab_file() + "\n", "dic_source");
+  const LabRun first = experiment(lab, lab_file() + "\n", "dic_source");
   ASSERT_EQ(first.cli.exit_code, 0) << first.cli.err;
   std::string text = lab_file("dic = \"dic_source/pull/dic\"");
   text.replace(text.find("images = \"images\"\n"), 18, "");
   text.replace(text.find("field_kind = \"cumulative\""), 25, "field_kind = \"incremental\"");
-  const Run r = experiment(lab, text, "from_dic");
+  const LabRun r = experiment(lab, text, "from_dic");
   // The first run did not write increments.csv (cumulative): the incremental kind says so.
   EXPECT_EQ(r.cli.exit_code, 2);
   EXPECT_NE(r.cli.err.find("increments"), std::string::npos) << r.cli.err;
   std::string cumulative = lab_file("dic = \"dic_source/pull/dic\"");
   cumulative.replace(cumulative.find("images = \"images\"\n"), 18, "");
-  const Run c = experiment(lab, cumulative, "from_dic");
+  const LabRun c = experiment(lab, cumulative, "from_dic");
   ASSERT_EQ(c.cli.exit_code, 0) << c.cli.err;
-  EXPECT_EQ(io::read_text(c.out / "pull" / "forces.csv"), io::read_text(first.out / "pull" / "forces.csv"));
+  const io::Table a = io::read_csv(c.out / "pull" / "forces.csv"), b = io::read_csv(first.out / "pull" / "forces.csv");
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  for (std::size_t k = 0; k < a.rows.size(); ++k) EXPECT_NEAR(a.rows[k][4], b.rows[k][4], kReadBackN) << "step " << k + 1;
 
   std::string inc = lab_file();
   inc.replace(inc.find("field_kind = \"cumulative\""), 25, "field_kind = \"incremental\"");
-  const Run i = experiment(lab, inc, "incremental");
+  const LabRun i = experiment(lab, inc, "incremental");
   ASSERT_EQ(i.cli.exit_code, 0) << i.cli.err;
   const io::Table t = io::read_csv(i.out / "pull" / "field.csv");
   // An increment between two images is a fraction of the cumulative displacement: v ≈ Δλy·Y.
@@ -222,7 +229,7 @@ TEST(Experiment, ReadsACsvLogWithUnitsInTheHeader) {
   for (auto [from, to] : {std::pair{"log = \"load.txt\"", "log = \"load.csv\""}, std::pair{"\"Temps\"", "\"time\""},
                           std::pair{"\"Force\"", "\"force\""}})
     text.replace(text.find(from), std::string(from).size(), to);
-  const Run r = experiment(lab, text, "csv");
+  const LabRun r = experiment(lab, text, "csv");
   ASSERT_EQ(r.cli.exit_code, 0) << r.cli.err;
   EXPECT_NEAR(read_json(r.out / "sync.json")["pull"]["clock_offset_s"].get<double>(), lab.options.clock_offset_s,
               kOffsetToleranceS);
@@ -331,14 +338,15 @@ TEST(ExperimentErrors, AScaleOfZeroIsNamed) {
 
 TEST(Experiment, CountsThePointsOutsideTheSpecimenInsteadOfDroppingThemSilently) {
   // A 16 mm wide specimen: the ROI's points beyond |X| = 8 mm lie outside it.
-  const Run r = experiment(shared_lab(), lab_file("width_mm = 16.0"), "outside");
+  const LabRun r = experiment(shared_lab(), lab_file({}, "Traverse", "mm_per_px = 0.25", 16), "outside");
   ASSERT_EQ(r.cli.exit_code, 0) << r.cli.err;
   const auto j = read_json(r.out / "sync.json");
   const int outside = j["pull"]["points_outside"].get<int>(), kept = j["pull"]["points"].get<int>();
-  // The ROI [52, 147]² at step 15 holds 7 × 7 centres at X = −11.4 … 11.4 mm (every 3.75 mm): the two
-  // outer columns of each side, 4 × 7 = 28 points, lie beyond 8 mm.
-  EXPECT_EQ(outside, 28);
-  EXPECT_EQ(kept, 21);
+  // The ROI [52, 147]² at step 15 holds 7 × 7 centres at x = 52, 67, …, 142 px, i.e. X = 0.25 (x − 99.5)
+  // = −11.875, −8.125, −4.375, −0.625, 3.125, 6.875, 10.625 mm: three columns, 3 × 7 = 21 points, lie
+  // beyond 8 mm; 28 are kept.
+  EXPECT_EQ(outside, 21);
+  EXPECT_EQ(kept, 28);
   EXPECT_NE(r.cli.out.find("outside"), std::string::npos) << r.cli.out;
 }
 
