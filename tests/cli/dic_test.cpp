@@ -116,7 +116,7 @@ TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays)
   ASSERT_EQ(rows.size(), 1 + 3 * n);
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const auto& c = rows[i];
-    ASSERT_EQ(c.size(), 13u) << i;
+    ASSERT_EQ(c.size(), 15u) << i;
     const int frame = std::stoi(c[0]);
     EXPECT_EQ(c[9], "ok") << i;
     const double u = std::stod(c[6]), v = std::stod(c[7]);
@@ -125,6 +125,10 @@ TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays)
     EXPECT_NEAR(std::stod(c[4]) - std::stod(c[2]), u, 1e-4);  // u = x − x0
     if (frame == 0) {
       EXPECT_EQ(c[8], "1.000000");
+      EXPECT_EQ(std::stod(c[13]), 0.0);  // the reference has no error
+    } else {
+      EXPECT_GT(std::stod(c[13]), 0.0) << i;  // IC-GN's σ of a matched point
+      EXPECT_GT(std::stod(c[14]), 0.0) << i;
     }
   }
   const auto frames = read_rows(out / "frames.csv");
