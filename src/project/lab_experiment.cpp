@@ -259,8 +259,9 @@ void plot_sync(const fs::path& out, const std::vector<LabTestResult>& tests, con
       script += "set title \"offset given\"\nunset key\nplot 0 notitle\n";
     else
       script += fmt::format(
-          "set title \"{0}: {1} criterion against the lag\"\nset xlabel \"lag δ (s)\"\nset ylabel \"{2}\"\n"
-          "set arrow 1 from {3},graph 0 to {3},graph 1 nohead dt 2\nplot {4} using 1:2 with lines lw 2 title \"criterion\"\nunset arrow 1\n",
+          "set title \"{0}: {1} criterion near its optimum\"\nset xlabel \"lag δ (s)\"\nset ylabel \"1 − |{2}|\"\n"
+          "set logscale y\nset xrange [{3} - 1:{3} + 1]\nset arrow 1 from {3},graph 0 to {3},graph 1 nohead dt 2\n"
+          "plot {4} using 1:(1 - abs($2) + 1e-12) with lines lw 2 title \"criterion\"\nunset arrow 1\nunset logscale y\nset xrange [*:*]\n",
           t.name, lab::to_string(t.sync.method), t.sync.method == lab::SyncMethod::crosshead ? "correlation r" : "R²",
           t.sync.clock_offset_s, io::gnuplot_quote(d / "sync_criterion.csv"));
   }
