@@ -84,8 +84,10 @@ io::SectionSpec lab_schema() {
        key("time_column", std::string("time"), "Its time column, s (names match ignoring case and units)."),
        key("force_column", std::string("force"), "Its force column, N."),
        key("crosshead_column", std::string(""), "Its cross-head column, mm; \"\" = none (onset synchronisation)."),
-       key("clock_offset_s", 0.0, "When given: the clock offset (log − camera), s, used as is."),
-       key("tare_N", 0.0, "When given: the force at rest, N, used as is."),
+       key("clock_offset_s", 0.0,
+           "When given: the clock offset (log − camera), s, used as is. Leave the key out to estimate it\n"
+           "(a --print-config file lists it: delete the line)."),
+       key("tare_N", 0.0, "When given: the force at rest, N, used as is. Leave the key out to estimate it."),
        key("width_mm", 50.0, "Specimen width (full), mm.", 1e-9, 1e6),
        key("free_length_mm", 200.0, "Free length between the clips (full), mm.", 1e-9, 1e6),
        key("direction", std::string("wale"), "Direction loaded: wale or course.", -1e300, 1e300, {"wale", "course"}),

@@ -69,7 +69,7 @@ RelaxRun run_relax(const RelaxSpec& spec, const fs::path& dir, const Log& log) {
                           int(m) == r.chosen_terms ? " (chosen by BIC)" : "");
   std::string why;
   if (!io::run_gnuplot(fmt::format("set terminal pngcairo size 900,600 font \",11\"\nset output {}\nset datafile separator \",\"\n"
-                                   "set title \"relaxation: {}\" noenhanced\nset xlabel \"time since the hold began (s)\"\n"
+                                   "set title \"{}\" noenhanced font \",9\"\nset xlabel \"time since the hold began (s)\"\n"
                                    "set ylabel \"force, tare removed (N)\"\nset key top right\n"
                                    "plot {} using 2:3 with points pt 7 ps 0.3 lc rgb \"#999999\" title \"log\"{}\n",
                                    io::gnuplot_quote(dir / "relax.png"), r.brief_report(), io::gnuplot_quote(dir / "relax.csv"), curves),
