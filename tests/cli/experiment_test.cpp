@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include "testing/cli.hpp"
@@ -124,9 +125,10 @@ LabRun experiment(const Lab& lab, const std::string& lab_text, const std::string
 
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(io::read_text(p)); }
 
-// One shared record (rendering and DIC take a few seconds): the happy paths read its outputs.
+// One record per process (rendering takes a second or two): the tests of a process share it, and its
+// folder is the process's own, since ctest -j runs each test in a process of its own, side by side.
 const Lab& shared_lab() {
-  static const Lab lab = make_lab("experiment_shared");
+  static const Lab lab = make_lab("experiment_shared_" + std::to_string(::getpid()));
   return lab;
 }
 
