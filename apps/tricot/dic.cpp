@@ -38,7 +38,7 @@ points, which survives strains above 100 %; reference correlates every image wit
 keeps the reference until the correlation drops, then moves it to the previous image.
 
 Writes:
-  DIR/points.csv    frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy: one row per point and frame.
+  DIR/points.csv    frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy,sigma_x,sigma_y: one row per point and frame.
                     px, x to the right and y down; (x0, y0) in the reference, (x, y) in the frame;
                     status `ok` or why not (no_texture, low_correlation, out_of_image, lost, ...);
                     Green-Lagrange strains. Cells without a value are empty.

@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "tricot 0.1.0");
   const std::vector<std::pair<std::string, cli::Runner>> verbs = {
       {"simulate", cli::add_simulate(app)}, {"identify", cli::add_identify(app)}, {"dic", cli::add_dic(app)},
-      {"synth", cli::add_synth(app)},       {"demo", cli::add_demo(app)}};
+      {"synth", cli::add_synth(app)},       {"demo", cli::add_demo(app)},
+      {"experiment", cli::add_experiment(app)}, {"relax", cli::add_relax(app)}};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -19,6 +19,8 @@ Runner add_identify(CLI::App& app);
 Runner add_dic(CLI::App& app);
 Runner add_synth(CLI::App& app);
 Runner add_demo(CLI::App& app);
+Runner add_experiment(CLI::App& app);
+Runner add_relax(CLI::App& app);
 
 /// Adds `--print-config` to a verb: prints the verb's fully commented default config and exits 0.
 void add_print_config(CLI::App* verb, std::function<io::SectionSpec()> schema);

@@ -59,6 +59,12 @@ void TestData::validate() const {
     };
     field(u, "u");
     field(v, "v");
+    if (sigma_u.size() > 0 || sigma_v.size() > 0) {
+      field(sigma_u, "sigma_u");
+      field(sigma_v, "sigma_v");
+      for (const auto* S : {&sigma_u, &sigma_v})
+        if (!(S->minCoeff() > 0)) fail(S == &sigma_u ? "sigma_u" : "sigma_v", "a per-point sigma must be > 0", format_number(S->minCoeff()), "> 0");
+    }
   }
   for (auto [s, f] : {std::pair{sigma.edge_displacement, "sigma.edge_displacement"},
                       std::pair{sigma.edge_force, "sigma.edge_force"}, std::pair{sigma.field, "sigma.field"}})

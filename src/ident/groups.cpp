@@ -48,6 +48,21 @@ const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, i
   return groups_.back();
 }
 
+const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, int test, const Eigen::VectorXd& y_exp,
+                                      double weight, const Eigen::VectorXd& sigma_per_value) {
+  const Location where{"", 0, "data." + name};
+  if (sigma_per_value.size() != y_exp.size())
+    throw InputError(where, "one sigma per value", std::to_string(sigma_per_value.size()), std::to_string(y_exp.size()));
+  for (Eigen::Index i = 0; i < sigma_per_value.size(); ++i)
+    if (!(sigma_per_value(i) > 0) || !std::isfinite(sigma_per_value(i)))
+      throw InputError(where, "sigma of value " + std::to_string(i) + " out of range", format_number(sigma_per_value(i)), "> 0");
+  const double rms = std::sqrt(sigma_per_value.squaredNorm() / double(sigma_per_value.size()));
+  add(name, kind, test, y_exp, weight, rms);
+  DataGroup& g = groups_.back();
+  factor_.segment(g.offset, g.size) = sigma_per_value.cwiseInverse() * std::sqrt(weight / g.size);
+  return g;
+}
+
 Eigen::VectorXd ScaledResiduals::residuals(const Eigen::VectorXd& y) const {
   return factor_.cwiseProduct(y - measured_);
 }

@@ -97,7 +97,16 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
     if (w.edge_force > 0 && !force_control && !d.edge_force.empty())
       data_.add(d.name + "/edge_force", GroupKind::edge_force, ti, to_vec(d.edge_force), w.edge_force,
                 d.sigma.edge_force);
-    if (w.field > 0 && d.has_field()) {
+    const bool per_point = d.sigma_u.size() > 0 && d.sigma_v.size() > 0;
+    if (w.field > 0 && d.has_field() && per_point) {  // the DIC's σ of every value (THEORY §8)
+      if (w.field_uv) {
+        data_.add(d.name + "/field_uv", GroupKind::field_uv, ti, detail::stack_uv(d.u, d.v), w.field,
+                  detail::stack_uv(d.sigma_u, d.sigma_v));
+      } else {
+        data_.add(d.name + "/field_u", GroupKind::field_u, ti, detail::stack(d.u), w.field, detail::stack(d.sigma_u));
+        data_.add(d.name + "/field_v", GroupKind::field_v, ti, detail::stack(d.v), w.field, detail::stack(d.sigma_v));
+      }
+    } else if (w.field > 0 && d.has_field()) {
       if (w.field_uv) {
         data_.add(d.name + "/field_uv", GroupKind::field_uv, ti, detail::stack_uv(d.u, d.v), w.field, d.sigma.field);
       } else {

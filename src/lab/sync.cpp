@@ -116,8 +116,10 @@ double pearson(const std::vector<double>& a, const std::vector<double>& b) {
   return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0;
 }
 
-/// Correlation of the grip motion with the log's cross-head shifted by δ, over the images the log covers.
-double crosshead_correlation(const LoadLog& log, const ImageTimes& images, double delta) {
+/// Correlation of the grip motion with the log's cross-head shifted by δ, over the images the log covers:
+/// Pearson's r (degree 1), or ±√R² of the least-squares polynomial c ≈ Σ_{j ≤ degree} a_j g^j (the sign of
+/// r), which absorbs a smooth nonlinear relation between the field's grip proxy and the cross-head.
+double crosshead_correlation(const LoadLog& log, const ImageTimes& images, double delta, int degree) {
   std::vector<double> g, c;
   for (std::size_t k = 0; k < images.time.size(); ++k) {
     const double t = images.time[k] + delta;
@@ -125,7 +127,21 @@ double crosshead_correlation(const LoadLog& log, const ImageTimes& images, doubl
     g.push_back(images.grip[k]);
     c.push_back(interpolate(log.time, log.crosshead, t));
   }
-  return g.size() >= 3 ? pearson(g, c) : 0;
+  if (g.size() < 3 || int(g.size()) < degree + 2) return 0;
+  const double r = pearson(g, c);
+  if (degree <= 1) return r;
+  double gmax = 0;
+  for (double v : g) gmax = std::max(gmax, std::abs(v));
+  if (!(gmax > 0)) return 0;
+  NormalEquations ne(degree + 1);
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    double phi[6], p = 1;
+    for (int j = 0; j <= degree; ++j, p *= g[k] / gmax) phi[j] = p;
+    ne.add(phi, c[k]);
+  }
+  const double total = ne.total();
+  if (!(total > 0)) return 0;
+  return std::copysign(std::sqrt(std::max(0.0, 1 - ne.solve() / total)), r);
 }
 
 std::vector<double> head(const std::vector<double>& v, std::size_t n) { return {v.begin(), v.begin() + long(n)}; }
@@ -253,6 +269,7 @@ void SyncOptions::validate() const {
   if (!(exposure_s >= 0) || !std::isfinite(exposure_s)) bad("sync.exposure_s", exposure_s, "≥ 0 s");
   if (!(onset_fraction > 0 && onset_fraction <= 1)) bad("sync.onset_fraction", onset_fraction, "in (0, 1]");
   if (!(force_degree >= 1 && force_degree <= 5)) bad("sync.force_degree", force_degree, "1 to 5");
+  if (!(crosshead_degree >= 1 && crosshead_degree <= 4)) bad("sync.crosshead_degree", crosshead_degree, "1 to 4");
   if (!(tare_margin_s >= 0) || !std::isfinite(tare_margin_s)) bad("sync.tare_margin_s", tare_margin_s, "≥ 0 s");
 }
 
@@ -308,15 +325,15 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
     std::size_t ib = 0;
     for (long i = -n; i <= n; ++i) {
       r.lag_s.push_back(double(i) * h);
-      r.correlation.push_back(crosshead_correlation(log, images, r.lag_s.back()));
+      r.correlation.push_back(crosshead_correlation(log, images, r.lag_s.back(), options.crosshead_degree));
       // |r|: a grip measured with the opposite sign to the cross-head correlates at −1
       if (std::abs(r.correlation.back()) > std::abs(r.correlation[ib])) ib = r.correlation.size() - 1;
     }
     const double lo = std::max(-options.max_offset_s, r.lag_s[ib] - h);
     const double hi = std::min(options.max_offset_s, r.lag_s[ib] + h);
     r.clock_offset_s =
-        golden_minimum([&](double d) { return -std::abs(crosshead_correlation(log, images, d)); }, lo, hi, 1e-6);
-    r.peak_correlation = crosshead_correlation(log, images, r.clock_offset_s);
+        golden_minimum([&](double d) { return -std::abs(crosshead_correlation(log, images, d, options.crosshead_degree)); }, lo, hi, 1e-6);
+    r.peak_correlation = crosshead_correlation(log, images, r.clock_offset_s, options.crosshead_degree);
     if (ib == 0 || ib + 1 == r.lag_s.size()) r.termination = SyncTermination::at_search_limit;
     r.message = "cross-head correlated with the grip motion";
   } else {

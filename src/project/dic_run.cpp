@@ -32,7 +32,7 @@ std::string overlay_name(int frame) { return fmt::format("frame_{:04d}.png", fra
 }  // namespace
 
 std::string points_csv(const dic::SequenceResult& r) {
-  std::string s = "frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy\n";
+  std::string s = "frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy,sigma_x,sigma_y\n";
   s.reserve(s.size() + r.frames.size() * r.grid.size() * 110);
   for (const dic::TrackedFrame& f : r.frames)
     for (std::size_t k = 0; k < r.grid.size(); ++k) {
@@ -40,11 +40,12 @@ std::string points_csv(const dic::SequenceResult& r) {
       const bool ok = f.status[k] == dic::PointStatus::ok;
       const Vec2 u = ok ? Vec2(x - X) : Vec2::Constant(std::nan(""));
       const dic::StrainPoint& e = f.strain[k];
-      fmt::format_to(std::back_inserter(s), "{},{},{},{},{},{},{},{},{},{},{},{},{}\n", f.frame, k, cell(X(0)),
+      const Vec2 sg = ok && k < f.sigma.size() ? f.sigma[k] : Vec2::Constant(std::nan(""));
+      fmt::format_to(std::back_inserter(s), "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", f.frame, k, cell(X(0)),
                      cell(X(1)), cell(ok ? x(0) : NAN), cell(ok ? x(1) : NAN), cell(u(0)), cell(u(1)),
                      cell(ok ? f.zncc[k] : NAN, "{:.6f}"), dic::to_string(f.status[k]),
                      cell(e.valid ? e.exx : NAN, "{:.7g}"), cell(e.valid ? e.eyy : NAN, "{:.7g}"),
-                     cell(e.valid ? e.exy : NAN, "{:.7g}"));
+                     cell(e.valid ? e.exy : NAN, "{:.7g}"), cell(sg(0), "{:.4g}"), cell(sg(1), "{:.4g}"));
     }
   return s;
 }
@@ -58,13 +59,14 @@ std::string frames_csv(const dic::SequenceResult& r, const std::vector<std::stri
 }
 
 std::string increments_csv(const dic::SequenceResult& r) {
-  std::string s = "from,to,id,x,y,u,v,zncc,status\n";
+  std::string s = "from,to,id,x,y,u,v,zncc,status,sigma_x,sigma_y\n";
   for (const dic::IncrementField& inc : r.increments)
     for (std::size_t k = 0; k < r.grid.size(); ++k) {
       const bool ok = inc.status[k] == dic::PointStatus::ok;
-      fmt::format_to(std::back_inserter(s), "{},{},{},{},{},{},{},{},{}\n", inc.from, inc.to, k, cell(r.grid[k].x(0)),
+      const Vec2 sg = ok && k < inc.sigma.size() ? inc.sigma[k] : Vec2::Constant(std::nan(""));
+      fmt::format_to(std::back_inserter(s), "{},{},{},{},{},{},{},{},{},{},{}\n", inc.from, inc.to, k, cell(r.grid[k].x(0)),
                      cell(r.grid[k].x(1)), cell(inc.u[k](0)), cell(inc.u[k](1)), cell(ok ? inc.zncc[k] : NAN, "{:.6f}"),
-                     dic::to_string(inc.status[k]));
+                     dic::to_string(inc.status[k]), cell(sg(0), "{:.4g}"), cell(sg(1), "{:.4g}"));
     }
   return s;
 }

@@ -114,6 +114,8 @@ void read_field(const fs::path& file, ident::TestData& d) {
   }
   d.u.setConstant(K, m, std::nan(""));
   d.v.setConstant(K, m, std::nan(""));
+  const auto su = find_column(t, "sigma_u"), sv = find_column(t, "sigma_v");  // tricot experiment's DIC σ
+  if (su && sv) d.sigma_u.setConstant(K, m, std::nan("")), d.sigma_v.setConstant(K, m, std::nan(""));
   std::vector<std::size_t> seen(static_cast<std::size_t>(K) * m, SIZE_MAX);
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     const int k = integer_cell(c, r, step);
@@ -133,6 +135,7 @@ void read_field(const fs::path& file, ident::TestData& d) {
                          num(t.rows[r][col]), num(d.points(axis, p)));
     d.u(k - 1, p) = t.rows[r][u];
     d.v(k - 1, p) = t.rows[r][v];
+    if (su && sv) d.sigma_u(k - 1, p) = t.rows[r][*su], d.sigma_v(k - 1, p) = t.rows[r][*sv];
   }
   for (int k = 0; k < K; ++k)
     for (int p = 0; p < m; ++p)

@@ -71,6 +71,11 @@ SectionSpec data_section() {
       key("edge_force", d.edge_force, "Grip force, ≥ 0; used for displacement-controlled tests only.", 0, 1e12),
       key("field", d.field, "Displacements u, v at the field points, ≥ 0.", 0, 1e12),
       key("field_uv", d.field_uv, "u and v in one group with one scale (false: a group each)."),
+      key("field_sigma", std::string("group"),
+          "σ of the field values. group: [experiment] sigma_field (or the RMS); per_point: the sigma_u,\n"
+          "sigma_v columns of field.csv (tricot experiment writes the DIC's σ), so that the covariance\n"
+          "reflects the DIC noise (THEORY §8).",
+          -kInf, kInf, {"group", "per_point"}),
   };
   return s;
 }
@@ -269,6 +274,13 @@ Project build_project(const io::Node& root, const fs::path& base) {
   }
 
   const Node& dn = root.section("data");
+  for (auto& d : experiment.tests)
+    if (dn.string("field_sigma") != "per_point") {
+      d.sigma_u.resize(0, 0), d.sigma_v.resize(0, 0);
+    } else if (d.has_field() && d.sigma_u.size() == 0) {
+      dn.fail("field_sigma", "field.csv of test '" + d.name + "' has no sigma_u, sigma_v columns", "\"per_point\"",
+              "a field.csv written by tricot experiment");
+    }
   ident::ObjectiveOptions oo;
   oo.weights.edge_displacement = dn.real("edge_displacement");
   oo.weights.edge_force = dn.real("edge_force");

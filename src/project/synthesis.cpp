@@ -14,6 +14,7 @@
 #include "tricot/ident/synthetic.hpp"
 #include "tricot/project/case_spec.hpp"
 #include "tricot/project/synth_images.hpp"
+#include "tricot/project/synth_lab.hpp"
 
 namespace tricot::project {
 
@@ -56,6 +57,7 @@ io::SectionSpec synth_section() {
       key("inset", 1.0, "Distance of the outermost points from the quarter's edges, mm, ≥ 0.", 0, 1e5),
   };
   s.sections.push_back(synth_images_section());  // [synth.images]
+  s.sections.push_back(synth_lab_section());     // [synth.lab]
   return s;
 }
 
@@ -209,6 +211,7 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
     if (with_images) {  // the speckle of test i is seeded with seed + i, like its noise
       const int frames = write_images(images, model, sim, truth.seed + i, dir / model.name, log);
       field += fmt::format("; {} images in {}", frames, (dir / model.name / kImagesFolder / "").string());
+      if (s.section("lab").boolean("enabled")) write_lab_record(s.section("lab"), sim, dir / model.name, truth.seed + i, log);
     }
     log.print(fmt::format("{}: {} steps on {} {} dofs in {}; last step {:.5g} N at {:.5g} mm; {}; {}", model.name,
                               d.steps(), tt.dofs, fem::to_string(tt.mesh.type), format_duration(sim.seconds),

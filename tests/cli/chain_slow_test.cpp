@@ -98,7 +98,7 @@ std::vector<Row> read_points(const fs::path& csv) {
   std::ifstream in(csv);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy");
+  EXPECT_EQ(line, "frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy,sigma_x,sigma_y");
   std::vector<Row> rows;
   while (std::getline(in, line)) {
     std::vector<std::string> c;

@@ -111,12 +111,12 @@ TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays)
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto rows = read_rows(out / "points.csv");
   ASSERT_FALSE(rows.empty());
-  EXPECT_EQ(first_line(out / "points.csv"), "frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy");
+  EXPECT_EQ(first_line(out / "points.csv"), "frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy,sigma_x,sigma_y");
   const std::size_t n = dic::make_grid(dic::Roi::rectangle(20, 20, 140, 100), kW, kH, 31, 20).size();
   ASSERT_EQ(rows.size(), 1 + 3 * n);
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const auto& c = rows[i];
-    ASSERT_EQ(c.size(), 13u) << i;
+    ASSERT_EQ(c.size(), 15u) << i;
     const int frame = std::stoi(c[0]);
     EXPECT_EQ(c[9], "ok") << i;
     const double u = std::stod(c[6]), v = std::stod(c[7]);
@@ -125,6 +125,10 @@ TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays)
     EXPECT_NEAR(std::stod(c[4]) - std::stod(c[2]), u, 1e-4);  // u = x − x0
     if (frame == 0) {
       EXPECT_EQ(c[8], "1.000000");
+      EXPECT_EQ(std::stod(c[13]), 0.0);  // the reference has no error
+    } else {
+      EXPECT_GT(std::stod(c[13]), 0.0) << i;  // IC-GN's σ of a matched point
+      EXPECT_GT(std::stod(c[14]), 0.0) << i;
     }
   }
   const auto frames = read_rows(out / "frames.csv");
@@ -267,7 +271,7 @@ TEST(CliDic, IncrementsAndSpecimenCoordinatesAreWrittenOnRequest) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto inc = read_rows(out / "increments.csv");
   ASSERT_GT(inc.size(), 1u);
-  EXPECT_EQ(first_line(out / "increments.csv"), "from,to,id,x,y,u,v,zncc,status");
+  EXPECT_EQ(first_line(out / "increments.csv"), "from,to,id,x,y,u,v,zncc,status,sigma_x,sigma_y");
   for (std::size_t i = 1; i < inc.size(); ++i) EXPECT_NEAR(std::stod(inc[i][5]), 1.5, kShiftTol);  // each step moves 1.5 px
   const auto sp = read_rows(out / "specimen.csv");
   EXPECT_EQ(sp[0][2], "X0");

@@ -40,6 +40,27 @@ TEST(ScaledResiduals, UsesAGivenSigmaAsTheScale) {
   EXPECT_DOUBLE_EQ(dy(2, 1), std::sqrt(3.0 / 4) / 0.5);
 }
 
+TEST(ScaledResiduals, APerValueSigmaScalesEachRowByItsOwnSigma) {
+  ScaledResiduals d;
+  const Eigen::Vector3d y_exp(1, 2, 3), sigma(0.1, 0.2, 0.4);
+  d.add("f", GroupKind::field_uv, 0, y_exp, 3.0, sigma);
+  Eigen::VectorXd y(3);
+  y << 1.1, 2.1, 3.1;
+  // f = ½ w/N Σ ((y − y_exp)/σ_i)² = ½ · 1 · (1 + 0.25 + 0.0625).
+  EXPECT_NEAR(0.5 * d.residuals(y).squaredNorm(), 0.5 * (1 + 0.25 + 0.0625), 1e-12);
+  EXPECT_TRUE(d.groups()[0].sigma);
+  EXPECT_NEAR(d.groups()[0].scale, std::sqrt((0.01 + 0.04 + 0.16) / 3), 1e-15);  // reported: RMS of σ
+  const Eigen::VectorXd var = d.sigma_variance();
+  ASSERT_EQ(var.size(), 3);
+  EXPECT_NEAR(var(2), 1.0, 1e-15);  // w/N: the covariance is a real one
+}
+
+TEST(ScaledResiduals, APerValueSigmaMustBePositiveAndOnePerValue) {
+  ScaledResiduals d;
+  EXPECT_THROW(d.add("f", GroupKind::field_u, 0, Eigen::Vector2d(1, 2), 1.0, Eigen::VectorXd(Eigen::Vector2d(0.1, 0.0))), InputError);
+  EXPECT_THROW(d.add("f", GroupKind::field_u, 0, Eigen::Vector2d(1, 2), 1.0, Eigen::VectorXd(Eigen::Vector3d(1, 1, 1))), InputError);
+}
+
 TEST(ScaledResiduals, AllZeroDataWithoutSigmaIsAnError) {
   ScaledResiduals d;
   try {

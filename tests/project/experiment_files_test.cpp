@@ -84,6 +84,21 @@ TEST(ExperimentFiles, FieldRowsMayComeInAnyOrder) {
   EXPECT_EQ(r.v(1, 1), 0.8);
 }
 
+TEST(ExperimentFiles, ReadsThePerPointSigmaOfTricotExperiment) {
+  const fs::path dir = folder_with_field("experiment_files_sigma", "step,id,x,y,u,v,sigma_u,sigma_v\n1,5,1,2,0.1,0.2,0.001,0.002\n"
+                                                                   "2,5,1,2,0.3,0.4,0.003,0.004\n");
+  const ident::TestData r = read_test_data(dir, "t", ident::FieldKind::cumulative);
+  ASSERT_EQ(r.sigma_u.rows(), 2);
+  EXPECT_EQ(r.sigma_u(0, 0), 0.001);
+  EXPECT_EQ(r.sigma_v(1, 0), 0.004);
+  EXPECT_NO_THROW(r.validate());
+}
+
+TEST(ExperimentFiles, AFieldWithoutSigmaColumnsHasNoPerPointSigma) {
+  const fs::path dir = folder_with_field("experiment_files_no_sigma", "step,id,x,y,u,v\n1,5,1,2,0.1,0.2\n2,5,1,2,0.3,0.4\n");
+  EXPECT_EQ(read_test_data(dir, "t", ident::FieldKind::cumulative).sigma_u.size(), 0);
+}
+
 TEST(ExperimentFiles, NanInTheFieldNamesFileLineAndColumn) {
   const fs::path dir = folder_with_field("experiment_files_nan", "step,id,x,y,u,v\n1,1,1,2,0.1,0.2\n2,1,1,2,nan,0.4\n");
   EXPECT_NE(error_of(dir).find("field.csv:3: u: not a finite number"), std::string::npos) << error_of(dir);

@@ -52,6 +52,9 @@ struct TestData {
   Eigen::MatrixXd u, v;
 
   Sigma sigma;
+  /// Per-point σ of u and v (mm), steps × points, as the DIC gives them (tricot experiment's field.csv);
+  /// both empty = σ.field for every value. When given they replace σ.field (THEORY §8).
+  Eigen::MatrixXd sigma_u, sigma_v;
 
   int steps() const { return static_cast<int>(loads.size()); }
   int point_count() const { return static_cast<int>(points.cols()); }

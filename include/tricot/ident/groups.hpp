@@ -38,6 +38,12 @@ class ScaledResiduals {
   const DataGroup& add(const std::string& name, GroupKind kind, int test, const Eigen::VectorXd& y_exp,
                        double weight = 1, double sigma = 0);
 
+  /// Appends a group whose every value has its own measurement σ (> 0, finite, one per value): the row
+  /// factor is √(w/N)/σ_i, so f stays a χ²/2 and the covariance a real one (THEORY §8). The group's
+  /// `scale` reports the RMS of the σ. Throws InputError (key `data.<name>`) as add() and for a σ ≤ 0.
+  const DataGroup& add(const std::string& name, GroupKind kind, int test, const Eigen::VectorXd& y_exp,
+                       double weight, const Eigen::VectorXd& sigma_per_value);
+
   const std::vector<DataGroup>& groups() const { return groups_; }
   int size() const { return static_cast<int>(measured_.size()); }
   /// y^exp, stacked in group order.

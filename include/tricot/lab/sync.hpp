@@ -2,8 +2,9 @@
 // that pictures are taken"). The two have their own clocks: an image taken at camera time t_k happened
 // at log time t_k + δ, δ = clock_offset_s. δ is estimated, never assumed zero:
 //   - crosshead: the log's cross-head displacement c(t) is cross-correlated with the grip displacement
-//     g_k that DIC measures: δ maximises |r|, r the Pearson correlation of g_k with c(t_k + δ) (an
-//     affine relation, so units, signs and the quarter model's factor ½ do not matter), on a grid of one log sample,
+//     g_k that DIC measures: δ maximises |r|, r the correlation of c(t_k + δ) with a polynomial in g_k
+//     of degree `crosshead_degree` (±√R²; for degree 1 Pearson's r of an affine relation: units, signs
+//     and the quarter model's factor ½ do not matter), on a grid of one log sample,
 //     then refined by golden-section search on the piecewise-linear interpolant (sub-sample δ);
 //   - onset: without a cross-head column, the onset of force in the log is matched with the onset of
 //     motion in the images. The images give the grip's motion as a constant-speed machine makes it:
@@ -76,6 +77,10 @@ struct SyncOptions {
   double onset_fraction = 0.3;
   /// onset method: degree of the polynomial force–motion relation, 1–5.
   int force_degree = 3;
+  /// crosshead method: degree of the polynomial relation of the cross-head to the grip motion DIC
+  /// measures, 1–4 (1 = affine, Pearson's r). 3 absorbs a grip proxy that is not proportional to the
+  /// cross-head (a field seen only at the specimen's centre, whose strain runs ahead of the grip's).
+  int crosshead_degree = 3;
   /// Log samples this close (s, ≥ 0) before the motion's onset are left out of the tare.
   double tare_margin_s = 0.05;
 

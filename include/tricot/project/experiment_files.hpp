@@ -33,7 +33,7 @@ inline constexpr const char* kTruthFile = "truth.json";
 void write_test_data(const std::filesystem::path& dir, const ident::TestData& d);
 
 /// Reads DIR/<name>/forces.csv and, when it exists, DIR/<name>/field.csv, the field being of `kind`.
-/// σ is left at 0. Throws FileError (exit 3) when the folder or forces.csv is missing, InputError
+/// σ is left at 0 (per-point sigma_u, sigma_v columns of field.csv, when present, are read). Throws FileError (exit 3) when the folder or forces.csv is missing, InputError
 /// with FILE:LINE: COLUMN for a bad cell (NaN included), a step out of order or out of range, a
 /// duplicate (step, id), a point missing at some step, or a point whose x, y change between steps.
 ident::TestData read_test_data(const std::filesystem::path& dir, const std::string& name, ident::FieldKind kind);

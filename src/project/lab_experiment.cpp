@@ -1,0 +1,553 @@
+// tricot experiment: a lab's raw files → an experiment folder (see lab_experiment.hpp).
+#include "tricot/project/lab_experiment.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "tricot/core/error.hpp"
+#include "tricot/image/image.hpp"
+#include "tricot/io/files.hpp"
+#include "tricot/io/log.hpp"
+#include "tricot/lab/specimen.hpp"
+#include "tricot/project/dic_run.hpp"
+#include "tricot/project/dic_spec.hpp"
+#include "tricot/project/experiment_files.hpp"
+
+namespace tricot::project {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+using io::key;
+
+io::SectionSpec lab_schema() {
+  io::SectionSpec root{"", "tricot experiment: a lab's raw files → an experiment folder for `tricot identify`.", false, {}, {}};
+  root.sections.push_back(io::SectionSpec{
+      "experiment",
+      "What the experiment folder holds.",
+      false,
+      {key("field_kind", std::string("cumulative"),
+           "field.csv: cumulative (material points tracked from image 0) or incremental (fixed points, "
+           "displacement since the previous image; THEORY §7).",
+           -1e300, 1e300, {"cumulative", "incremental"}),
+       key("control", std::string("displacement"),
+           "The FE load of each step in forces.csv: displacement (load = grip displacement of the quarter, mm) "
+           "or force (load = the full specimen's force, N).",
+           -1e300, 1e300, {"displacement", "force"}),
+       key("grip", std::string("auto"),
+           "The grip displacement: crosshead (half the synchronised cross-head travel), field (from the DIC "
+           "field, lab::grip_from_field) or auto (crosshead when the log has one).",
+           -1e300, 1e300, {"auto", "crosshead", "field"}),
+       key("plot", true, "Write DIR/sync.png (gnuplot)."),
+       key("sigma_edge_displacement", 0.0,
+           "Written to project.toml's [experiment] when > 0: the grip's σ, mm (half the cross-head's), so that\n"
+           "every group has a measurement σ and the covariance is a real one (THEORY §8).",
+           0, 1e6),
+       key("project_template", std::string(""),
+           "A TOML file with the project's [mesh], [law], [[parameter]], [data], [identify] (no [[test]], no\n"
+           "[experiment]): DIR/project.toml is it plus one [[test]] per test (loads from forces.csv) and\n"
+           "[experiment]. \"\" = a skeleton to edit.")},
+      {}});
+  root.sections.push_back(io::SectionSpec{
+      "sync",
+      "Load-cell synchronisation (lab::SyncOptions). Per test, clock_offset_s and tare_N override the estimates.",
+      false,
+      {key("max_offset_s", 10.0, "Search range of the clock offset, s: |δ| ≤ max_offset_s.", 1e-6, 1e6),
+       key("exposure_s", 0.0, "Exposure of each image, s: the force is averaged over it (0 = the instant).", 0, 1e3),
+       key("onset_fraction", 0.3, "Onset method: fit up to this fraction of the travel, (0, 1].", 1e-3, 1),
+       key("force_degree", std::int64_t{3}, "Onset method: degree of the force–motion polynomial.", 1, 5),
+       key("crosshead_degree", std::int64_t{3},
+           "Cross-head method: degree of the cross-head–grip polynomial (1 = affine, Pearson's r).", 1, 4),
+       key("tare_margin_s", 0.05, "Log samples this close before the motion are left out of the tare, s.", 0, 1e3)},
+      {}});
+  io::SectionSpec test{
+      "test",
+      "One test: its images (or a `tricot dic` output folder), its frame times, its load-cell log and its specimen.",
+      true,
+      {key("name", std::string("tension"), "Folder name of the test in DIR (and [[test]] name in project.toml)."),
+       key("images", std::string(""), "Folder of the numbered image sequence (.png, .tif, .bmp; image 0 unloaded)."),
+       key("dic", std::string(""), "Or: a `tricot dic` output folder to reuse (points.csv, frames.csv, increments.csv)."),
+       key("frame_times", std::string("camera_log"),
+           "Where frame times come from: camera_log (CSV of file and time), fps (fps and start_s) or "
+           "file_names (`img_0003_t1.500s.tif`).",
+           -1e300, 1e300, {"camera_log", "fps", "file_names"}),
+       key("camera_log", std::string(""), "The camera log (frame_times = camera_log)."),
+       key("camera_file_column", std::string("file"), "Its column of image file names."),
+       key("camera_time_column", std::string("time"), "Its column of times, s."),
+       key("fps", 0.0, "Frames per second (frame_times = fps), > 0.", 0, 1e6),
+       key("start_s", 0.0, "Camera time of image 0, s (frame_times = fps)."),
+       key("log", std::string(""), "The load-cell log (CSV or tab-separated; header lines, decimal comma, units)."),
+       key("time_column", std::string("time"), "Its time column, s (names match ignoring case and units)."),
+       key("force_column", std::string("force"), "Its force column, N."),
+       key("crosshead_column", std::string(""), "Its cross-head column, mm; \"\" = none (onset synchronisation)."),
+       key("clock_offset_s", 0.0,
+           "When given: the clock offset (log − camera), s, used as is. Leave the key out to estimate it\n"
+           "(a --print-config file lists it: delete the line)."),
+       key("tare_N", 0.0, "When given: the force at rest, N, used as is. Leave the key out to estimate it."),
+       key("width_mm", 50.0, "Specimen width (full), mm.", 1e-9, 1e6),
+       key("free_length_mm", 200.0, "Free length between the clips (full), mm.", 1e-9, 1e6),
+       key("direction", std::string("wale"), "Direction loaded: wale or course.", -1e300, 1e300, {"wale", "course"}),
+       key("guide_mm", 0.0, "Guide setting of a biaxial-induced test, mm (0 = free edges).", 0, 1e6),
+       key("tolerance_mm", 0.0, "DIC points up to this far beyond the outline count as inside, mm.", 0, 1e6),
+       key("model", std::string("kind = \"uniaxial\""),
+           "TOML lines added to this test's [[test]] in DIR/project.toml (kind, grip_holds_x, mesh, ...).")},
+      {}};
+  root.sections.push_back(test);
+  for (io::SectionSpec s : dic_schema().sections) {
+    if (s.name == "physical") {
+      s.help = "The camera: scale (mm_per_px, or two image points a known distance apart), specimen centre, axes.";
+      for (io::KeySpec& k : s.keys)
+        if (k.name == "mm_per_px") k.help = "Pixel size, mm/px; 0 = from scale_points and scale_distance_mm.";
+      s.keys.push_back(key("scale_points", io::Reals{}, "[x0, y0, x1, y1] px: two image points a known distance apart."));
+      s.keys.push_back(key("scale_distance_mm", 0.0, "Their distance, mm.", 0, 1e9));
+    }
+    root.sections.push_back(std::move(s));
+  }
+  return root;
+}
+
+namespace {
+
+std::string num(double v) { return fmt::format("{:.9g}", v); }
+
+fs::path resolve(const io::Node& n, const std::string& k) {
+  const fs::path p = n.string(k);
+  if (p.empty() || p.is_absolute()) return p;
+  return fs::path(n.file()).parent_path() / p;
+}
+
+bool is_image(const fs::path& p) {
+  std::string e = p.extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return e == ".png" || e == ".tif" || e == ".tiff" || e == ".bmp";
+}
+
+// The last run of digits in a file's stem, or −1.
+long frame_number(const fs::path& p) {
+  const std::string s = p.stem().string();
+  std::size_t end = s.find_last_of("0123456789");
+  if (end == std::string::npos) return -1;
+  std::size_t begin = end;
+  while (begin > 0 && std::isdigit(static_cast<unsigned char>(s[begin - 1]))) --begin;
+  if (end - begin > 9) return -1;
+  return std::stol(s.substr(begin, end - begin + 1));
+}
+
+// The pixel size from [physical]: mm_per_px, or two points a known distance apart. A scale of zero
+// is an error at its key.
+double camera_scale(const io::Node& physical) {
+  if (physical.given("mm_per_px") || !physical.given("scale_points")) {
+    const double s = physical.real("mm_per_px");
+    if (!(s > 0))
+      physical.fail("mm_per_px", "a scale of zero: the pixel size must be > 0 (or give scale_points and scale_distance_mm)",
+                    num(s), "mm_per_px > 0");
+    return s;
+  }
+  const io::Reals& p = physical.reals("scale_points");
+  if (p.size() != 4) physical.fail("scale_points", "two points are four numbers", std::to_string(p.size()) + " numbers", "[x0, y0, x1, y1]");
+  try {
+    return lab::scale_from_points({p[0], p[1]}, {p[2], p[3]}, physical.real("scale_distance_mm"));
+  } catch (const InputError& e) {
+    physical.fail(e.where().key.find("distance") != std::string::npos ? "scale_distance_mm" : "scale_points", e.problem());
+  }
+}
+
+// The camera's frame: the scale, the specimen centre (default the image centre) and the axes.
+dic::PhysicalFrame camera_frame(const io::Node& physical, int width, int height) {
+  dic::PhysicalFrame f;
+  f.mm_per_px = camera_scale(physical);
+  const io::Reals& c = physical.reals("centre_px");
+  if (c.empty())
+    f.centre_px = {0.5 * (width - 1), 0.5 * (height - 1)};
+  else if (c.size() == 2)
+    f.centre_px = {c[0], c[1]};
+  else
+    physical.fail("centre_px", "the centre is two numbers", std::to_string(c.size()) + " numbers", "[x, y] or []");
+  f.angle_deg = physical.real("angle_deg");
+  f.y_up = physical.boolean("y_up");
+  return f;
+}
+
+// Frame times (camera clock) of the images, by the test's source.
+std::vector<double> image_times(const io::Node& t, const std::vector<std::string>& names) {
+  const std::string source = t.string("frame_times");
+  std::vector<double> times;
+  if (source == "fps") {
+    if (!(t.real("fps") > 0)) t.fail("fps", "frame_times = \"fps\" needs a frame rate", num(t.real("fps")), "fps > 0");
+    return lab::frame_times(static_cast<int>(names.size()), t.real("fps"), t.real("start_s"));
+  }
+  if (source == "file_names") {
+    for (const auto& n : names) times.push_back(io::time_from_file_name(fs::path(n).filename().string()));
+  } else {
+    const fs::path log = resolve(t, "camera_log");
+    if (log.empty()) t.fail("camera_log", "frame_times = \"camera_log\" needs the camera log", "\"\"", "a CSV file of file and time");
+    const auto frames = io::read_camera_log(log, t.string("camera_file_column"), t.string("camera_time_column"));
+    std::map<std::string, double> by_name;
+    for (const auto& f : frames) by_name[fs::path(f.file).filename().string()] = f.time;
+    for (const auto& n : names) {
+      const auto it = by_name.find(fs::path(n).filename().string());
+      if (it == by_name.end())
+        throw InputError({log.string(), 0, t.string("camera_file_column")}, "no time for image " + fs::path(n).filename().string(),
+                         "", "a row for every image");
+      times.push_back(it->second);
+    }
+  }
+  for (std::size_t k = 1; k < times.size(); ++k)
+    if (!(times[k] > times[k - 1]))
+      throw InputError(t.where("frame_times"), "frame time goes backwards at " + fs::path(names[k]).filename().string(),
+                       num(times[k]) + " s after " + num(times[k - 1]) + " s", "increasing times");
+  return times;
+}
+
+lab::LoadLog load_log(const io::Node& t) {
+  const fs::path file = resolve(t, "log");
+  if (file.empty()) t.fail("log", "a test needs its load-cell log", "\"\"", "a CSV or tab-separated file");
+  const io::LogTable table = io::read_log(file);
+  lab::LoadLog log;
+  log.source = file.string();
+  log.time = table.times(t.string("time_column"));
+  log.force = table.numbers(t.string("force_column"));
+  if (!t.string("crosshead_column").empty()) log.crosshead = table.numbers(t.string("crosshead_column"));
+  return log;
+}
+
+void write_forces(const fs::path& file, const std::vector<lab::ForceStep>& steps, bool force_control) {
+  std::string s = "step,time,load,edge_displacement,edge_force,force_per_width\n";
+  for (const auto& f : steps)
+    s += fmt::format("{},{},{},{},{},{}\n", f.step, num(f.time_s), num(force_control ? f.force_N : f.grip_mm), num(f.grip_mm),
+                     num(f.force_N), num(f.force_per_width));
+  io::write_atomic(file, s);
+}
+
+void write_field(const fs::path& file, const lab::QuarterField& q) {
+  std::string s = "step,id,x,y,u,v,sigma_u,sigma_v\n";
+  for (Eigen::Index k = 0; k < q.u.rows(); ++k)
+    for (std::size_t p = 0; p < q.point_ids.size(); ++p) {
+      const auto a = static_cast<Eigen::Index>(p);
+      s += fmt::format("{},{},{},{},{},{},{},{}\n", k + 1, q.point_ids[p], num(q.X[p](0)), num(q.X[p](1)), num(q.u(k, a)),
+                       num(q.v(k, a)), num(q.sigma_u(k, a)), num(q.sigma_v(k, a)));
+    }
+  io::write_atomic(file, s);
+}
+
+void write_sync_data(const fs::path& dir, const lab::LoadLog& log, const lab::SyncResult& s) {
+  std::string a = "log_time,force\n";
+  for (std::size_t i = 0; i < log.time.size(); ++i) a += num(log.time[i]) + "," + num(log.force[i] - s.tare_N) + "\n";
+  io::write_atomic(dir / "sync_log.csv", a);
+  std::string b = "log_time,force\n";
+  for (std::size_t k = 0; k < s.log_time.size(); ++k) b += num(s.log_time[k]) + "," + num(s.force[k]) + "\n";
+  io::write_atomic(dir / "sync_images.csv", b);
+  std::string c = "lag_s,criterion\n";
+  for (std::size_t i = 0; i < s.lag_s.size(); ++i) c += num(s.lag_s[i]) + "," + num(s.correlation[i]) + "\n";
+  io::write_atomic(dir / "sync_criterion.csv", c);
+}
+
+void plot_sync(const fs::path& out, const std::vector<LabTestResult>& tests, const Log& log) {
+  std::string script = fmt::format("set terminal pngcairo size 1000,{} font \",10\"\nset output {}\nset datafile separator \",\"\n"
+                                   "set multiplot layout {},2\n",
+                                   380 * tests.size(), io::gnuplot_quote(out / "sync.png"), tests.size());
+  for (const auto& t : tests) {
+    const fs::path d = out / t.name;
+    script += fmt::format(
+        "set title \"{0}: force (tare removed) vs load-cell time; images at t_k + δ, δ = {1:.4f} s\"\nset xlabel \"log time (s)\"\n"
+        "set ylabel \"force (N)\"\nset key top left\n"
+        "plot {2} using 1:2 with lines lc rgb \"#888888\" title \"load cell\", {3} using 1:2 with points pt 7 ps 0.8 lc rgb \"#d62728\" title \"images\"\n",
+        t.name, t.sync.clock_offset_s, io::gnuplot_quote(d / "sync_log.csv"), io::gnuplot_quote(d / "sync_images.csv"));
+    if (t.sync.lag_s.empty())
+      script += "set title \"offset given\"\nunset key\nplot 0 notitle\n";
+    else
+      script += fmt::format(
+          "set title \"{0}: {1} criterion near its optimum\"\nset xlabel \"lag δ (s)\"\nset ylabel \"1 − |{2}|\"\n"
+          "set logscale y\nset xrange [{3} - 1:{3} + 1]\nset arrow 1 from {3},graph 0 to {3},graph 1 nohead dt 2\n"
+          "plot {4} using 1:(1 - abs($2) + 1e-12) with lines lw 2 title \"criterion\"\nunset arrow 1\nunset logscale y\nset xrange [*:*]\n",
+          t.name, lab::to_string(t.sync.method), t.sync.method == lab::SyncMethod::crosshead ? "correlation r" : "R²",
+          t.sync.clock_offset_s, io::gnuplot_quote(d / "sync_criterion.csv"));
+  }
+  script += "unset multiplot\n";
+  std::string why;
+  if (!io::run_gnuplot(script, &why)) log.print("  (no sync.png: " + why + ")");
+}
+
+std::string project_skeleton(const io::Node& root, const std::vector<LabTestResult>& tests, const fs::path& out) {
+  const io::Node& e = root.section("experiment");
+  std::string s = fmt::format("# Written by `tricot experiment` from {}; then\n#   tricot identify {} -o OUT\n\n", root.file(),
+                              (out / "project.toml").string());
+  const fs::path tpl = resolve(e, "project_template");
+  if (!tpl.empty()) {
+    s += io::read_text(tpl) + "\n";
+  } else {
+    const io::Node& t0 = root.array("test").front();
+    s += fmt::format("[mesh]   # the quarter of the full specimen: width and height are the full sizes\nwidth = {}\nheight = {}\n"
+                     "element = \"Q8\"\nnx = 10\nny = 34\n\n",
+                     num(t0.real("width_mm")), num(t0.real("free_length_mm")));
+    s += "[law]\ntype = \"mooney_rivlin\"   # choose the law\n\n[law.mooney_rivlin]\nterms = [\"C10\", \"C20\", \"C21\"]\n"
+         "values = [0.05, -0.01, 0.005]   # the start point\n\n";
+    s += fmt::format("[[parameter]]\nname = \"C10\"\n[[parameter]]\nname = \"C20\"\n[[parameter]]\nname = \"C21\"\n\n"
+                     "[data]\n{} = 1.0\nfield = 1.0\nfield_sigma = \"per_point\"   # the DIC's σ of every value (field.csv)\n\n",
+                     e.string("control") == "force" ? "edge_displacement" : "edge_force");
+  }
+  for (std::size_t i = 0; i < tests.size(); ++i) {
+    const io::Node& t = root.array("test")[i];
+    std::string loads;
+    for (std::size_t k = 0; k < tests[i].loads.size(); ++k) loads += (k ? ", " : "") + num(tests[i].loads[k]);
+    s += fmt::format("[[test]]   # {} direction{}\nname = \"{}\"\n{}\ncontrol = \"{}\"\nloads = [{}]   # forces.csv\n\n",
+                     t.string("direction"), t.real("guide_mm") > 0 ? fmt::format(", guide {} mm", num(t.real("guide_mm"))) : "",
+                     tests[i].name, t.string("model"), e.string("control"), loads);
+  }
+  s += fmt::format("[experiment]\ndir = \".\"\nfield_kind = \"{}\"\n", e.string("field_kind"));
+  double noise = 0;
+  for (const auto& t : tests) noise = std::max(noise, t.force_noise_N);
+  if (e.string("control") == "displacement" && noise > 0)
+    s += "sigma_edge_force = " + num(noise) + "   # N: the logs' largest spread at rest (sync.json force_noise_N)\n";
+  if (e.real("sigma_edge_displacement") > 0) s += "sigma_edge_displacement = " + num(e.real("sigma_edge_displacement")) + "\n";
+  return s;
+}
+
+}  // namespace
+
+std::vector<fs::path> list_images(const fs::path& folder) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) throw FileError({folder.string(), 0, ""}, "image folder not found");
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(folder, ec))
+    if (e.is_regular_file() && is_image(e.path())) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  if (files.size() < 3) throw FileError({folder.string(), 0, ""}, fmt::format("{} images: a sequence needs at least 3", files.size()));
+  for (std::size_t k = 1; k < files.size(); ++k) {
+    const long a = frame_number(files[k - 1]), b = frame_number(files[k]);
+    if (a >= 0 && b > a + 1)
+      throw FileError({(folder / files[k].filename()).string(), 0, ""},
+                      fmt::format("missing frame {}: the sequence jumps from {} to {}", a + 1, files[k - 1].filename().string(),
+                                  files[k].filename().string()));
+  }
+  return files;
+}
+
+dic::SequenceResult read_dic_folder(const fs::path& dir, std::vector<std::string>* images) {
+  const fs::path pf = dir / "points.csv";
+  {
+    std::error_code ec;
+    if (!fs::exists(pf, ec)) throw FileError({pf.string(), 0, ""}, "not a `tricot dic` output folder (no points.csv)");
+  }
+  const io::LogTable t = io::read_log(pf, io::LogFormat{',', false, 1});
+  const auto frame = t.numbers("frame"), id = t.numbers("id"), x0 = t.numbers("x0"), y0 = t.numbers("y0");
+  const auto status = t.text("status");
+  const auto col = [&](const char* c) {
+    std::vector<double> v(t.rows(), NAN);
+    if (!t.has_column(c)) return v;
+    const auto s = t.text(c);
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      try {
+        v[i] = s[i].empty() ? NAN : std::stod(s[i]);
+      } catch (...) {
+        v[i] = NAN;
+      }
+    }
+    return v;
+  };
+  const auto x = col("x"), y = col("y"), sx = col("sigma_x"), sy = col("sigma_y"), zn = col("zncc");
+  int frames = 0, points = 0;
+  for (std::size_t i = 0; i < t.rows(); ++i) frames = std::max(frames, int(frame[i]) + 1), points = std::max(points, int(id[i]) + 1);
+  dic::SequenceResult r;
+  r.grid.resize(std::size_t(points));
+  r.frames.resize(std::size_t(frames));
+  for (int f = 0; f < frames; ++f) {
+    auto& F = r.frames[std::size_t(f)];
+    F.frame = f;
+    F.x.assign(std::size_t(points), Vec2::Constant(NAN));
+    F.sigma.assign(std::size_t(points), Vec2::Constant(NAN));
+    F.zncc.assign(std::size_t(points), NAN);
+    F.status.assign(std::size_t(points), dic::PointStatus::not_computed);
+    F.strain.assign(std::size_t(points), dic::StrainPoint{});
+  }
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    const auto f = std::size_t(frame[i]), p = std::size_t(id[i]);
+    r.grid[p].x = {x0[i], y0[i]};
+    auto& F = r.frames[f];
+    F.x[p] = {x[i], y[i]};
+    F.sigma[p] = {sx[i], sy[i]};
+    F.zncc[p] = zn[i];
+    F.status[p] = status[i] == "ok" ? dic::PointStatus::ok : dic::PointStatus::lost;
+    if (F.status[p] == dic::PointStatus::ok) ++F.ok;
+  }
+  const fs::path inc = dir / "increments.csv";
+  std::error_code ec;
+  if (fs::exists(inc, ec)) {
+    const io::LogTable ti = io::read_log(inc, io::LogFormat{',', false, 1});
+    const auto from = ti.numbers("from"), to = ti.numbers("to"), iid = ti.numbers("id");
+    const auto st = ti.text("status");
+    const auto icol = [&](const char* c) {
+      std::vector<double> v(ti.rows(), NAN);
+      if (!ti.has_column(c)) return v;
+      const auto s = ti.text(c);
+      for (std::size_t i = 0; i < s.size(); ++i) {
+        try {
+          v[i] = s[i].empty() ? NAN : std::stod(s[i]);
+        } catch (...) {
+          v[i] = NAN;
+        }
+      }
+      return v;
+    };
+    const auto u = icol("u"), v = icol("v"), su = icol("sigma_x"), sv = icol("sigma_y");
+    r.increments.resize(std::size_t(std::max(0, frames - 1)));
+    for (int k = 0; k + 1 < frames; ++k) {
+      auto& I = r.increments[std::size_t(k)];
+      I.from = k, I.to = k + 1;
+      I.u.assign(std::size_t(points), Vec2::Constant(NAN));
+      I.sigma.assign(std::size_t(points), Vec2::Constant(NAN));
+      I.zncc.assign(std::size_t(points), NAN);
+      I.status.assign(std::size_t(points), dic::PointStatus::not_computed);
+    }
+    for (std::size_t i = 0; i < ti.rows(); ++i) {
+      const int k = int(to[i]) - 1;
+      if (k < 0 || k >= frames - 1 || int(from[i]) != k) continue;
+      auto& I = r.increments[std::size_t(k)];
+      const auto p = std::size_t(iid[i]);
+      I.u[p] = {u[i], v[i]};
+      I.sigma[p] = {su[i], sv[i]};
+      I.status[p] = st[i] == "ok" ? dic::PointStatus::ok : dic::PointStatus::lost;
+    }
+  }
+  if (images) {
+    const io::LogTable tf = io::read_log(dir / "frames.csv", io::LogFormat{',', false, 1});
+    *images = tf.text("image");
+  }
+  return r;
+}
+
+LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out, const Log& log) {
+  const io::Node& e = root.section("experiment");
+  const io::Node& so = root.section("sync");
+  const auto& tests = root.array("test");
+  if (tests.empty()) root.fail("test", "no [[test]] table", "", "one [[test]] per test");
+  const lab::FieldKind kind = e.string("field_kind") == "incremental" ? lab::FieldKind::incremental : lab::FieldKind::cumulative;
+  LabExperimentResult result;
+  json sync_json = json::object();
+  const auto t_start = std::chrono::steady_clock::now();
+  for (std::size_t ti = 0; ti < tests.size(); ++ti) {
+    const io::Node& t = tests[ti];
+    const std::string name = t.string("name");
+    const fs::path tdir = out / name;
+    fs::create_directories(tdir);
+    lab::SpecimenGeometry geometry{t.real("width_mm"), t.real("free_length_mm"), t.real("tolerance_mm")};
+
+    // The scale and the load-cell log first: a bad one fails before any DIC work.
+    camera_scale(root.section("physical"));
+    const lab::LoadLog load = load_log(t);
+    load.validate();
+
+    // The DIC sequence: run it, or read a `tricot dic` folder.
+    dic::SequenceResult seq;
+    std::vector<std::string> names;
+    int width = 0, height = 0;
+    if (!t.string("dic").empty()) {
+      const fs::path d = resolve(t, "dic");
+      seq = read_dic_folder(d, &names);
+      const fs::path first = fs::path(names.front()).is_absolute() ? fs::path(names.front()) : d / names.front();
+      std::error_code ec;
+      if (fs::exists(first, ec)) {
+        const image::LoadedImage ref = image::load_image(first);
+        width = ref.image.width, height = ref.image.height;
+      } else if (root.section("physical").reals("centre_px").empty()) {
+        t.fail("dic", "the reference image of the DIC folder is missing, so the specimen centre is unknown", first.string(),
+               "[physical] centre_px");
+      }
+    } else {
+      if (t.string("images").empty()) t.fail("images", "a test needs its images or a `tricot dic` folder", "\"\"", "images = FOLDER or dic = FOLDER");
+      const auto files = list_images(resolve(t, "images"));
+      for (const auto& f : files) names.push_back(f.string());
+      DicSpec spec = DicSpec::from_config(root, fs::path(root.file()).parent_path());
+      spec.output.increments = kind == lab::FieldKind::incremental;
+      spec.physical.mm_per_px = 0;
+      log.print(fmt::format("{}: DIC of {} images", name, names.size()));
+      DicRun run = run_dic(spec, names, tdir / "dic", log);
+      for (const auto& w : run.warnings) log.print("  " + w);
+      seq = std::move(run.result);
+      const image::LoadedImage ref = image::load_image(names.front());
+      width = ref.image.width, height = ref.image.height;
+    }
+    const dic::PhysicalFrame frame = camera_frame(root.section("physical"), width, height);
+
+    // Images: times and the grip motion the field shows.
+    lab::ImageTimes images;
+    images.names = names;
+    images.time = image_times(t, names);
+    if (images.time.size() != seq.frames.size())
+      t.fail("images", "the DIC holds another number of frames than the images", std::to_string(seq.frames.size()),
+             std::to_string(images.time.size()));
+    const lab::QuarterField cumulative = lab::fold_sequence(seq, frame, geometry, lab::FieldKind::cumulative);
+    if (cumulative.point_ids.empty())
+      t.fail("width_mm", "no DIC point lies inside the specimen and is measured in every image: " + cumulative.report);
+    images.grip = {0.0};  // image 0 is the unloaded reference; the field's steps are images 1..n−1
+    for (double g : lab::grip_from_field(cumulative, geometry)) images.grip.push_back(g);
+
+    lab::SyncOptions sync_options;
+    if (t.given("clock_offset_s")) sync_options.clock_offset_s = t.real("clock_offset_s");
+    if (t.given("tare_N")) sync_options.tare_N = t.real("tare_N");
+    sync_options.max_offset_s = so.real("max_offset_s");
+    sync_options.exposure_s = so.real("exposure_s");
+    sync_options.onset_fraction = so.real("onset_fraction");
+    sync_options.force_degree = static_cast<int>(so.integer("force_degree"));
+    sync_options.crosshead_degree = static_cast<int>(so.integer("crosshead_degree"));
+    sync_options.tare_margin_s = so.real("tare_margin_s");
+    const lab::SyncResult sync = lab::synchronise(load, images, sync_options);
+
+    // The force's noise σ: the spread of the log at rest (the samples the tare averages).
+    double noise = 0;
+    {
+      const double until = std::isfinite(sync.motion_onset_log_s) ? sync.motion_onset_log_s - sync_options.tare_margin_s
+                                                                  : load.time.front() + 0.1 * (load.time.back() - load.time.front());
+      double s1 = 0, s2 = 0;
+      int n = 0;
+      for (std::size_t i = 0; i < load.time.size() && load.time[i] < until; ++i) s1 += load.force[i], s2 += load.force[i] * load.force[i], ++n;
+      if (n > 1) noise = std::sqrt(std::max(0.0, (s2 - s1 * s1 / n) / (n - 1)));
+    }
+    std::vector<double> grip = images.grip;
+    const std::string grip_source = e.string("grip");
+    if (grip_source == "crosshead" && !load.has_crosshead())
+      e.fail("grip", "grip = \"crosshead\" but the test's log has no cross-head column", name, "crosshead_column set");
+    if (grip_source != "field" && load.has_crosshead())
+      for (std::size_t k = 0; k < grip.size(); ++k) grip[k] = 0.5 * sync.crosshead[k];
+    const auto steps = lab::force_steps(images, sync, grip, geometry.width_mm);
+    write_forces(tdir / kForcesFile, steps, e.string("control") == "force");
+
+    const lab::QuarterField field = kind == lab::FieldKind::cumulative ? cumulative : lab::fold_sequence(seq, frame, geometry, kind);
+    write_field(tdir / kFieldFile, field);
+    write_sync_data(tdir, load, sync);
+
+    LabTestResult r{name, sync, static_cast<int>(steps.size()), static_cast<int>(field.point_ids.size()), field.outside, field.incomplete, {}, noise};
+    for (const auto& f : steps) r.loads.push_back(e.string("control") == "force" ? f.force_N : f.grip_mm);
+    sync_json[name] = {{"clock_offset_s", sync.clock_offset_s},
+                       {"method", lab::to_string(sync.method)},
+                       {"tare_N", sync.tare_N},
+                       {"tare_given", sync.tare_given},
+                       {"termination", sync.termination == lab::SyncTermination::found ? "found" : "at_search_limit"},
+                       {"peak_correlation", sync.peak_correlation},
+                       {"force_noise_N", noise},
+                       {"images", images.time.size()},
+                       {"grip", load.has_crosshead() && grip_source != "field" ? "crosshead" : "field"},
+                       {"points", field.point_ids.size()},
+                       {"points_outside", field.outside},
+                       {"points_incomplete", field.incomplete}};
+    log.print(fmt::format("{}: {}", name, sync.brief_report()));
+    log.print(fmt::format("{}: {} steps, field {}: {}", name, steps.size(), e.string("field_kind"), field.report));
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    log.reporter().report({"experiment", ti + 1, tests.size(),
+                           fmt::format("test {} done, ETA {}", name,
+                                       format_duration(elapsed / double(ti + 1) * double(tests.size() - ti - 1)))});
+    result.tests.push_back(std::move(r));
+  }
+  io::write_atomic(out / "sync.json", sync_json.dump(2) + "\n");
+  if (e.boolean("plot")) plot_sync(out, result.tests, log);
+  io::write_atomic(out / "project.toml", project_skeleton(root, result.tests, out));
+  log.print(fmt::format("wrote {}: {} test(s), sync.json, {}project.toml", out.string(), result.tests.size(),
+                        e.boolean("plot") ? "sync.png, " : ""));
+  return result;
+}
+
+}  // namespace tricot::project
