@@ -69,6 +69,8 @@ table.data { border-top: 1.5px solid var(--ink); border-bottom: 1.5px solid var(
 table.data th { border-bottom: 1px solid var(--ink); font-weight: 600; padding: 3px 8px; text-align: right; vertical-align: bottom; }
 table.data td { padding: 2px 10px; text-align: right; border-bottom: 1px solid #eef1f4; white-space: nowrap; }
 table.data th.label, table.data td.label { text-align: left; }
+table.data.wide { font-size: 8.5pt; }
+table.data.wide th, table.data.wide td { padding-left: 4px; padding-right: 4px; }
 table.kv { border-top: 1.5px solid var(--ink); border-bottom: 1.5px solid var(--ink); width: 100%; }
 table.kv td { padding: 2px 8px; border-bottom: 1px solid #eef1f4; vertical-align: top; }
 table.kv td.key { color: var(--muted); width: 34%; }
@@ -152,7 +154,7 @@ void render(std::string& h, const Block& b, const fs::path& dir, Counters& n) {
     h += "</table>\n";
   } else if (const auto* t = std::get_if<NumericTable>(&b)) {
     const bool labels = !t->label_column.empty() || !t->labels.empty();
-    h += "<table class=\"data\">";
+    h += t->columns.size() > 7 ? "<table class=\"data wide\">" : "<table class=\"data\">";
     if (!t->caption.empty()) h += "<caption>" + caption_html("Table", ++n.table, t->caption) + "</caption>";
     h += "<thead><tr>";
     if (labels) h += "<th class=\"label\">" + escape_html(t->label_column) + "</th>";
@@ -173,7 +175,7 @@ void render(std::string& h, const Block& b, const fs::path& dir, Counters& n) {
     const auto size = png_size(bytes);
     ++n.figure;
     if (!size) {
-      h += fmt::format("<figure><div class=\"missing\">Figure not available: {} was not produced (is gnuplot installed?).</div>"
+      h += fmt::format("<figure><div class=\"missing\">Figure not available: {} was not drawn (plots turned off, or gnuplot missing).</div>"
                        "<figcaption>{}</figcaption></figure>\n",
                        escape_html(stored_path(f->file, dir)), caption_html("Figure", n.figure, f->caption));
       return;

@@ -94,7 +94,7 @@ TEST(ReportInBrowser, EveryFigureLoadsAndThePagePrintsToPdf) {
 
   // The screenshot, kept under the build tree for a reader to look at.
   const fs::path png = dir / "report.png";
-  const Shell shot = shell(browser(exe, dir) + " --window-size=1100,3000 --screenshot=" + png.string() + " file://" + html.string());
+  const Shell shot = shell(browser(exe, dir) + " --window-size=1100,4600 --screenshot=" + png.string() + " file://" + html.string());
   ASSERT_EQ(shot.status, 0) << shot.out;
   const std::string shot_bytes = io::read_text(png);
   EXPECT_EQ(shot_bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
