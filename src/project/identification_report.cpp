@@ -37,6 +37,12 @@ report::Document identification_report(const io::Node& root, const Project& P, c
                            o.residuals, objective.data().groups().size(), ident::to_string(r.jacobian),
                            r.converged() ? "converged" : "NOT converged");
 
+  d.summary = {{"termination", ident::to_string(r.termination)},
+               {"objective f", Value(r.objective, 4)},
+               {"LM iterations", r.iterations},
+               {"coefficients", fmt::format("{} from {} values", n, o.residuals)},
+               {"wall time", Value(wall_seconds, 3, "s")}};
+
   // Inputs and settings.
   {
     Section& s = d.section(kInputs);

@@ -49,6 +49,10 @@ header.title .kicker { font-size: 8.5pt; letter-spacing: .12em; text-transform: 
 header.title h1 { font-size: 19pt; margin: 3px 0 2px; font-weight: 600; }
 header.title .subtitle { color: var(--muted); font-size: 10pt; }
 header.title .stamp { color: var(--muted); font-size: 8.5pt; margin-top: 4px; }
+.summary { display: flex; gap: 8px; margin: 0 0 14px; }
+.summary div { flex: 1; border: 1px solid var(--rule); border-top: 3px solid var(--accent); padding: 5px 8px; }
+.summary .k { display: block; font-size: 7.5pt; text-transform: uppercase; letter-spacing: .06em; color: var(--muted); }
+.summary .v { display: block; font-size: 11pt; font-weight: 600; font-variant-numeric: tabular-nums; }
 nav.toc { background: var(--band); border: 1px solid var(--rule); padding: 6px 12px; margin-bottom: 16px;
           font-size: 9.5pt; columns: 2; column-gap: 24px; }
 nav.toc a { color: var(--ink); text-decoration: none; display: block; }
@@ -204,6 +208,36 @@ void render(std::string& h, const Block& b, const fs::path& dir, Counters& n) {
   }
 }
 
+double json_number(const json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
+
+json rows_json(const std::vector<std::pair<std::string, Value>>& rows) {
+  json out = json::array();
+  for (const auto& [k, v] : rows) {
+    json r = {{"key", k}};
+    if (v.is_number()) {
+      r["value"] = number_json(std::get<double>(v.v));
+      r["digits"] = v.digits;
+      if (!v.unit.empty()) r["unit"] = v.unit;
+    } else {
+      r["value"] = std::get<std::string>(v.v);
+    }
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::vector<std::pair<std::string, Value>> rows_from_json(const json& rows) {
+  std::vector<std::pair<std::string, Value>> out;
+  for (const auto& r : rows) {
+    const auto& v = r.at("value");
+    if (v.is_string())
+      out.emplace_back(r.at("key").get<std::string>(), Value(v.get<std::string>()));
+    else
+      out.emplace_back(r.at("key").get<std::string>(), Value(json_number(v), r.value("digits", 6), r.value("unit", "")));
+  }
+  return out;
+}
+
 json block_json(const Block& b, const fs::path& dir) {
   json j;
   if (const auto* p = std::get_if<Paragraph>(&b)) {
@@ -212,19 +246,7 @@ json block_json(const Block& b, const fs::path& dir) {
                                                           : "paragraph"},
          {"text", p->text}};
   } else if (const auto* t = std::get_if<KeyValueTable>(&b)) {
-    json rows = json::array();
-    for (const auto& [k, v] : t->rows) {
-      json r = {{"key", k}};
-      if (v.is_number()) {
-        r["value"] = number_json(std::get<double>(v.v));
-        r["digits"] = v.digits;
-        if (!v.unit.empty()) r["unit"] = v.unit;
-      } else {
-        r["value"] = std::get<std::string>(v.v);
-      }
-      rows.push_back(r);
-    }
-    j = {{"type", "key_value"}, {"caption", t->caption}, {"rows", rows}};
+    j = {{"type", "key_value"}, {"caption", t->caption}, {"rows", rows_json(t->rows)}};
   } else if (const auto* t = std::get_if<NumericTable>(&b)) {
     json rows = json::array();
     for (const auto& row : t->rows) {
@@ -256,8 +278,6 @@ json block_json(const Block& b, const fs::path& dir) {
   return j;
 }
 
-double json_number(const json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
-
 Block block_from_json(const json& j) {
   const std::string type = j.at("type").get<std::string>();
   if (type == "paragraph" || type == "note" || type == "callout")
@@ -265,15 +285,7 @@ Block block_from_json(const json& j) {
                                                       : type == "callout" ? Paragraph::Style::callout
                                                                           : Paragraph::Style::body};
   if (type == "key_value") {
-    KeyValueTable t{j.value("caption", ""), {}};
-    for (const auto& r : j.at("rows")) {
-      const auto& v = r.at("value");
-      if (v.is_string())
-        t.rows.emplace_back(r.at("key").get<std::string>(), Value(v.get<std::string>()));
-      else
-        t.rows.emplace_back(r.at("key").get<std::string>(), Value(json_number(v), r.value("digits", 6), r.value("unit", "")));
-    }
-    return t;
+    return KeyValueTable{j.value("caption", ""), rows_from_json(j.at("rows"))};
   }
   if (type == "table") {
     NumericTable t;
@@ -360,6 +372,13 @@ std::string to_html(const Document& doc, const fs::path& dir) {
   h += "<h1>" + escape_html(doc.title) + "</h1>";
   if (!doc.subtitle.empty()) h += "<div class=\"subtitle\">" + escape_html(doc.subtitle) + "</div>";
   h += "<div class=\"stamp\">Generated " + escape_html(utc_now()) + " · every number of this page is in report.json</div></header>\n";
+  if (!doc.summary.empty()) {
+    h += "<div class=\"summary\">";
+    for (const auto& [k, v] : doc.summary)
+      h += fmt::format("<div><span class=\"k\">{}</span><span class=\"v\">{}</span></div>", escape_html(k),
+                       escape_html(value_text(v)));
+    h += "</div>\n";
+  }
   if (sections.size() > 1) {
     h += "<nav class=\"toc\">";
     for (std::size_t i = 0; i < sections.size(); ++i)
@@ -386,6 +405,7 @@ std::string to_json(const Document& doc, const fs::path& dir) {
   j["title"] = doc.title;
   j["subtitle"] = doc.subtitle;
   j["generated"] = utc_now();
+  j["summary"] = rows_json(doc.summary);
   json sections = json::array();
   for (const Section* s : doc.ordered()) {
     json blocks = json::array();
@@ -402,6 +422,7 @@ Document read_json(const fs::path& file) {
     const json j = json::parse(io::read_text(file));
     d.title = j.value("title", "");
     d.subtitle = j.value("subtitle", "");
+    if (j.contains("summary")) d.summary = rows_from_json(j.at("summary"));
     for (const auto& s : j.at("sections")) {
       Section& sec = d.section(s.at("id").get<std::string>(), s.value("title", ""));
       for (const auto& b : s.at("blocks")) sec.blocks.push_back(block_from_json(b));

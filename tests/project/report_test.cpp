@@ -93,6 +93,7 @@ Document sample(const fs::path& dir) {
   io::write_atomic(dir / "plots" / "one.png", kOnePixelPng);
   Document d;
   d.title = "Law <A> & B";
+  d.summary = {{"f", Value(2.5e-13, 2)}, {"wall time", Value(1.5, 3, "s")}};
   d.section(kInputs).paragraph("x < y").table(KeyValueTable{"settings", {{"epsilon", Value(1.25e-12, 3)}, {"law", "mr"}}});
   NumericTable t{"coefficients", "name", {"value", "s.e."}, {"C10"}, {{0.123456789, std::nan("")}}, 4, {3, 2}};  // 3 digits in the first column
   d.section(kCoefficients).table(t);
@@ -108,6 +109,7 @@ TEST(Html, IsSelfContainedWithTheFigureEmbeddedAndTextEscaped) {
   const std::string h = to_html(sample(dir), dir);
   EXPECT_NE(h.find("<title>Law &lt;A&gt; &amp; B</title>"), std::string::npos);
   EXPECT_NE(h.find("<p>x &lt; y</p>"), std::string::npos);
+  EXPECT_NE(h.find("<span class=\"v\">1.5 s</span>"), std::string::npos);
   EXPECT_NE(h.find("src=\"data:image/png;base64," + base64(kOnePixelPng) + "\" width=\"1\" height=\"1\""),
             std::string::npos);
   EXPECT_NE(h.find("Figure not available: plots/absent.png"), std::string::npos);
@@ -124,6 +126,8 @@ TEST(Json, HoldsEveryNumberOfThePageAsANumber) {
   const fs::path dir = test::scratch_dir("report_json");
   const json j = json::parse(to_json(sample(dir), dir));
   ASSERT_EQ(j["sections"].size(), 4u);
+  EXPECT_EQ(j["summary"][0]["value"].get<double>(), 2.5e-13);
+  EXPECT_EQ(j["summary"][1]["unit"], "s");
   const json& inputs = j["sections"][0]["blocks"];
   EXPECT_EQ(inputs[0]["text"], "x < y");
   EXPECT_EQ(inputs[1]["rows"][0]["value"].get<double>(), 1.25e-12);
@@ -150,6 +154,7 @@ TEST(Json, ReadsBackToTheSamePageSoThatLaterPipelinesCanAddSections) {
   without.sections.erase(std::remove_if(without.sections.begin(), without.sections.end(),
                                         [](const Section& s) { return s.id == kTiming; }),
                          without.sections.end());
+  EXPECT_EQ(back.summary.size(), 2u);
   EXPECT_EQ(to_json(without, dir).substr(to_json(without, dir).find("\"sections\"")),
             to_json(d, dir).substr(to_json(d, dir).find("\"sections\"")));
   EXPECT_TRUE(fs::exists(dir / "report.html"));

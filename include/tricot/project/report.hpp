@@ -104,6 +104,8 @@ struct Section {
 struct Document {
   std::string title;
   std::string subtitle;
+  /// The key results, shown as a row of boxes under the title (termination, f, wall time, …).
+  std::vector<std::pair<std::string, Value>> summary;
   std::deque<Section> sections;  ///< a deque: the Section& that section() returns stays valid
 
   /// The section `id`, appended (titled `title`, or the id's default title) on first use.
