@@ -40,7 +40,7 @@ report::Document identification_report(const io::Node& root, const Project& P, c
   d.summary = {{"termination", ident::to_string(r.termination)},
                {"objective f", Value(r.objective, 4)},
                {"LM iterations", r.iterations},
-               {"coefficients", fmt::format("{} from {} values", n, o.residuals)},
+               {"coefficients / values", fmt::format("{} / {}", n, o.residuals)},
                {"wall time", Value(wall_seconds, 3, "s")}};
 
   // Inputs and settings.

@@ -50,6 +50,7 @@ header.title h1 { font-size: 19pt; margin: 3px 0 2px; font-weight: 600; }
 header.title .subtitle { color: var(--muted); font-size: 10pt; }
 header.title .stamp { color: var(--muted); font-size: 8.5pt; margin-top: 4px; }
 .summary { display: flex; gap: 8px; margin: 0 0 14px; }
+.summary div:first-child { flex: 1.8; }
 .summary div { flex: 1; border: 1px solid var(--rule); border-top: 3px solid var(--accent); padding: 5px 8px; }
 .summary .k { display: block; font-size: 7.5pt; text-transform: uppercase; letter-spacing: .06em; color: var(--muted); }
 .summary .v { display: block; font-size: 11pt; font-weight: 600; font-variant-numeric: tabular-nums; }
