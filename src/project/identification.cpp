@@ -57,9 +57,9 @@ IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& 
   if (outcome.result.termination != ident::Termination::fe_failure)
     write_fit(req.out, *objective, outcome.result, solver, req.plots, log);
   if (req.plots) plot_history(req.out, outcome, log);
+  if (req.print_summary) print_summary(outcome, req.out, log);
   write_identification_report(root, P, outcome, req.out,
                               std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
-  if (req.print_summary) print_summary(outcome, req.out, log);
   return outcome;
 }
 

@@ -4,7 +4,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <set>
+
+#include "json.hpp"
+#include "tricot/io/files.hpp"
 
 namespace tricot::project {
 
@@ -16,11 +22,59 @@ namespace {
 // covariance's (THEORY §8), as Ceres's and the paper's uncertainty analysis.
 constexpr double kZ95 = 1.959963984540054;
 
+// A plot this run drew (not one an earlier run left in DIR/plots): written after the run began.
+bool drawn_by_this_run(const fs::path& png, double wall_seconds) {
+  std::error_code ec;
+  const auto t = fs::last_write_time(png, ec);
+  if (ec) return false;
+  const auto began = fs::file_time_type::clock::now() -
+                     std::chrono::duration_cast<fs::file_time_type::duration>(std::chrono::duration<double>(wall_seconds));
+  return t >= began;
+}
+
 double at(const Eigen::VectorXd& v, std::size_t k) {
   return Eigen::Index(k) < v.size() ? v(Eigen::Index(k)) : std::nan("");
 }
 
 }  // namespace
+
+namespace report {
+
+bool add_eq9(Document& d, const fs::path& result_json) {
+  json result;
+  try {
+    result = json::parse(io::read_text(result_json));
+  } catch (const std::exception&) {
+    return false;  // the report shows what it can
+  }
+  if (!result.contains("eq9") || !result["eq9"].is_object()) return false;
+  const json& e = result["eq9"];
+  const auto num = [](const json& j, const char* key) {
+    return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : std::nan("");
+  };
+  // The paper's Tables 4 and 5 give the same two numbers per force (THEORY, paper §4.3).
+  NumericTable t{"Eq. 9 error of the identified surfaces over the whole and the practical strain range", "force",
+                 {"whole", "practical", "points (whole)", "points (practical)"}, {}, {}, 3, {3, 3, 4, 4}};
+  for (const char* f : {"course", "wale"}) {
+    if (!e.contains(f)) continue;
+    t.labels.push_back(f);
+    t.rows.push_back({num(e[f], "whole"), num(e[f], "practical"), num(e[f], "points_whole"), num(e[f], "points_practical")});
+  }
+  Section& s = d.section(kEq9);
+  s.table(std::move(t));
+  if (e.contains("practical") && e["practical"].is_object()) {
+    NumericTable p{"Practical strain domain", "strain", {"min", "max"}, {}, {}, 3, {}};
+    for (const auto& [k, v] : e["practical"].items())
+      if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number()) {
+        p.labels.push_back(k);
+        p.rows.push_back({v[0].get<double>(), v[1].get<double>()});
+      }
+    if (!p.rows.empty()) s.table(std::move(p));
+  }
+  return true;
+}
+
+}  // namespace report
 
 report::Document identification_report(const io::Node& root, const Project& P, const IdentifyOutcome& o,
                                        const fs::path& out, double wall_seconds) {
@@ -90,7 +144,10 @@ report::Document identification_report(const io::Node& root, const Project& P, c
   // LM history.
   {
     Section& s = d.section(kHistory);
-    s.figure(fs::path("plots") / "history.png",
+    if (!drawn_by_this_run(out / "plots" / "history.png", wall_seconds))
+      s.note("No plot of the history (plots turned off, or gnuplot missing): the steps are in history.csv and below.");
+    else
+      s.figure(fs::path("plots") / "history.png",
              fmt::format("Objective f (eq. 1, log scale) and each coefficient over the {} per LM iteration.",
                          o.truth ? "truth" : "identified value"));
     NumericTable h{"Accepted LM steps", "iteration", {"f"}, {}, {}, 5, {}};
@@ -174,15 +231,37 @@ report::Document identification_report(const io::Node& root, const Project& P, c
 
   // Fits.
   {
-    bool any = false;
     for (const auto& m : P.models) {
       const fs::path png = fs::path("plots") / ("fit_" + m.name + ".png");  // relative to the report
-      if (!fs::exists(out / png)) continue;
+      if (!drawn_by_this_run(out / png, wall_seconds)) continue;
       d.section(kFit).figure(png, fmt::format("Test {}: measured grip response and the identified model's.", m.name));
-      any = true;
     }
-    if (!any && r.termination != ident::Termination::fe_failure && fs::exists(out / "plots"))
-      d.section(kFit).note("No edge data to plot (the fits are in fit_<test>.csv).");
+  }
+
+  // Eq. 9: result.json's "eq9" when the pipeline wrote one.
+  report::add_eq9(d, out / "result.json");
+
+  // Every other plot of DIR/plots (response surfaces, error maps, what later stages draw), by name.
+  {
+    std::set<fs::path> shown;
+    for (const auto& sec : d.sections)
+      for (const auto& b : sec.blocks)
+        if (const auto* f = std::get_if<Figure>(&b)) shown.insert(f->file.lexically_normal());
+    std::vector<fs::path> rest;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(out / "plots", ec))
+      if (entry.path().extension() == ".png" && drawn_by_this_run(entry.path(), wall_seconds) &&
+          !shown.count((fs::path("plots") / entry.path().filename()).lexically_normal()))
+        rest.push_back(fs::path("plots") / entry.path().filename());
+    std::sort(rest.begin(), rest.end());
+    for (const auto& png : rest) {
+      const std::string stem = png.stem().string();
+      const bool surface = stem.rfind("eq9", 0) == 0 || stem.find("surface") != std::string::npos;
+      d.section(surface ? kSurfaces : "figures", surface ? "Response surfaces and eq. 9 error maps" : "Other figures")
+          .figure(png, surface ? fmt::format("{}: identified response surface with the experimental points ({}).", stem,
+                                             png.filename().string())
+                               : png.filename().string());
+    }
   }
 
   // Wall time.

@@ -11,6 +11,7 @@
 #include "testing/experiment_case.hpp"
 #include "testing/paths.hpp"
 #include "tricot/io/files.hpp"
+#include "tricot/project/report.hpp"
 
 namespace tricot::project {
 namespace {
@@ -41,7 +42,13 @@ TEST(IdentificationReport, HoldsTheNumbersOfResultJsonAndTheSectionsInOrder) {
   auto r = test::run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "exp").string() + " -q");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   test::write_file(dir / "project.toml", test::small_project("exp"));
-  r = test::run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " -q --no-plots");
+  // A run with plots, then one without into the same folder: the second report must not show the
+  // first run's plots.
+  const std::string identify = "identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " -q";
+  r = test::run_tricot(identify);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_NE(io::read_text(dir / "out" / "report.html").find("<img"), std::string::npos);
+  r = test::run_tricot(identify + " --no-plots");
   ASSERT_EQ(r.exit_code, 0) << r.err;
 
   const json result = json::parse(io::read_text(dir / "out" / "result.json"));
@@ -77,11 +84,38 @@ TEST(IdentificationReport, HoldsTheNumbersOfResultJsonAndTheSectionsInOrder) {
       EXPECT_EQ(row["value"].get<double>(), result["iterations"].get<double>());
     }
   EXPECT_TRUE(f_found);
-  // Without plots the figures are notes, and the page still references no other file.
-  EXPECT_TRUE(block(section(report, "history"), "figure")["missing"].get<bool>());
+  // Without plots the history figure is a note, and the page references no other file.
+  EXPECT_NE(block(section(report, "history"), "note")["text"].get<std::string>().find("No plot"), std::string::npos);
   const std::string html = io::read_text(dir / "out" / "report.html");
   EXPECT_EQ(html.find("<img"), std::string::npos);
   EXPECT_EQ(html.find("http"), std::string::npos);
+}
+
+TEST(AddEq9, TabulatesResultJsonsEq9PerForceWithThePracticalDomain) {
+  const fs::path dir = test::scratch_dir("report_eq9_" + std::to_string(::getpid()));
+  // The shape campaign's identify writes (DESIGN.md "eq9"); wale has no practical point (null).
+  test::write_file(dir / "result.json", R"({"eq9": {
+    "course": {"whole": 0.244, "practical": 0.055, "points_whole": 60, "points_practical": 7},
+    "wale": {"whole": 0.774, "practical": null, "points_whole": 60, "points_practical": 0},
+    "practical": {"course": [0.0, 0.3], "wale": [-0.05, 0.2]}}})");
+  report::Document d;
+  ASSERT_TRUE(report::add_eq9(d, dir / "result.json"));
+  ASSERT_EQ(d.sections.size(), 1u);
+  ASSERT_EQ(d.sections[0].id, report::kEq9);
+  const auto& t = std::get<report::NumericTable>(d.sections[0].blocks[0]);
+  EXPECT_EQ(t.labels, (std::vector<std::string>{"course", "wale"}));
+  EXPECT_EQ(t.rows[0], (std::vector<double>{0.244, 0.055, 60, 7}));
+  EXPECT_EQ(t.rows[1][0], 0.774);
+  EXPECT_TRUE(std::isnan(t.rows[1][1]));
+  const auto& p = std::get<report::NumericTable>(d.sections[0].blocks[1]);
+  EXPECT_EQ(p.labels, (std::vector<std::string>{"course", "wale"}));
+  EXPECT_EQ(p.rows[1], (std::vector<double>{-0.05, 0.2}));
+  // No eq9 (a Mooney–Rivlin run), or no file: nothing added.
+  test::write_file(dir / "plain.json", R"({"parameters": {"C10": 0.1}})");
+  report::Document none;
+  EXPECT_FALSE(report::add_eq9(none, dir / "plain.json"));
+  EXPECT_FALSE(report::add_eq9(none, dir / "absent.json"));
+  EXPECT_TRUE(none.sections.empty());
 }
 
 }  // namespace
