@@ -65,8 +65,9 @@ coefficients to identify, which data to compare, and how LM stops:
 Outputs in DIR: result.json (parameters, std_error, correlation, objective, iterations, evaluations,
 termination, message, wall_seconds, jacobian, and condition_number, least_identifiable, start,
 restarts, truth and relative_error for a synthetic experiment), history.csv (iteration, objective,
-one column per coefficient), fit_<test>.csv, plots/history.png, plots/fit_<test>.png, and
-checkpoint.json, rewritten after every accepted LM step: `--resume` continues a killed run from it
+one column per coefficient), fit_<test>.csv, plots/history.png, plots/fit_<test>.png,
+report.html (the lab report: one self-contained page, figures embedded, prints to A4 PDF) with
+report.json (every number in it), and checkpoint.json, rewritten after every accepted LM step: `--resume` continues a killed run from it
 and reaches the same answer.
 
 Examples:

@@ -4,9 +4,11 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <csignal>
 
 #include "identification_outputs.hpp"
+#include "identification_report.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/project/checkpoint.hpp"
 
@@ -15,6 +17,7 @@ namespace tricot::project {
 namespace fs = std::filesystem;
 
 IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& req, const Log& log) {
+  const auto started = std::chrono::steady_clock::now();
   Project P = build_project(root, req.base);
   const auto& law = P.law;
   const auto& models = P.models;
@@ -55,6 +58,8 @@ IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& 
     write_fit(req.out, *objective, outcome.result, solver, req.plots, log);
   if (req.plots) plot_history(req.out, outcome, log);
   if (req.print_summary) print_summary(outcome, req.out, log);
+  write_identification_report(root, P, outcome, req.out,
+                              std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   return outcome;
 }
 
