@@ -182,5 +182,7 @@ TEST(Sequence, PositionSigmaStartsAtZeroAndAccumulatesOverIncrements) {
     }
   ASSERT_EQ(r.increments.size(), 4u);
   for (std::size_t p = 0; p < r.grid.size(); ++p)
-    if (r.increments[0].status[p] == PointStatus::ok) EXPECT_TRUE(r.increments[0].sigma[p].allFinite());
+    if (r.increments[0].status[p] == PointStatus::ok) {
+      EXPECT_TRUE(r.increments[0].sigma[p].allFinite());
+    }
 }
