@@ -14,24 +14,27 @@ namespace tricot::fem {
 const char* to_string(PullDirection d) { return d == PullDirection::wale ? "wale" : "course"; }
 
 void RigOptions::validate() const {
-  auto bad = [&](const char* key, double got, const std::string& expected) {
-    throw InputError(Location{"", 0, std::string("rig.") + key}, "test '" + name + "': out of range",
-                     format_number(got), expected);
+  // Each option is named by the case file's key: a test's own keys under `test.`, the mesh's under
+  // `mesh.` (grading_y is [mesh] grading), the fixture's under `rig.`.
+  auto bad = [&](const std::string& key, double got, const std::string& expected) {
+    throw InputError(Location{"", 0, key}, "test '" + name + "': out of range", format_number(got), expected);
   };
-  if (!(side > 0) || !std::isfinite(side)) bad("side", side, "> 0 mm");
-  if (!(transverse_strain >= -0.4) || !std::isfinite(transverse_strain)) bad("transverse_strain", transverse_strain, ">= -0.4");
-  if (!(pull_strain > 0) || !std::isfinite(pull_strain)) bad("pull_strain", pull_strain, "> 0");
-  if (steps < 1 || steps > 1000) bad("steps", steps, "1 to 1000");
-  if (nx < 1 || nx > 2000) bad("nx", nx, "1 to 2000");
-  if (ny < 1 || ny > 2000) bad("ny", ny, "1 to 2000");
-  if (!(grading_x > 0) || !std::isfinite(grading_x)) bad("grading_x", grading_x, "> 0");
-  if (!(grading_y > 0) || !std::isfinite(grading_y)) bad("grading_y", grading_y, "> 0");
-  if (!(guide_gap >= 0 && guide_gap < 0.5)) bad("guide_gap", guide_gap, "[0, 0.5)");
-  if (!(tie_stiffness > 0) || !std::isfinite(tie_stiffness)) bad("tie_stiffness", tie_stiffness, "> 0 N/mm per mm");
-  if (!(guide_taper >= 0 && guide_taper + guide_gap < 1)) bad("guide_taper", guide_taper, "[0, 1 - guide_gap)");
-  if (!(clip_tie_stiffness > 0) || !std::isfinite(clip_tie_stiffness)) bad("clip_tie_stiffness", clip_tie_stiffness, "> 0 N/mm per mm");
-  if (!(clip_taper >= 0 && clip_taper < 1)) bad("clip_taper", clip_taper, "[0, 1)");
-  if (setting_steps < 1 || setting_steps > 1000) bad("setting_steps", setting_steps, "1 to 1000");
+  if (!(side > 0) || !std::isfinite(side)) bad("test.side", side, "> 0 mm");
+  if (!(transverse_strain >= -0.4) || !std::isfinite(transverse_strain))
+    bad("test.transverse_strain", transverse_strain, ">= -0.4");
+  if (!(pull_strain > 0) || !std::isfinite(pull_strain)) bad("test.pull_strain", pull_strain, "> 0");
+  if (steps < 1 || steps > 1000) bad("test.steps", steps, "1 to 1000");
+  if (nx < 1 || nx > 2000) bad("mesh.nx", nx, "1 to 2000");
+  if (ny < 1 || ny > 2000) bad("mesh.ny", ny, "1 to 2000");
+  if (!(grading_x > 0) || !std::isfinite(grading_x)) bad("mesh.grading_x", grading_x, "> 0");
+  if (!(grading_y > 0) || !std::isfinite(grading_y)) bad("mesh.grading", grading_y, "> 0");
+  if (!(guide_gap >= 0 && guide_gap < 0.5)) bad("rig.guide_gap", guide_gap, "[0, 0.5)");
+  if (!(tie_stiffness > 0) || !std::isfinite(tie_stiffness)) bad("rig.tie_stiffness", tie_stiffness, "> 0 N/mm per mm");
+  if (!(guide_taper >= 0 && guide_taper + guide_gap < 1)) bad("rig.guide_taper", guide_taper, "[0, 1 - guide_gap)");
+  if (!(clip_tie_stiffness > 0) || !std::isfinite(clip_tie_stiffness))
+    bad("rig.clip_tie_stiffness", clip_tie_stiffness, "> 0 N/mm per mm");
+  if (!(clip_taper >= 0 && clip_taper < 1)) bad("rig.clip_taper", clip_taper, "[0, 1)");
+  if (setting_steps < 1 || setting_steps > 1000) bad("rig.setting_steps", setting_steps, "1 to 1000");
 }
 
 TestModel make_rig_test(const RigOptions& o) {

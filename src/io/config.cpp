@@ -109,6 +109,7 @@ bool Node::boolean(std::string_view key) const { return get<bool>(key); }
 const std::string& Node::string(std::string_view key) const { return get<std::string>(key); }
 const Reals& Node::reals(std::string_view key) const { return get<Reals>(key); }
 const Strings& Node::strings(std::string_view key) const { return get<Strings>(key); }
+const Value& Node::value(std::string_view key) const { return entry(key).value; }
 bool Node::given(std::string_view key) const { return entry(key).given; }
 
 const Node& Node::section(std::string_view name) const {
@@ -245,6 +246,7 @@ class NodeBuilder {
       case 2: return number(k, v, key);
       case 3: {
         auto s = v.value_exact<std::string>();
+        if (!s && k.or_number && (v.is_integer() || v.is_floating_point())) return number(k, v, key);
         if (!s) fail(v, key, "must be a string", describe(v), range_text(k));
         if (!k.choices.empty() && std::find(k.choices.begin(), k.choices.end(), *s) == k.choices.end()) {
           std::string hint = closest_name(*s, k.choices);

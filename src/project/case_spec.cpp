@@ -20,15 +20,30 @@ namespace {
 
 std::string num(double x) { return io::to_toml(x); }
 
-// fem's validate() names `test.<field>`, `mesh.<field>` or `material.<coefficient>` without a file:
-// rethrow it at the line of the same key of `n` (the table's line when `n` has no such key).
-[[noreturn]] void rethrow_at(const Node& n, const InputError& e, const std::string& key_override = {}) {
-  if (!e.where().file.empty()) throw;  // already located in the file (called from a handler)
-  std::string key = e.where().key;
-  const auto dot = key.find('.');
-  if (dot != std::string::npos) key = key.substr(dot + 1);
-  if (!key_override.empty()) key = key_override;
-  throw InputError(n.where(key), problem_of(e));
+// fem names a bad value `<table>.<key>` without a file (`mesh.nx`, `test.loads`, `rig.guide_gap`,
+// `material.k_C`): rethrow it at that key of the Origin of the table it names. An error already placed
+// in a file is rethrown unchanged.
+struct Tables {
+  const Origin* mesh = nullptr;
+  const Origin* test = nullptr;
+  const Origin* rig = nullptr;
+  const Origin* material = nullptr;
+  const Origin* solver = nullptr;
+};
+
+[[noreturn]] void rethrow_fem(const InputError& e, const Tables& t) {
+  if (!e.where().file.empty()) throw e;
+  const std::string& k = e.where().key;
+  const auto dot = k.find('.');
+  const std::string table = k.substr(0, dot), key = dot == std::string::npos ? std::string() : k.substr(dot + 1);
+  const Origin* o = table == "mesh"       ? t.mesh
+                    : table == "test"     ? t.test
+                    : table == "rig"      ? t.rig
+                    : table == "material" ? t.material
+                    : table == "solver"   ? t.solver
+                                          : nullptr;
+  if (!o) throw e;
+  throw InputError(o->where(key), problem_of(e));
 }
 
 std::string join(const Strings& names) {
@@ -38,14 +53,13 @@ std::string join(const Strings& names) {
 }
 
 // "C2W1" -> εC² εW; "C1" -> εC; "W3" -> εW³ (a general response surface's monomials).
-std::vector<fem::Monomial> monomials(const Node& n, const char* key) {
+std::vector<fem::Monomial> monomials(const Origin& o, const Strings& names, const char* key) {
   static const std::regex pattern(R"((?:C(\d+))?(?:W(\d+))?)");
   std::vector<fem::Monomial> out;
-  const Strings& names = n.strings(key);
   for (std::size_t k = 0; k < names.size(); ++k) {
     std::smatch m;
     if (names[k].empty() || !std::regex_match(names[k], m, pattern))
-      n.fail(key, fmt::format("monomial {} is not written C<p>W<q>", k + 1), "\"" + names[k] + "\"",
+      o.fail(key, fmt::format("monomial {} is not written C<p>W<q>", k + 1), "\"" + names[k] + "\"",
              "e.g. \"C2\", \"W1\", \"C1W2\"");
     out.push_back({m[1].matched ? std::stoi(m[1]) : 0, m[2].matched ? std::stoi(m[2]) : 0});
   }
@@ -73,6 +87,10 @@ io::SectionSpec mesh_section() {
           "First (y = 0) over last (at the grip) element height, > 0; 1 = uniform, < 1 refines toward\n"
           "the grip where the clamp makes the field steep.",
           0, 1e3),
+      key("grading_x", 1.0,
+          "First (x = 0) over last (at the side edge) element width, > 0; 1 = uniform, < 1 refines toward\n"
+          "the side edge (the rig's guide).",
+          0, 1e3),
   };
   return s;
 }
@@ -88,6 +106,7 @@ SectionSpec test_mesh_section() {
       key("nx", std::int64_t{0}, "Elements across the quarter's width; 0 = as in [mesh].", 0, 2000),
       key("ny", std::int64_t{0}, "Elements along the quarter's height; 0 = as in [mesh].", 0, 2000),
       key("grading", 0.0, "First over last element height; 0 = as in [mesh].", 0, 1e3),
+      key("grading_x", 0.0, "First over last element width; 0 = as in [mesh].", 0, 1e3),
   };
   return s;
 }
@@ -172,6 +191,10 @@ io::SectionSpec law_section() {
       key("eps_WL", rp.eps_WL, "Wale locking onset strain, > 0.", 0, 100),
       key("s_WL", rp.s_WL, "Wale locking width (strain), > 0.", 0, 100),
       key("k_X", rp.k_X, "Biaxial coupling, N/mm.", 0, 1e6),
+      key("k_P", rp.k_P, "Transverse shrinkage coupling, N/mm, >= 0 with k_P² < k_C k_W.", 0, 1e6),
+      key("k_J", rp.k_J, "Compression jamming modulus, N/mm, >= 0.", 0, 1e6),
+      key("eps_J", rp.eps_J, "Jamming onset (compressive strain magnitude), > 0.", 0, 100),
+      key("s_J", rp.s_J, "Jamming width (strain), > 0.", 0, 100),
       key("G_s", rp.G_s, "In-plane shear stiffness, N/mm, > 0.", 0, 1e6),
   };
   law.sections = {mr, nh, co, rs, rf};
@@ -200,8 +223,9 @@ io::SectionSpec test_section() {
       key("kind", std::string("uniaxial"),
           "uniaxial: grip on top, side edge free. biaxial: side edge on a guide (the paper's\n"
           "biaxial-induced test). homogeneous: sliding grip, a uniform field. simple_shear: the law alone\n"
-          "at F = [[1, γ], [0, 1]] for γ in the step list (one element; writes gamma, s11, s22, s12).",
-          -kInf, kInf, {"uniaxial", "biaxial", "homogeneous", "simple_shear"}),
+          "at F = [[1, γ], [0, 1]] for γ in the step list (one element; writes gamma, s11, s22, s12).\n"
+          "rig: the paper's biaxial-induced rig ([rig]; side, pull, transverse_strain, pull_strain, steps).",
+          -kInf, kInf, {"uniaxial", "biaxial", "homogeneous", "simple_shear", "rig"}),
       key("material_angle", 0.0,
           "Degrees from x to the course direction. The grip pulls along y: 0 loads along the wale,\n"
           "90 along the course.",
@@ -217,7 +241,8 @@ io::SectionSpec test_section() {
           "a pantograph clamp), so the clamp and a moving guide agree at the corner."),
       key("side", std::string("free"),
           "Side edge x = width/2: free, or guide (u_x prescribed, u_y free). uniaxial needs free and\n"
-          "biaxial guide; homogeneous takes either.",
+          "biaxial guide; homogeneous takes either. rig: a number, the full specimen side in mm, > 0\n"
+          "(default: [mesh] width; the quarter is side/2 × side/2).",
           -kInf, kInf, {"free", "guide"}),
       key("guide", Reals{},
           "Guide displacement u_x of the side edge, mm (negative narrows the specimen): one value, reached\n"
@@ -228,9 +253,47 @@ io::SectionSpec test_section() {
           "empty, `load_max` and `steps` make a uniform list.",
           -1e9, 1e9, {}, true),
       key("load_max", 10.0, "Last load of the uniform list (mm, N or γ), > 0; used when `loads` is empty.", 0, 1e9),
-      key("steps", std::int64_t{10}, "Steps of the uniform list: load_max · k / steps for k = 1 … steps.", 1, 100000),
+      key("steps", std::int64_t{10},
+          "Steps of the uniform list: load_max · k / steps for k = 1 … steps (rig: the pull's equal\n"
+          "increments, 1–1000).",
+          1, 100000),
+      key("pull", std::string("wale"), "rig: the direction pulled, wale (material_angle 0) or course (90).", -kInf,
+          kInf, {"wale", "course"}),
+      key("transverse_strain", fem::RigOptions{}.transverse_strain,
+          "rig: Green–Lagrange strain set across the pull by the guides, then held, >= -0.4.", -kInf, kInf),
+      key("pull_strain", fem::RigOptions{}.pull_strain,
+          "rig: nominal Green–Lagrange strain along the pull at the last step, > 0.", -kInf, kInf),
   };
+  for (auto& k : s.keys)
+    if (k.name == "side") k.or_number = true;
   s.sections = {test_mesh_section()};
+  return s;
+}
+
+io::SectionSpec rig_section() {
+  SectionSpec s{"rig",
+                "The paper's biaxial-induced rig (THEORY §6, paper §3.1.2), shared by every [[test]] of kind =\n"
+                "\"rig\": clips at the grip, lateral guides tied to the fabric that hold the transverse dimension\n"
+                "and end short of the clips. The transverse dimension is set first, then held during the pull.",
+                false, {}, {}};
+  const fem::RigOptions d;
+  s.keys = {
+      key("guide_gap", d.guide_gap, "The guide ends this fraction of the quarter's height short of the clips, [0, 0.5).",
+          -kInf, kInf),
+      key("guide_taper", d.guide_taper,
+          "The guide's ties fade to zero over this fraction of the quarter's height, [0, 1 - guide_gap).", -kInf,
+          kInf),
+      key("tie_stiffness", d.tie_stiffness, "Fabric-to-guide ties, N/mm per mm of edge, > 0.", -kInf, kInf),
+      key("clip_tie_stiffness", d.clip_tie_stiffness, "Clip ties holding u_x, N/mm per mm of grip, > 0.", -kInf,
+          kInf),
+      key("clip_taper", d.clip_taper,
+          "The clip ties fade to zero toward the side over this fraction of the quarter's width, [0, 1).", -kInf,
+          kInf),
+      key("clips_follow_guide", d.clips_follow_guide,
+          "The clips spread with the guide setting (guides mounted on the clips); false = clips keep the width."),
+      key("setting_steps", std::int64_t{d.setting_steps},
+          "Increments that set the transverse dimension before the pull, 1–1000.", -kInf, kInf),
+  };
   return s;
 }
 
@@ -239,63 +302,170 @@ io::SectionSpec case_schema() {
                    "tricot simulate: a case file. Finite-element models of tests on a knitted-fabric specimen\n"
                    "(plane-stress membrane, quarter specimen, THEORY §4–§6). Units: mm, N, N/mm, degrees.",
                    false, {}, {}};
-  root.sections = {mesh_section(), law_section(), solver_section(), test_section()};
+  root.sections = {mesh_section(), law_section(), solver_section(), rig_section(), test_section()};
   return root;
 }
 
 // ---------------------------------------------------------------------------------------------------
-// Builders
+// Specs from validated tables
 
-TestKind test_kind(const io::Node& test) {
-  const std::string& k = test.string("kind");
-  if (k == "biaxial") return TestKind::biaxial;
-  if (k == "homogeneous") return TestKind::homogeneous;
-  if (k == "simple_shear") return TestKind::simple_shear;
-  return TestKind::uniaxial;
+MeshSpec MeshSpec::from_config(const io::Node& n) {
+  MeshSpec m;
+  m.width = n.real("width"), m.height = n.real("height");
+  m.element = n.string("element");
+  m.nx = static_cast<int>(n.integer("nx")), m.ny = static_cast<int>(n.integer("ny"));
+  m.grading = n.real("grading"), m.grading_x = n.real("grading_x");
+  m.origin = Origin(n);
+  return m;
 }
 
-fem::MeshOptions build_mesh_options(const io::Node& mesh, const io::Node* over) {
-  auto real = [&](const char* k) -> std::pair<double, const Node*> {
-    if (over && over->real(k) != 0) return {over->real(k), over};
-    return {mesh.real(k), &mesh};
-  };
-  auto integer = [&](const char* k) -> int {
-    if (over && over->integer(k) != 0) return static_cast<int>(over->integer(k));
-    return static_cast<int>(mesh.integer(k));
-  };
-  fem::MeshOptions o;
-  for (const char* k : {"width", "height", "grading"}) {
-    const auto [v, from] = real(k);
-    if (!(v > 0)) from->fail(k, "must be positive", num(v), "> 0");
+TestMeshSpec TestMeshSpec::from_config(const io::Node& n) {
+  TestMeshSpec m;
+  m.width = n.real("width"), m.height = n.real("height");
+  m.element = n.string("element");
+  m.nx = static_cast<int>(n.integer("nx")), m.ny = static_cast<int>(n.integer("ny"));
+  m.grading = n.real("grading"), m.grading_x = n.real("grading_x");
+  m.origin = Origin(n);
+  return m;
+}
+
+MooneyRivlinSpec::MooneyRivlinSpec() {
+  // Default: the paper's validation set (docs/validation/laws-iso.md), a rubber-like S curve.
+  for (const auto& t : fem::paper_mooney_rivlin_terms()) {
+    terms.push_back(fmt::format("C{}{}", t.i, t.j));
+    values.push_back(t.C);
   }
-  o.width = real("width").first / 2;
-  o.height = real("height").first / 2;
-  o.grading = real("grading").first;
-  o.nx = integer("nx");
-  o.ny = integer("ny");
-  if (over && !over->string("element").empty() && over->string("element") != "Q4" && over->string("element") != "Q8")
-    over->fail("element", "not an element type", "\"" + over->string("element") + "\"", "Q4, Q8 or \"\"");
-  const std::string& type = over && !over->string("element").empty() ? over->string("element") : mesh.string("element");
+}
+
+LawSpec LawSpec::from_config(const io::Node& law) {
+  LawSpec l;
+  l.type = law.string("type");
+  l.origin = Origin(law);
+  const Node& mr = law.section("mooney_rivlin");
+  l.mooney_rivlin.terms = mr.strings("terms"), l.mooney_rivlin.values = mr.reals("values");
+  l.mooney_rivlin.origin = Origin(mr);
+  const Node& nh = law.section("neo_hookean");
+  l.neo_hookean.mu = nh.real("mu"), l.neo_hookean.lambda = nh.real("lambda");
+  l.neo_hookean.origin = Origin(nh);
+  const Node& co = law.section("corotational");
+  CorotationalSpec& c = l.corotational;
+  c.moduli = co.string("moduli");
+  c.G = co.real("G"), c.K = co.real("K");
+  c.D11 = co.real("D11"), c.D22 = co.real("D22"), c.D12 = co.real("D12"), c.D66 = co.real("D66");
+  c.origin = Origin(co);
+  const Node& rs = law.section("response_surface");
+  ResponseSurfaceSpec& r = l.response_surface;
+  r.preset = rs.string("preset");
+  r.coefficients = rs.reals("coefficients");
+  r.course = rs.strings("course"), r.wale = rs.strings("wale");
+  r.shear_stiffness = rs.real("shear_stiffness");
+  r.origin = Origin(rs);
+  const Node& rf = law.section("reference_fabric");
+  ReferenceFabricSpec& p = l.reference_fabric;
+  p.k_C = rf.real("k_C"), p.k_CL = rf.real("k_CL"), p.eps_CL = rf.real("eps_CL"), p.s_CL = rf.real("s_CL");
+  p.k_W = rf.real("k_W"), p.k_WL = rf.real("k_WL"), p.eps_WL = rf.real("eps_WL"), p.s_WL = rf.real("s_WL");
+  p.k_X = rf.real("k_X"), p.k_P = rf.real("k_P"), p.k_J = rf.real("k_J"), p.eps_J = rf.real("eps_J");
+  p.s_J = rf.real("s_J"), p.G_s = rf.real("G_s");
+  p.origin = Origin(rf);
+  return l;
+}
+
+SolverSpec SolverSpec::from_config(const io::Node& s) {
+  SolverSpec o;
+  o.tolerance = s.real("tolerance");
+  o.max_iterations = static_cast<int>(s.integer("max_iterations"));
+  o.line_search = s.boolean("line_search");
+  o.max_cutbacks = static_cast<int>(s.integer("max_cutbacks"));
+  o.origin = Origin(s);
+  return o;
+}
+
+RigSpec RigSpec::from_config(const io::Node& n) {
+  RigSpec r;
+  r.guide_gap = n.real("guide_gap"), r.guide_taper = n.real("guide_taper");
+  r.tie_stiffness = n.real("tie_stiffness"), r.clip_tie_stiffness = n.real("clip_tie_stiffness");
+  r.clip_taper = n.real("clip_taper");
+  r.clips_follow_guide = n.boolean("clips_follow_guide");
+  r.setting_steps = static_cast<int>(n.integer("setting_steps"));
+  r.origin = Origin(n);
+  return r;
+}
+
+TestSpec TestSpec::from_config(const io::Node& n) {
+  TestSpec t;
+  t.name = n.string("name");
+  t.kind = n.string("kind");
+  t.material_angle = n.real("material_angle");
+  t.control = n.string("control");
+  if (n.given("grip_holds_x")) t.grip_holds_x = n.boolean("grip_holds_x");
+  t.grip_follows_guide = n.boolean("grip_follows_guide");
+  if (n.given("side")) {
+    const io::Value& v = n.value("side");
+    if (const auto* w = std::get_if<std::string>(&v)) t.side = *w;
+    else t.side = std::get<double>(v);
+  }
+  t.guide = n.reals("guide");
+  t.loads = n.reals("loads");
+  t.load_max = n.real("load_max");
+  t.steps = static_cast<int>(n.integer("steps"));
+  t.pull = n.string("pull");
+  t.transverse_strain = n.real("transverse_strain");
+  t.pull_strain = n.real("pull_strain");
+  t.mesh = TestMeshSpec::from_config(n.section("mesh"));
+  t.origin = Origin(n);
+  return t;
+}
+
+CaseSpec CaseSpec::from_config(const io::Node& root) {
+  CaseSpec c;
+  c.mesh = MeshSpec::from_config(root.section("mesh"));
+  c.law = LawSpec::from_config(root.section("law"));
+  c.solver = SolverSpec::from_config(root.section("solver"));
+  c.rig = RigSpec::from_config(root.section("rig"));
+  for (const auto& t : root.array("test")) c.test.push_back(TestSpec::from_config(t));
+  c.origin = Origin(root);
+  return c;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Checks and engine values
+
+namespace {
+
+// The mesh of [mesh] with the keys of `over` in place (non-zero, non-empty); each check placed at
+// the table that gave the value.
+fem::MeshOptions mesh_options(const MeshSpec& mesh, const TestMeshSpec* over) {
+  auto real = [&](double MeshSpec::*m, double TestMeshSpec::*t) -> std::pair<double, const Origin*> {
+    if (over && over->*t != 0) return {over->*t, &over->origin};
+    return {mesh.*m, &mesh.origin};
+  };
+  auto integer = [&](int MeshSpec::*m, int TestMeshSpec::*t) { return over && over->*t != 0 ? over->*t : mesh.*m; };
+  const std::pair<const char*, std::pair<double, const Origin*>> positive[] = {
+      {"width", real(&MeshSpec::width, &TestMeshSpec::width)},
+      {"height", real(&MeshSpec::height, &TestMeshSpec::height)},
+      {"grading", real(&MeshSpec::grading, &TestMeshSpec::grading)},
+      {"grading_x", real(&MeshSpec::grading_x, &TestMeshSpec::grading_x)},
+  };
+  for (const auto& [k, value] : positive)
+    if (!(value.first > 0)) value.second->fail(k, "must be positive", num(value.first), "> 0");
+  fem::MeshOptions o;
+  o.width = positive[0].second.first / 2;
+  o.height = positive[1].second.first / 2;
+  o.grading = positive[2].second.first;
+  o.grading_x = positive[3].second.first;
+  o.nx = integer(&MeshSpec::nx, &TestMeshSpec::nx);
+  o.ny = integer(&MeshSpec::ny, &TestMeshSpec::ny);
+  if (over && !over->element.empty() && over->element != "Q4" && over->element != "Q8")
+    over->origin.fail("element", "not an element type", "\"" + over->element + "\"", "Q4, Q8 or \"\"");
+  const std::string& type = over && !over->element.empty() ? over->element : mesh.element;
+  if (type != "Q4" && type != "Q8") mesh.origin.fail("element", "not an element type", "\"" + type + "\"", "Q4 or Q8");
   o.type = type == "Q4" ? fem::ElementType::Q4 : fem::ElementType::Q8;
   try {
     o.validate();
   } catch (const InputError& e) {
-    rethrow_at(over ? *over : mesh, e);
+    rethrow_fem(e, {.mesh = over ? &over->origin : &mesh.origin});
   }
   return o;
-}
-
-namespace {
-
-std::vector<double> step_list(const Node& test) {
-  const Reals& loads = test.reals("loads");
-  if (!loads.empty()) return loads;
-  const double last = test.real("load_max");
-  if (!(last > 0)) test.fail("load_max", "must be positive (or give `loads`)", num(last), "> 0");
-  const auto n = test.integer("steps");
-  std::vector<double> l(static_cast<std::size_t>(n));
-  for (std::int64_t k = 1; k <= n; ++k) l[k - 1] = last * double(k) / double(n);
-  return l;
 }
 
 // A unit square of one element: nodes at the corners (and mid-sides for Q8), edges as a quarter mesh.
@@ -307,176 +477,287 @@ fem::Mesh unit_element(fem::ElementType type) {
   return fem::make_quarter_mesh(o);
 }
 
+std::string side_text(const std::variant<std::string, double>& side) {
+  if (const auto* w = std::get_if<std::string>(&side)) return "\"" + *w + "\"";
+  return num(std::get<double>(side));
+}
+
 }  // namespace
 
-fem::TestModel build_test(const io::Node& test, const io::Node& mesh) {
-  fem::TestModel t;
-  t.name = test.string("name");
-  const TestKind kind = test_kind(test);
-  const fem::MeshOptions mo = build_mesh_options(mesh, &test.section("mesh"));
-  t.loads = step_list(test);
-  t.material_angle = test.real("material_angle");
+fem::MeshOptions TestMeshSpec::options(const MeshSpec& mesh) const { return mesh_options(mesh, this); }
 
-  if (kind == TestKind::simple_shear) {
-    // One element with every node prescribed: the law's homogeneous response (THEORY §4 validation).
-    t.mesh = unit_element(mo.type);
-    t.grip_holds_x = false;
-    t.side = fem::SideEdge::free;
-    if (test.string("control") != "displacement")
-      test.fail("control", "simple_shear prescribes the shear γ", "\"" + test.string("control") + "\"",
-                "displacement");
-    return t;
-  }
-
-  t.control = test.string("control") == "force" ? fem::GripControl::force : fem::GripControl::displacement;
-  t.grip_holds_x = test.boolean("grip_holds_x");
-  t.grip_follows_guide = test.boolean("grip_follows_guide");
-  const std::string& side = test.string("side");
-  switch (kind) {
-    case TestKind::uniaxial:
-      if (side != "free")
-        test.fail("side", "a uniaxial test has a free side edge; use kind = \"biaxial\" for a guide",
-                  "\"" + side + "\"", "free");
-      t.side = fem::SideEdge::free;
-      break;
-    case TestKind::biaxial:
-      if (test.given("side") && side != "guide")
-        test.fail("side", "a biaxial test has its side edge on a guide", "\"" + side + "\"", "guide");
-      t.side = fem::SideEdge::guide;
-      break;
-    case TestKind::homogeneous:
-      if (test.given("grip_holds_x") && t.grip_holds_x)
-        test.fail("grip_holds_x", "a homogeneous test needs a sliding grip", "true", "false");
-      t.grip_holds_x = false;
-      t.side = side == "guide" ? fem::SideEdge::guide : fem::SideEdge::free;
-      break;
-    case TestKind::simple_shear: break;
-  }
-  if (t.side == fem::SideEdge::guide) {
-    t.guide = test.reals("guide");
-    if (t.guide.empty()) t.guide = {0.0};
-    for (std::size_t k = 0; k < t.guide.size(); ++k)
-      if (t.guide[k] <= -mo.width)
-        test.fail("guide", fmt::format("guide value {} would pull the side edge past the symmetry axis", k + 1),
-                  num(t.guide[k]), fmt::format("> -{} mm, half the width", num(mo.width)));
-  } else if (!test.reals("guide").empty()) {
-    test.fail("guide", "guide values given but the side edge is free", io::to_toml(test.reals("guide")),
-              "none, or side = \"guide\"");
-  }
-  if (t.control == fem::GripControl::force && t.side == fem::SideEdge::guide)
-    test.fail("control", "force control is for a free side edge (uniaxial)", "\"force\"", "displacement");
-
-  const Reals& loads = t.loads;
-  if (!(loads.front() > 0))
-    test.fail(test.reals("loads").empty() ? "load_max" : "loads", "the first load must be positive",
-              num(loads.front()), "> 0");
-  t.mesh = fem::make_quarter_mesh(mo);
-  try {
-    t.validate();
-  } catch (const InputError& e) {
-    rethrow_at(test, e);
-  }
-  return t;
+TestKind TestSpec::test_kind() const {
+  if (kind == "biaxial") return TestKind::biaxial;
+  if (kind == "homogeneous") return TestKind::homogeneous;
+  if (kind == "simple_shear") return TestKind::simple_shear;
+  if (kind == "rig") return TestKind::rig;
+  if (kind != "uniaxial")
+    origin.fail("kind", "unknown test kind", "\"" + kind + "\"", "uniaxial, biaxial, homogeneous, simple_shear or rig");
+  return TestKind::uniaxial;
 }
 
-std::unique_ptr<fem::Law> build_law(const io::Node& law) {
-  const std::string& type = law.string("type");
-  const Node& n = law.section(type);
-  try {
-    if (type == "mooney_rivlin") {
-      const Strings& names = n.strings("terms");
-      const Reals& values = n.reals("values");
-      if (names.size() != values.size())
-        n.fail("values", "one value per term", fmt::format("{} values", values.size()),
-               fmt::format("{} as in terms", names.size()));
-      std::vector<fem::MooneyRivlinTerm> terms;
-      for (std::size_t k = 0; k < names.size(); ++k) {
-        const std::string& s = names[k];
-        if (s.size() != 3 || s[0] != 'C' || !std::isdigit(static_cast<unsigned char>(s[1])) ||
-            !std::isdigit(static_cast<unsigned char>(s[2])) || s == "C00")
-          n.fail("terms", fmt::format("term {} is not a name C<i><j>", k + 1), "\"" + s + "\"",
-                 "C10, C01, C20, C21, C03, …");
-        terms.push_back({s[1] - '0', s[2] - '0', values[k]});
-      }
-      return std::make_unique<fem::MooneyRivlin>(std::move(terms));
-    }
-    if (type == "neo_hookean") {
-      if (!(n.real("mu") > 0)) n.fail("mu", "must be positive", num(n.real("mu")), "> 0");
-      return std::make_unique<fem::NeoHookean>(n.real("mu"), n.real("lambda"));
-    }
-    if (type == "corotational") {
-      if (n.string("moduli") == "isotropic") {
-        for (const char* k : {"G", "K"})
-          if (!(n.real(k) > 0)) n.fail(k, "must be positive", num(n.real(k)), "> 0");
-        return std::make_unique<fem::CorotationalOrthotropic>(
-            fem::CorotationalOrthotropic::isotropic(n.real("G"), n.real("K")));
-      }
-      return std::make_unique<fem::CorotationalOrthotropic>(n.real("D11"), n.real("D22"), n.real("D12"),
-                                                            n.real("D66"));
-    }
-    if (type == "response_surface") {
-      const double G_s = n.real("shear_stiffness");
-      if (!(G_s > 0)) n.fail("shear_stiffness", "must be positive", num(G_s), "> 0");
-      const std::string& preset = n.string("preset");
-      fem::ResponseSurface rs = preset == "general"
-                                    ? fem::ResponseSurface(monomials(n, "course"), monomials(n, "wale"), G_s)
-                                    : fem::ResponseSurface::preset(preset, G_s);
-      const Reals& c = n.reals("coefficients");
-      if (!c.empty()) {
-        if (c.size() != static_cast<std::size_t>(rs.coefficients().size()))
-          n.fail("coefficients", "one coefficient per term of the law", fmt::format("{} values", c.size()),
-                 fmt::format("{} ({})", rs.coefficients().size(), join(rs.coefficient_names())));
-        rs.set_coefficients(Eigen::Map<const Eigen::VectorXd>(c.data(), static_cast<Eigen::Index>(c.size())));
-      }
-      return std::make_unique<fem::ResponseSurface>(std::move(rs));
-    }
-    if (type == "reference_fabric") {
-      fem::ReferenceFabricParameters p;
-      p.k_C = n.real("k_C"), p.k_CL = n.real("k_CL"), p.eps_CL = n.real("eps_CL"), p.s_CL = n.real("s_CL");
-      p.k_W = n.real("k_W"), p.k_WL = n.real("k_WL"), p.eps_WL = n.real("eps_WL"), p.s_WL = n.real("s_WL");
-      p.k_X = n.real("k_X"), p.G_s = n.real("G_s");
-      return std::make_unique<fem::ReferenceFabric>(p);
-    }
-  } catch (const InputError& e) {
-    // fem names `material.<coefficient>`: point at the key of this table that holds it.
-    std::string k;
-    if (type == "mooney_rivlin") k = "values";
-    if (type == "response_surface") {
-      const std::string& fk = e.where().key;
-      k = fk.ends_with("G_s") ? "shear_stiffness" : fk.ends_with("monomials") ? "course" : "coefficients";
-    }
-    rethrow_at(n, e, k);
-  }
-  law.fail("type", "unknown law", "\"" + type + "\"");  // the schema's choices make this unreachable
-}
-
-fem::SolveOptions build_solver(const io::Node& s) {
-  fem::SolveOptions o;
-  o.tolerance = s.real("tolerance");
-  if (!(o.tolerance > 0)) s.fail("tolerance", "must be positive", num(o.tolerance), "> 0");
-  o.max_iterations = static_cast<int>(s.integer("max_iterations"));
-  o.line_search = s.boolean("line_search");
-  o.max_cutbacks = static_cast<int>(s.integer("max_cutbacks"));
-  try {
-    o.validate();
-  } catch (const InputError& e) {
-    rethrow_at(s, e);
+fem::MeshOptions TestSpec::mesh_options(const MeshSpec& case_mesh) const {
+  fem::MeshOptions o = mesh.options(case_mesh);
+  if (test_kind() == TestKind::rig) {
+    const auto* mm = side ? std::get_if<double>(&*side) : nullptr;
+    o.width = o.height = 0.5 * (mm ? *mm : case_mesh.width);
   }
   return o;
 }
 
-void check_tests(const io::Node& root) {
-  const auto& tests = root.array("test");
-  if (tests.empty()) root.fail("test", "the case has no [[test]]", "none", "at least one [[test]] table");
+fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) const {
+  const TestKind k = test_kind();
+  const fem::MeshOptions mo = mesh.options(case_mesh);
+  if (k == TestKind::rig) {
+    // The rig sets its own loads, grip and guide: keys of the other kinds would be ignored, so refuse them.
+    if (side && std::holds_alternative<std::string>(*side))
+      origin.fail("side", "a rig test's side is the specimen side in mm", side_text(*side), "a number > 0");
+    if (!loads.empty())
+      origin.fail("loads", "a rig test's steps come from pull_strain and steps", io::to_toml(loads), "none");
+    if (!guide.empty())
+      origin.fail("guide", "a rig test's guide comes from transverse_strain", io::to_toml(guide), "none");
+    if (control != "displacement")
+      origin.fail("control", "a rig test pulls under displacement control", "\"" + control + "\"", "displacement");
+    fem::RigOptions o;
+    o.name = name;
+    o.side = side ? std::get<double>(*side) : case_mesh.width;
+    o.pull = pull == "course" ? fem::PullDirection::course : fem::PullDirection::wale;
+    o.transverse_strain = transverse_strain;
+    o.pull_strain = pull_strain;
+    o.steps = steps;
+    o.nx = mo.nx, o.ny = mo.ny, o.element = mo.type;
+    o.grading_y = mo.grading, o.grading_x = mo.grading_x;
+    o.guide_gap = rig.guide_gap, o.guide_taper = rig.guide_taper;
+    o.tie_stiffness = rig.tie_stiffness, o.clip_tie_stiffness = rig.clip_tie_stiffness;
+    o.clip_taper = rig.clip_taper;
+    o.clips_follow_guide = rig.clips_follow_guide;
+    o.setting_steps = rig.setting_steps;
+    try {
+      return fem::make_rig_test(o);  // RigOptions::validate and TestModel::validate: the one check
+    } catch (const InputError& e) {
+      rethrow_fem(e, {.mesh = &case_mesh.origin, .test = &origin, .rig = &rig.origin});
+    }
+  }
+  if (side && std::holds_alternative<double>(*side))
+    origin.fail("side", "a number is the specimen side of a rig test", side_text(*side),
+                "free or guide, or kind = \"rig\"");
+  const std::string side_word = side ? std::get<std::string>(*side) : std::string("free");
+
+  fem::TestModel t;
+  t.name = name;
+  // The step list: `loads`, or load_max · k / steps.
+  if (!loads.empty()) {
+    t.loads = loads;
+  } else {
+    if (!(load_max > 0)) origin.fail("load_max", "must be positive (or give `loads`)", num(load_max), "> 0");
+    t.loads.resize(static_cast<std::size_t>(steps));
+    for (int s = 1; s <= steps; ++s) t.loads[static_cast<std::size_t>(s - 1)] = load_max * double(s) / double(steps);
+  }
+  t.material_angle = material_angle;
+
+  if (k == TestKind::simple_shear) {
+    // One element with every node prescribed: the law's homogeneous response (THEORY §4 validation).
+    t.mesh = unit_element(mo.type);
+    t.grip_holds_x = false;
+    t.side = fem::SideEdge::free;
+    if (control != "displacement")
+      origin.fail("control", "simple_shear prescribes the shear γ", "\"" + control + "\"", "displacement");
+    return t;
+  }
+
+  t.control = control == "force" ? fem::GripControl::force : fem::GripControl::displacement;
+  t.grip_holds_x = grip_holds_x.value_or(true);
+  t.grip_follows_guide = grip_follows_guide;
+  switch (k) {
+    case TestKind::uniaxial:
+      if (side_word != "free")
+        origin.fail("side", "a uniaxial test has a free side edge; use kind = \"biaxial\" for a guide",
+                    "\"" + side_word + "\"", "free");
+      t.side = fem::SideEdge::free;
+      break;
+    case TestKind::biaxial:
+      if (side && side_word != "guide")
+        origin.fail("side", "a biaxial test has its side edge on a guide", "\"" + side_word + "\"", "guide");
+      t.side = fem::SideEdge::guide;
+      break;
+    case TestKind::homogeneous:
+      if (grip_holds_x && *grip_holds_x)
+        origin.fail("grip_holds_x", "a homogeneous test needs a sliding grip", "true", "false");
+      t.grip_holds_x = false;
+      t.side = side_word == "guide" ? fem::SideEdge::guide : fem::SideEdge::free;
+      break;
+    case TestKind::simple_shear:
+    case TestKind::rig: break;
+  }
+  if (t.side == fem::SideEdge::guide) {
+    t.guide = guide;
+    if (t.guide.empty()) t.guide = {0.0};
+    for (std::size_t g = 0; g < t.guide.size(); ++g)
+      if (t.guide[g] <= -mo.width)
+        origin.fail("guide", fmt::format("guide value {} would pull the side edge past the symmetry axis", g + 1),
+                    num(t.guide[g]), fmt::format("> -{} mm, half the width", num(mo.width)));
+  } else if (!guide.empty()) {
+    origin.fail("guide", "guide values given but the side edge is free", io::to_toml(guide),
+                "none, or side = \"guide\"");
+  }
+  if (t.control == fem::GripControl::force && t.side == fem::SideEdge::guide)
+    origin.fail("control", "force control is for a free side edge (uniaxial)", "\"force\"", "displacement");
+  if (!(t.loads.front() > 0))
+    origin.fail(loads.empty() ? "load_max" : "loads", "the first load must be positive", num(t.loads.front()), "> 0");
+  t.mesh = fem::make_quarter_mesh(mo);
+  try {
+    t.validate();
+  } catch (const InputError& e) {
+    rethrow_fem(e, {.test = &origin});
+  }
+  return t;
+}
+
+std::unique_ptr<fem::Law> LawSpec::law() const {
+  // The law's constructor checks its coefficients (the one check on their way to the engine) and names
+  // a bad one `material.<name>`: that is the key of the sub-table, except where the table holds the
+  // coefficients as a list (`values`, `coefficients`) or names a field otherwise (`shear_stiffness`).
+  auto at = [](const InputError& e, const Origin& table, const char* list_key) {
+    if (!e.where().file.empty()) throw e;
+    const std::string& k = e.where().key;
+    if (list_key) {
+      const std::string key = k.ends_with("G_s") ? "shear_stiffness" : k.ends_with("monomials") ? "course" : list_key;
+      throw InputError(table.where(key), problem_of(e));
+    }
+    rethrow_fem(e, {.material = &table});
+  };
+  if (type == "mooney_rivlin") {
+    const MooneyRivlinSpec& s = mooney_rivlin;
+    if (s.terms.size() != s.values.size())
+      s.origin.fail("values", "one value per term", fmt::format("{} values", s.values.size()),
+                    fmt::format("{} as in terms", s.terms.size()));
+    std::vector<fem::MooneyRivlinTerm> terms;
+    for (std::size_t k = 0; k < s.terms.size(); ++k) {
+      const std::string& n = s.terms[k];
+      if (n.size() != 3 || n[0] != 'C' || !std::isdigit(static_cast<unsigned char>(n[1])) ||
+          !std::isdigit(static_cast<unsigned char>(n[2])) || n == "C00")
+        s.origin.fail("terms", fmt::format("term {} is not a name C<i><j>", k + 1), "\"" + n + "\"",
+                      "C10, C01, C20, C21, C03, …");
+      terms.push_back({n[1] - '0', n[2] - '0', s.values[k]});
+    }
+    try {
+      return std::make_unique<fem::MooneyRivlin>(std::move(terms));
+    } catch (const InputError& e) {
+      at(e, s.origin, "values");
+    }
+  }
+  if (type == "neo_hookean") {
+    const NeoHookeanSpec& s = neo_hookean;
+    if (!(s.mu > 0)) s.origin.fail("mu", "must be positive", num(s.mu), "> 0");
+    try {
+      return std::make_unique<fem::NeoHookean>(s.mu, s.lambda);
+    } catch (const InputError& e) {
+      at(e, s.origin, nullptr);
+    }
+  }
+  if (type == "corotational") {
+    const CorotationalSpec& s = corotational;
+    try {
+      if (s.moduli == "isotropic") {
+        if (!(s.G > 0)) s.origin.fail("G", "must be positive", num(s.G), "> 0");
+        if (!(s.K > 0)) s.origin.fail("K", "must be positive", num(s.K), "> 0");
+        return std::make_unique<fem::CorotationalOrthotropic>(fem::CorotationalOrthotropic::isotropic(s.G, s.K));
+      }
+      return std::make_unique<fem::CorotationalOrthotropic>(s.D11, s.D22, s.D12, s.D66);
+    } catch (const InputError& e) {
+      at(e, s.origin, nullptr);
+    }
+  }
+  if (type == "response_surface") {
+    const ResponseSurfaceSpec& s = response_surface;
+    if (!(s.shear_stiffness > 0)) s.origin.fail("shear_stiffness", "must be positive", num(s.shear_stiffness), "> 0");
+    try {
+      fem::ResponseSurface rs =
+          s.preset == "general"
+              ? fem::ResponseSurface(monomials(s.origin, s.course, "course"), monomials(s.origin, s.wale, "wale"),
+                                     s.shear_stiffness)
+              : fem::ResponseSurface::preset(s.preset, s.shear_stiffness);
+      const Reals& c = s.coefficients;
+      if (!c.empty()) {
+        if (c.size() != static_cast<std::size_t>(rs.coefficients().size()))
+          s.origin.fail("coefficients", "one coefficient per term of the law", fmt::format("{} values", c.size()),
+                        fmt::format("{} ({})", rs.coefficients().size(), join(rs.coefficient_names())));
+        rs.set_coefficients(Eigen::Map<const Eigen::VectorXd>(c.data(), static_cast<Eigen::Index>(c.size())));
+      }
+      return std::make_unique<fem::ResponseSurface>(std::move(rs));
+    } catch (const InputError& e) {
+      at(e, s.origin, "coefficients");
+    }
+  }
+  if (type == "reference_fabric") {
+    try {
+      return std::make_unique<fem::ReferenceFabric>(static_cast<const fem::ReferenceFabricParameters&>(reference_fabric));
+    } catch (const InputError& e) {
+      at(e, reference_fabric.origin, nullptr);
+    }
+  }
+  origin.fail("type", "unknown law", "\"" + type + "\"",
+              "mooney_rivlin, neo_hookean, corotational, response_surface or reference_fabric");
+}
+
+fem::SolveOptions SolverSpec::options() const {
+  fem::SolveOptions o;
+  o.tolerance = tolerance;
+  if (!(o.tolerance > 0)) origin.fail("tolerance", "must be positive", num(o.tolerance), "> 0");
+  o.max_iterations = max_iterations;
+  o.line_search = line_search;
+  o.max_cutbacks = max_cutbacks;
+  try {
+    o.validate();
+  } catch (const InputError& e) {
+    rethrow_fem(e, {.solver = &origin});
+  }
+  return o;
+}
+
+void CaseSpec::check_tests() const {
+  if (test.empty()) origin.fail("test", "the case has no [[test]]", "none", "at least one [[test]] table");
   std::set<std::string> seen;
-  for (const auto& t : tests) {
-    const std::string& name = t.string("name");
+  for (const auto& t : test) {
+    const std::string& name = t.name;
     const bool ok = !name.empty() && name != "." && name != ".." &&
                     name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.") ==
                         std::string::npos;
-    if (!ok) t.fail("name", "not usable as a folder name", "\"" + name + "\"", "letters, digits, '_', '-', '.'");
-    if (!seen.insert(name).second) t.fail("name", "two tests have this name", "\"" + name + "\"", "unique names");
+    if (!ok) t.origin.fail("name", "not usable as a folder name", "\"" + name + "\"", "letters, digits, '_', '-', '.'");
+    if (!seen.insert(name).second) t.origin.fail("name", "two tests have this name", "\"" + name + "\"", "unique names");
   }
+}
+
+std::vector<fem::TestModel> CaseSpec::models() const {
+  std::vector<fem::TestModel> out;
+  for (const auto& t : test) out.push_back(t.model(mesh, rig));
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Builders from validated tables
+
+TestKind test_kind(const io::Node& test) { return TestSpec::from_config(test).test_kind(); }
+
+fem::MeshOptions build_mesh_options(const io::Node& mesh, const io::Node* over) {
+  const MeshSpec m = MeshSpec::from_config(mesh);
+  if (!over) return mesh_options(m, nullptr);
+  return TestMeshSpec::from_config(*over).options(m);
+}
+
+fem::TestModel build_test(const io::Node& test, const io::Node& mesh, const io::Node* rig) {
+  return TestSpec::from_config(test).model(MeshSpec::from_config(mesh), rig ? RigSpec::from_config(*rig) : RigSpec{});
+}
+
+std::unique_ptr<fem::Law> build_law(const io::Node& law) { return LawSpec::from_config(law).law(); }
+
+fem::SolveOptions build_solver(const io::Node& s) { return SolverSpec::from_config(s).options(); }
+
+void check_tests(const io::Node& root) {
+  CaseSpec c;
+  c.origin = Origin(root);
+  for (const auto& t : root.array("test")) c.test.push_back(TestSpec::from_config(t));
+  c.check_tests();
 }
 
 }  // namespace tricot::project

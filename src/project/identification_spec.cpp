@@ -231,15 +231,16 @@ io::SectionSpec identify_schema() {
 
 Project build_project(const io::Node& root, const fs::path& base) {
   Project P;
-  check_tests(root);
-  P.law = build_law(root.section("law"));
-  P.solver = build_solver(root.section("solver"));
+  const CaseSpec spec = CaseSpec::from_config(root);
+  spec.check_tests();
+  P.law = spec.law.law();
+  P.solver = spec.solver.options();
   std::vector<std::string> names;
-  for (const auto& t : root.array("test")) {
-    if (test_kind(t) == TestKind::simple_shear)
-      t.fail("kind", "identify needs FE tests", "\"simple_shear\"", "uniaxial, biaxial or homogeneous");
-    P.models.push_back(build_test(t, root.section("mesh")));
-    names.push_back(t.string("name"));
+  for (const auto& t : spec.test) {
+    if (t.test_kind() == TestKind::simple_shear)
+      t.origin.fail("kind", "identify needs FE tests", "\"simple_shear\"", "uniaxial, biaxial, homogeneous or rig");
+    P.models.push_back(t.model(spec.mesh, spec.rig));
+    names.push_back(t.name);
   }
   std::vector<ident::Parameter> parameters = build_parameters(root, *P.law);
   P.options = IdentifyTable::from_config(root.section("identify")).options();

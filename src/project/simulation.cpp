@@ -118,7 +118,7 @@ plot {} using "edge_displacement":"force_per_width" with linespoints pt 7 ps 0.6
 
 // --- simple shear: the law at F = [[1, γ], [0, 1]] (THEORY §4 validation) ------------------------------
 
-TestOutcome run_simple_shear(const fem::TestModel& test, const fem::Law& law, const io::Node& law_node,
+TestOutcome run_simple_shear(const fem::TestModel& test, const fem::Law& law, const LawSpec& law_spec,
                              const SimulationRequest& args, const Log& log) {
   const auto t0 = std::chrono::steady_clock::now();
   const fs::path dir = args.out / test.name;
@@ -156,10 +156,10 @@ TestOutcome run_simple_shear(const fem::TestModel& test, const fem::Law& law, co
 
   // Beside the law: the closed forms of three objective rates for an isotropic corotational law.
   std::string extra;
-  const io::Node& co = law_node.section("corotational");
-  const bool isotropic = law_node.string("type") == "corotational" && co.string("moduli") == "isotropic";
+  const CorotationalSpec& co = law_spec.corotational;
+  const bool isotropic = law_spec.type == "corotational" && co.moduli == "isotropic";
   if (isotropic && !t.rows.empty()) {
-    const double G = co.real("G"), g_max = t.rows.back()[0], g_min = std::min(0.0, t.rows.front()[0]);
+    const double G = co.G, g_max = t.rows.back()[0], g_min = std::min(0.0, t.rows.front()[0]);
     io::Table c;
     c.columns = {"gamma", "log_s12", "log_s11", "jaumann_s12", "jaumann_s11", "green_naghdi_s12", "green_naghdi_s11"};
     constexpr int kSamples = 400;
@@ -227,17 +227,21 @@ plot {}
 }  // namespace
 
 SimulationOutcome run_simulation(const io::Node& root, const SimulationRequest& args, const Log& log) {
-  check_tests(root);
-  const auto law = build_law(root.section("law"));
-  const fem::SolveOptions options = build_solver(root.section("solver"));
+  return run_simulation(CaseSpec::from_config(root), args, log);
+}
+
+SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& args, const Log& log) {
+  spec.check_tests();
+  const auto law = spec.law.law();
+  const fem::SolveOptions options = spec.solver.options();
 
   // Build every chosen test first: a config error stops the run before any work.
-  std::vector<std::pair<const io::Node*, fem::TestModel>> tests;
+  std::vector<std::pair<const TestSpec*, fem::TestModel>> tests;
   io::Strings names;
-  for (const auto& t : root.array("test")) {
-    names.push_back(t.string("name"));
-    if (!args.only_test.empty() && t.string("name") != args.only_test) continue;
-    tests.emplace_back(&t, build_test(t, root.section("mesh")));
+  for (const auto& t : spec.test) {
+    names.push_back(t.name);
+    if (!args.only_test.empty() && t.name != args.only_test) continue;
+    tests.emplace_back(&t, t.model(spec.mesh, spec.rig));
   }
   if (tests.empty()) {
     const std::string hint = io::closest_name(args.only_test, names);
@@ -249,9 +253,9 @@ SimulationOutcome run_simulation(const io::Node& root, const SimulationRequest& 
   }
 
   std::vector<std::string> failures, fe_tests;
-  for (const auto& [node, model] : tests) {
-    const bool shear = test_kind(*node) == TestKind::simple_shear;
-    const TestOutcome o = shear ? run_simple_shear(model, *law, root.section("law"), args, log)
+  for (const auto& [test, model] : tests) {
+    const bool shear = test->test_kind() == TestKind::simple_shear;
+    const TestOutcome o = shear ? run_simple_shear(model, *law, spec.law, args, log)
                                 : run_fe_test(model, *law, options, args, log);
     if (!o.converged) failures.push_back(o.message);
     if (!shear) fe_tests.push_back(model.name);

@@ -127,9 +127,10 @@ io::SectionSpec synth_schema() {
 }
 
 Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
-  check_tests(root);
-  const auto law = build_law(root.section("law"));
-  const fem::SolveOptions solver = build_solver(root.section("solver"));
+  const CaseSpec spec = CaseSpec::from_config(root);
+  spec.check_tests();
+  const auto law = spec.law.law();
+  const fem::SolveOptions solver = spec.solver.options();
   const io::Node& s = root.section("synth");
   if (s.real("noise_relative") > 0)
     for (const char* k : {"noise_edge_displacement", "noise_edge_force", "noise_field"})
@@ -143,10 +144,10 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
 
   // Build every test first: a config error stops before any work.
   std::vector<fem::TestModel> models;
-  for (const auto& t : root.array("test")) {
-    if (test_kind(t) == TestKind::simple_shear)
-      t.fail("kind", "synth needs an FE test", "\"simple_shear\"", "uniaxial, biaxial or homogeneous");
-    models.push_back(build_test(t, root.section("mesh")));
+  for (const auto& t : spec.test) {
+    if (t.test_kind() == TestKind::simple_shear)
+      t.origin.fail("kind", "synth needs an FE test", "\"simple_shear\"", "uniaxial, biaxial, homogeneous or rig");
+    models.push_back(t.model(spec.mesh, spec.rig));
   }
 
   Truth truth;
@@ -172,7 +173,7 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
     int dropped = 0;
     if (s.boolean("field")) {
       const Eigen::Matrix2Xd grid =
-          grid_points(s, build_mesh_options(root.section("mesh"), &nodes[i].section("mesh")), nodes[i]);
+          grid_points(s, spec.test[i].mesh_options(spec.mesh), nodes[i]);
       const std::vector<int> kept = inside_at_every_step(model, sim, grid, kind);
       dropped = static_cast<int>(grid.cols()) - static_cast<int>(kept.size());
       points.resize(2, Eigen::Index(kept.size()));
@@ -192,7 +193,7 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
     Truth::Test tt;
     tt.name = model.name;
     tt.control = model.control == fem::GripControl::force ? "force" : "displacement";
-    tt.mesh = build_mesh_options(root.section("mesh"), &nodes[i].section("mesh"));
+    tt.mesh = spec.test[i].mesh_options(spec.mesh);
     tt.dofs = model.mesh.dofs();
     tt.steps = d.steps();
     tt.points = d.point_count();

@@ -108,3 +108,19 @@ TEST(ClosestName, FindsTyposAndTranspositionsButNotStrangers) {
   EXPECT_EQ(closest_name("hieght", {"width", "height"}), "height");
   EXPECT_EQ(closest_name("zzzzzz", {"width", "height"}), "");
 }
+
+TEST(Config, AWordKeyThatAlsoTakesANumberKeepsTheNumber) {
+  SectionSpec s{"", "A word-or-number key.", false, {}, {}};
+  s.keys.push_back(key("side", std::string("free"), "free, guide or a size in mm", -1e9, 1e9, {"free", "guide"}));
+  s.keys.back().or_number = true;
+  const Node n = parse_config(s, "side = 110\n", "case.toml");
+  EXPECT_EQ(std::get<double>(n.value("side")), 110.0);
+  EXPECT_EQ(parse_config(s, "side = \"guide\"\n", "case.toml").string("side"), "guide");
+  try {
+    parse_config(s, "side = \"gide\"\n", "case.toml");
+    FAIL() << "a word outside the choices was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "side");
+    EXPECT_EQ(e.where().line, 1);
+  }
+}

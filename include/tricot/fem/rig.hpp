@@ -52,7 +52,9 @@ struct RigOptions {
   /// the clips) when true; false = the clips keep the initial width (u_x = 0).
   bool clips_follow_guide = true;
 
-  void validate() const;  ///< InputError naming `rig.<field>`
+  /// InputError naming the case file's key: `test.side`, `test.transverse_strain`, `test.pull_strain`,
+  /// `test.steps`; `mesh.nx`, `mesh.ny`, `mesh.grading` (grading_y), `mesh.grading_x`; `rig.<field>`.
+  void validate() const;
 };
 
 /// The TestModel of one biaxial-induced test (validated).

@@ -34,6 +34,9 @@ struct KeySpec {
   Strings choices;
   /// The list of numbers must be strictly increasing (load steps, for instance).
   bool increasing = false;
+  /// A string key that also takes a number (a word for some entries, a size for others, e.g. the
+  /// side of [[test]]: free or guide, or the rig's specimen side in mm); read it with Node::value().
+  bool or_number = false;
 };
 
 /// A KeySpec in one line, as the verbs' schemas write them.
@@ -63,6 +66,8 @@ class Node {
   const std::string& string(std::string_view key) const;
   const Reals& reals(std::string_view key) const;
   const Strings& strings(std::string_view key) const;
+  /// The value whatever its type (for a key with KeySpec::or_number).
+  const Value& value(std::string_view key) const;
 
   const Node& section(std::string_view name) const;
   Node& section(std::string_view name);  ///< for overrides through set()

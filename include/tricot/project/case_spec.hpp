@@ -6,14 +6,19 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "tricot/fem/law.hpp"
 #include "tricot/fem/mesh.hpp"
 #include "tricot/fem/model.hpp"
+#include "tricot/fem/reference_fabric.hpp"
+#include "tricot/fem/rig.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/io/config.hpp"
+#include "tricot/project/spec.hpp"
 
 namespace tricot::project {
 
@@ -27,8 +32,11 @@ io::SectionSpec law_section();
 io::SectionSpec solver_section();
 /// `[[test]]`: one test (kind, material angle, grip, side edge, step list, optional `[test.mesh]`).
 io::SectionSpec test_section();
-/// The whole case file: [mesh], [law], [solver] and [[test]].
+/// The whole case file: [mesh], [law], [solver], [rig] and [[test]].
 io::SectionSpec case_schema();
+
+/// `[rig]`: the biaxial-induced fixture shared by every test of kind = "rig" (fem::RigOptions).
+io::SectionSpec rig_section();
 
 /// What a test does (`kind` in `[[test]]`).
 enum class TestKind {
@@ -36,15 +44,176 @@ enum class TestKind {
   biaxial,       ///< grip on top, side edge on a guide (the paper's biaxial-induced test)
   homogeneous,   ///< sliding grip, side free or guided: a uniform field (closed-form checks)
   simple_shear,  ///< no FE solve: the law at F = [[1, γ], [0, 1]] for γ in the step list (THEORY §4)
+  rig,           ///< the paper's rig (fem/rig.hpp): clips, tied guides short of the clips, [rig]
 };
 TestKind test_kind(const io::Node& test);
 
+// ---------------------------------------------------------------------------------------------------
+// Typed specs: one struct per table, its fields the table's TOML keys, read from a validated io::Node
+// (from_config) or built in code. Ranges are the engines': each spec's one check builds the engine's
+// value and calls its validate(), whose key (`mesh.nx`, `test.loads`, `rig.guide_gap`, `solver.tolerance`,
+// `material.k_C`) names the table and the key, so the error is placed at the table's Origin. Checks that
+// span keys and that no engine makes are made here, once.
+
+/// `[mesh]` (full specimen sizes, mm; the quarter model is half of each).
+struct MeshSpec {
+  double width = 110;
+  double height = 110;
+  std::string element = "Q8";  ///< Q4 or Q8
+  int nx = 10;
+  int ny = 10;
+  double grading = 1;    ///< first (y = 0) over last element height, > 0
+  double grading_x = 1;  ///< first (x = 0) over last element width, > 0
+  Origin origin{"mesh"};
+
+  static MeshSpec from_config(const io::Node& mesh);
+};
+
+/// `[test.mesh]`: a non-zero (non-empty) value replaces the key of [mesh].
+struct TestMeshSpec {
+  double width = 0;
+  double height = 0;
+  std::string element;
+  int nx = 0;
+  int ny = 0;
+  double grading = 0;
+  double grading_x = 0;
+  Origin origin{"test.mesh"};
+
+  static TestMeshSpec from_config(const io::Node& mesh);
+  /// The mesh of the test: `mesh` with this table's keys in place, validated (fem::MeshOptions).
+  fem::MeshOptions options(const MeshSpec& mesh) const;
+};
+
+/// `[law.mooney_rivlin]` (paper eq. 7).
+struct MooneyRivlinSpec {
+  io::Strings terms;  ///< C<i><j>; default: the paper's validation set
+  io::Reals values;   ///< N/mm, one per term
+  Origin origin{"law.mooney_rivlin"};
+  MooneyRivlinSpec();
+};
+/// `[law.neo_hookean]`.
+struct NeoHookeanSpec {
+  double mu = 0.1;
+  double lambda = 0.2;
+  Origin origin{"law.neo_hookean"};
+};
+/// `[law.corotational]` (THEORY §4).
+struct CorotationalSpec {
+  std::string moduli = "isotropic";  ///< isotropic (G, K) or orthotropic (D11, D22, D12, D66)
+  double G = 1, K = 2;
+  double D11 = 1, D22 = 0.5, D12 = 0.1, D66 = 0.05;
+  Origin origin{"law.corotational"};
+};
+/// `[law.response_surface]` (paper eqs. 8/10, THEORY §5).
+struct ResponseSurfaceSpec {
+  std::string preset = "paper14";  ///< paper14, paper24 or general
+  io::Reals coefficients;          ///< [] = all zero
+  io::Strings course{"C1", "C2", "W1"};
+  io::Strings wale{"W1", "W2", "C1"};
+  double shear_stiffness = 0.01;
+  Origin origin{"law.response_surface"};
+};
+/// `[law.reference_fabric]`: the parameters' names are the keys (k_C … s_J, G_s).
+struct ReferenceFabricSpec : fem::ReferenceFabricParameters {
+  Origin origin{"law.reference_fabric"};
+};
+
+/// `[law]`: `type` picks the sub-table.
+struct LawSpec {
+  std::string type = "mooney_rivlin";
+  MooneyRivlinSpec mooney_rivlin;
+  NeoHookeanSpec neo_hookean;
+  CorotationalSpec corotational;
+  ResponseSurfaceSpec response_surface;
+  ReferenceFabricSpec reference_fabric;
+  Origin origin{"law"};
+
+  static LawSpec from_config(const io::Node& law);
+  /// The law of `type`: the law's constructor is the one check of its coefficients; its error
+  /// (`material.<name>`) is placed at the sub-table's key. Throws InputError.
+  std::unique_ptr<fem::Law> law() const;
+};
+
+/// `[solver]` (fem::SolveOptions).
+struct SolverSpec {
+  double tolerance = fem::SolveOptions{}.tolerance;
+  int max_iterations = fem::SolveOptions{}.max_iterations;
+  bool line_search = fem::SolveOptions{}.line_search;
+  int max_cutbacks = fem::SolveOptions{}.max_cutbacks;
+  Origin origin{"solver"};
+
+  static SolverSpec from_config(const io::Node& solver);
+  fem::SolveOptions options() const;  ///< validated
+};
+
+/// `[rig]`: the fixture of kind = "rig" tests (fem::RigOptions; fractions of the quarter).
+struct RigSpec {
+  double guide_gap = fem::RigOptions{}.guide_gap;
+  double guide_taper = fem::RigOptions{}.guide_taper;
+  double tie_stiffness = fem::RigOptions{}.tie_stiffness;
+  double clip_tie_stiffness = fem::RigOptions{}.clip_tie_stiffness;
+  double clip_taper = fem::RigOptions{}.clip_taper;
+  bool clips_follow_guide = fem::RigOptions{}.clips_follow_guide;
+  int setting_steps = fem::RigOptions{}.setting_steps;
+  Origin origin{"rig"};
+
+  static RigSpec from_config(const io::Node& rig);
+};
+
+/// `[[test]]`. An unset optional takes the kind's default.
+struct TestSpec {
+  std::string name = "uniaxial";
+  std::string kind = "uniaxial";  ///< uniaxial, biaxial, homogeneous, simple_shear or rig
+  double material_angle = 0;
+  std::string control = "displacement";
+  std::optional<bool> grip_holds_x;  ///< default true (a clamp); homogeneous: false
+  bool grip_follows_guide = false;
+  /// free or guide (FE kinds; default: guide for biaxial, else free); the full specimen side in mm
+  /// for kind = "rig" (default: [mesh] width).
+  std::optional<std::variant<std::string, double>> side;
+  io::Reals guide;
+  io::Reals loads;
+  double load_max = 10;
+  int steps = 10;
+  // kind = "rig" (fem::RigOptions):
+  std::string pull = "wale";     ///< wale (material_angle 0) or course (90)
+  double transverse_strain = 0;  ///< Green–Lagrange strain set across the pull, then held
+  double pull_strain = 0.5;      ///< Green–Lagrange strain along the pull at the last step
+  TestMeshSpec mesh;
+  Origin origin{"test"};
+
+  static TestSpec from_config(const io::Node& test);
+  TestKind test_kind() const;
+  /// The test's mesh (for a rig: side/2 square with [mesh]'s elements and gradings), validated.
+  fem::MeshOptions mesh_options(const MeshSpec& case_mesh) const;
+  /// The FE model (simple_shear: one unit element whose loads are the γ values), validated: fem's
+  /// own checks, each placed at the key of the table it names. Throws InputError.
+  fem::TestModel model(const MeshSpec& case_mesh, const RigSpec& rig) const;
+};
+
+/// The whole case: [mesh], [law], [solver], [rig], [[test]].
+struct CaseSpec {
+  MeshSpec mesh;
+  LawSpec law;
+  SolverSpec solver;
+  RigSpec rig;
+  std::vector<TestSpec> test;
+  Origin origin;
+
+  static CaseSpec from_config(const io::Node& root);
+  /// At least one test, names unique and usable as folder names.
+  void check_tests() const;
+  /// Every test's model, in order (each validated).
+  std::vector<fem::TestModel> models() const;
+};
+
+// Builders from a validated node (each reads the table into its spec and builds from that).
+
 /// The mesh of a test: `[mesh]`, with the keys that `[test.mesh]` sets (non-zero, non-empty) in place.
 fem::MeshOptions build_mesh_options(const io::Node& mesh, const io::Node* test_mesh = nullptr);
-/// A test model from its `[[test]]` table and the case's `[mesh]`. For simple_shear: a one-element
-/// unit square (type as in the mesh) whose loads are the γ values. Throws InputError located in the
-/// file for every inconsistency (fem's own validate() included).
-fem::TestModel build_test(const io::Node& test, const io::Node& mesh);
+/// A test model from its `[[test]]` table, the case's `[mesh]` and (for kind = "rig") `[rig]`.
+fem::TestModel build_test(const io::Node& test, const io::Node& mesh, const io::Node* rig = nullptr);
 /// The law of `[law]`. Throws InputError located at the offending key.
 std::unique_ptr<fem::Law> build_law(const io::Node& law);
 fem::SolveOptions build_solver(const io::Node& solver);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tricot/io/config.hpp"
+#include "tricot/project/case_spec.hpp"
 #include "tricot/project/log.hpp"
 
 namespace tricot::project {
@@ -28,5 +29,7 @@ struct SimulationOutcome {
 /// runs, so a config error stops the run before any work. Throws InputError for a bad case or an
 /// unknown `only_test` (key --test), FileError when an output folder cannot be made.
 SimulationOutcome run_simulation(const io::Node& root, const SimulationRequest& request, const Log& log);
+/// The same from a spec (read from a file or built in code).
+SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& request, const Log& log);
 
 }  // namespace tricot::project

@@ -1,0 +1,158 @@
+// project/case_spec.cpp: the typed case spec (mesh, law, solver, rig, tests), its defaults and the
+// engine values it builds, each error once, at its key's file and line.
+#include "tricot/project/case_spec.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace tricot::project {
+namespace {
+
+// Exact: the same double arithmetic on both sides (the rig's grip and guide displacements).
+constexpr double kExact = 0;
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+const char* const kRigCase = R"(
+[mesh]
+nx = 4
+ny = 3
+grading_x = 0.5
+
+[law]
+type = "reference_fabric"
+
+[law.reference_fabric]
+k_P = 0.08
+
+[rig]
+guide_gap = 0.2
+setting_steps = 3
+
+[[test]]
+name = "course-030"
+kind = "rig"
+side = 150.0
+pull = "course"
+transverse_strain = 0.3
+pull_strain = 1.0
+steps = 5
+)";
+
+TEST(CaseSpec, TheSchemasDefaultsAreTheSpecsDefaults) {
+  io::Node root = io::default_config(case_schema());
+  const CaseSpec read = CaseSpec::from_config(root);
+  const CaseSpec code;
+  EXPECT_EQ(read.mesh.width, code.mesh.width);
+  EXPECT_EQ(read.mesh.nx, code.mesh.nx);
+  EXPECT_EQ(read.mesh.grading_x, code.mesh.grading_x);
+  EXPECT_EQ(read.solver.tolerance, code.solver.tolerance);
+  EXPECT_EQ(read.solver.max_cutbacks, code.solver.max_cutbacks);
+  EXPECT_EQ(read.rig.guide_gap, code.rig.guide_gap);
+  EXPECT_EQ(read.rig.setting_steps, code.rig.setting_steps);
+  EXPECT_EQ(read.rig.clips_follow_guide, code.rig.clips_follow_guide);
+  EXPECT_EQ(read.law.type, code.law.type);
+  EXPECT_EQ(read.law.mooney_rivlin.values, code.law.mooney_rivlin.values);
+  EXPECT_EQ(read.law.reference_fabric.k_P, code.law.reference_fabric.k_P);
+  EXPECT_EQ(read.law.reference_fabric.s_J, code.law.reference_fabric.s_J);
+  EXPECT_EQ(read.law.response_surface.shear_stiffness, code.law.response_surface.shear_stiffness);
+}
+
+TEST(CaseSpec, ARigTestFromAFileIsTheEnginesRigTest) {
+  const io::Node root = io::parse_config(case_schema(), kRigCase, "case.toml");
+  const CaseSpec spec = CaseSpec::from_config(root);
+  const fem::TestModel t = spec.test.at(0).model(spec.mesh, spec.rig);
+  // The quarter is 75 mm; the grip reaches H(√(1 + 2ε) − 1) in 5 steps; the guide W(√(1 + 2εt) − 1).
+  ASSERT_EQ(t.loads.size(), 5u);
+  EXPECT_NEAR(t.loads.back(), 75 * (std::sqrt(3.0) - 1), 1e-12);
+  ASSERT_EQ(t.guide.size(), 1u);
+  EXPECT_NEAR(t.guide[0], 75 * (std::sqrt(1.6) - 1), 1e-12);
+  EXPECT_EQ(t.material_angle, 90);
+  EXPECT_NEAR(t.guide_gap, 0.2 * 75, 1e-12);
+  EXPECT_EQ(t.guide_setting_steps, 3);
+  // (4 × 3 Q8: (2·4 + 1)(2·3 + 1) − 4·3 nodes.)
+  EXPECT_EQ(t.mesh.nodes(), 9 * 7 - 12);
+
+  fem::RigOptions o;
+  o.name = "course-030", o.side = 150, o.pull = fem::PullDirection::course;
+  o.transverse_strain = 0.3, o.pull_strain = 1.0, o.steps = 5;
+  o.nx = 4, o.ny = 3, o.grading_y = 1, o.grading_x = 0.5, o.guide_gap = 0.2, o.setting_steps = 3;
+  const fem::TestModel engine = fem::make_rig_test(o);
+  EXPECT_NEAR((engine.mesh.X - t.mesh.X).cwiseAbs().maxCoeff(), 0, kExact);
+  EXPECT_EQ(engine.loads, t.loads);
+  EXPECT_EQ(spec.test[0].mesh_options(spec.mesh).width, 75);
+}
+
+TEST(CaseSpec, ARigTestBuiltInCodeIsTheSameAsFromAFile) {
+  const io::Node root = io::parse_config(case_schema(), kRigCase, "case.toml");
+  const CaseSpec file = CaseSpec::from_config(root);
+  CaseSpec code;
+  code.mesh.nx = 4, code.mesh.ny = 3, code.mesh.grading_x = 0.5;
+  code.rig.guide_gap = 0.2, code.rig.setting_steps = 3;
+  TestSpec t;
+  t.name = "course-030", t.kind = "rig", t.side = 150.0, t.pull = "course";
+  t.transverse_strain = 0.3, t.pull_strain = 1.0, t.steps = 5;
+  code.test.push_back(t);
+  const fem::TestModel a = file.models().at(0), b = code.models().at(0);
+  EXPECT_EQ(a.loads, b.loads);
+  EXPECT_EQ(a.guide, b.guide);
+  EXPECT_NEAR((a.mesh.X - b.mesh.X).cwiseAbs().maxCoeff(), 0, kExact);
+}
+
+TEST(CaseSpec, TheReferenceFabricsShrinkageAndJammingAreRead) {
+  const io::Node root = io::parse_config(case_schema(), kRigCase, "case.toml");
+  const auto law = CaseSpec::from_config(root).law.law();
+  const auto names = law->coefficient_names();
+  const auto c = law->coefficients();
+  const auto k_P = std::find(names.begin(), names.end(), "k_P");
+  ASSERT_NE(k_P, names.end());
+  EXPECT_EQ(c(k_P - names.begin()), 0.08);
+}
+
+TEST(CaseSpec, ABadRigValueNamesItsKeyAndLine) {
+  const std::string text = std::string(kRigCase) + "\n";
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string s = text;
+    s.replace(s.find(from), from.size(), to);
+    const io::Node root = io::parse_config(case_schema(), s, "case.toml");
+    const CaseSpec spec = CaseSpec::from_config(root);
+    return message_of([&] { spec.models(); });
+  };
+  EXPECT_EQ(with("guide_gap = 0.2", "guide_gap = 0.6"),
+            "case.toml:14: rig.guide_gap: test 'course-030': out of range (got 0.6, expected [0, 0.5))");
+  EXPECT_EQ(with("pull_strain = 1.0", "pull_strain = 0.0"),
+            "case.toml:23: test[0].pull_strain: test 'course-030': out of range (got 0, expected > 0)");
+  EXPECT_EQ(with("side = 150.0", "side = \"guide\""),
+            "case.toml:20: test[0].side: a rig test's side is the specimen side in mm (got \"guide\", expected a "
+            "number > 0)");
+}
+
+TEST(CaseSpec, ANumberSideIsOnlyForARig) {
+  const io::Node root =
+      io::parse_config(case_schema(), "[[test]]\nname = \"a\"\nkind = \"biaxial\"\nside = 110\n", "case.toml");
+  const CaseSpec spec = CaseSpec::from_config(root);
+  EXPECT_EQ(message_of([&] { spec.models(); }),
+            "case.toml:4: test[0].side: a number is the specimen side of a rig test (got 110.0, expected free or "
+            "guide, or kind = \"rig\")");
+}
+
+TEST(CaseSpec, AnUnstableReferenceFabricNamesItsCoefficient) {
+  const io::Node root = io::parse_config(
+      case_schema(), "[law]\ntype = \"reference_fabric\"\n[law.reference_fabric]\nk_P = 0.5\n", "case.toml");
+  EXPECT_EQ(message_of([&] { CaseSpec::from_config(root).law.law(); }),
+            "case.toml:4: law.reference_fabric.k_P: out of range (got 0.500000, expected k_P^2 < k_C k_W (a stable "
+            "knit at rest))");
+}
+
+}  // namespace
+}  // namespace tricot::project
