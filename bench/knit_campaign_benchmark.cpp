@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <chrono>
 #include <stdexcept>
@@ -130,32 +131,31 @@ std::vector<ident::SurfacePoint> surface_points(const Campaign& c, fem::PullDire
   return p;
 }
 
-/// Linear least squares of each force's monomials (of total degree ≤ max_degree; the others 0) on its
-/// eq. 9 points. The full fit sets LM's scales; LM starts from the own-direction slopes alone: the full
-/// polynomial extrapolates wildly to the compressed strips of the fields (εW down to −0.36 below the
-/// clips), and a fitted linear coupling is not positive definite (b1 d1 > a1 c1): the FE fails there.
+/// Linear least squares of each force's monomials on its eq. 9 points (through the law's own basis,
+/// so with its compression branch). With max_degree = 1 only the own-direction slope (εC in F_C, εW
+/// in F_W) is fitted, the others 0: an uncoupled start.
 Eigen::VectorXd polynomial_start(const fem::ResponseSurface& law, const Campaign& c, int max_degree = 99) {
-  Eigen::VectorXd J(law.coefficients().size());
-  int col = 0;
+  const Eigen::Index n = law.coefficients().size();
+  Eigen::VectorXd J = Eigen::VectorXd::Zero(n);
+  const Eigen::Index nc = static_cast<Eigen::Index>(law.course_monomials().size());
+  fem::ResponseSurface unit = law;
   for (int force = 0; force < 2; ++force) {
     const auto& mono = force == 0 ? law.course_monomials() : law.wale_monomials();
+    const Eigen::Index col = force == 0 ? 0 : nc;
     const auto pts = surface_points(c, force == 0 ? fem::PullDirection::course : fem::PullDirection::wale, nullptr);
-    std::vector<size_t> kept;
-    // Degree 1: the own-direction slope only (εC in F_C, εW in F_W), an uncoupled and so stable start.
+    std::vector<Eigen::Index> kept;
     for (size_t m = 0; m < mono.size(); ++m)
       if (max_degree > 1 || (force == 0 ? mono[m].p == 1 && mono[m].q == 0 : mono[m].p == 0 && mono[m].q == 1))
-        kept.push_back(m);
+        kept.push_back(col + static_cast<Eigen::Index>(m));
     Eigen::MatrixXd A(pts.size(), kept.size());
     Eigen::VectorXd b(pts.size());
-    for (size_t i = 0; i < pts.size(); ++i) {
-      for (size_t m = 0; m < kept.size(); ++m)
-        A(i, m) = std::pow(pts[i].eC, mono[kept[m]].p) * std::pow(pts[i].eW, mono[kept[m]].q);
-      b(i) = pts[i].force;
+    for (size_t m = 0; m < kept.size(); ++m) {
+      unit.set_coefficients(Eigen::VectorXd::Unit(n, kept[m]));
+      for (size_t i = 0; i < pts.size(); ++i) A(i, m) = unit.forces(pts[i].eC, pts[i].eW)(force);
     }
+    for (size_t i = 0; i < pts.size(); ++i) b(i) = pts[i].force;
     const Eigen::VectorXd x = A.colPivHouseholderQr().solve(b);
-    J.segment(col, mono.size()).setZero();
-    for (size_t m = 0; m < kept.size(); ++m) J(col + kept[m]) = x(m);
-    col += static_cast<int>(mono.size());
+    for (size_t m = 0; m < kept.size(); ++m) J(kept[m]) = x(m);
   }
   return J;
 }
@@ -223,7 +223,8 @@ struct Run {
 
 Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   fem::ResponseSurface law = fem::ResponseSurface::preset(preset, kShear);
-  const Eigen::VectorXd J_fit = polynomial_start(law, c), J0 = polynomial_start(law, c, 1);
+  const Eigen::VectorXd J_fit = polynomial_start(law, c);
+  const Eigen::VectorXd J0 = std::getenv("TRICOT_CAMPAIGN_SLOPE_START") ? polynomial_start(law, c, 1) : J_fit;
   law.set_coefficients(J_fit);
   const Surfaces fit_errors = errors(c, law);
   law.set_coefficients(J0);
