@@ -9,6 +9,7 @@
 //   build/bench/knit_campaign_benchmark --benchmark_filter=110/paper14
 #include <benchmark/benchmark.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <algorithm>
@@ -296,6 +297,25 @@ void report(benchmark::State& state, const Campaign& c, const Run& r, const std:
               r.errors.wale.points_practical);
   row("LS fit of the points (no FE)", r.start_errors);
   row("identified (FE, field + force)", r.errors);
+  std::printf("#   J*:");
+  for (size_t k = 0; k < res.names.size(); ++k) std::printf(" %s=%.4g", res.names[k].c_str(), res.parameters(k));
+  {
+    // The law's stability over the strains of the fields: the smallest eigenvalue of the symmetric
+    // part of ∂(F_C, F_W)/∂(εC, εW) over εC ∈ [−0.4, 1.3] × εW ∈ [−0.4, 1.4].
+    fem::ResponseSurface law = fem::ResponseSurface::preset(res.names.size() == 14 ? "paper14" : "paper24", kShear);
+    law.set_coefficients(res.parameters);
+    double worst = 1e9, at_C = 0, at_W = 0;
+    constexpr double h = 1e-6;
+    for (double eC = -0.4; eC <= 1.3; eC += 0.05)
+      for (double eW = -0.4; eW <= 1.4; eW += 0.05) {
+        Eigen::Matrix2d A;
+        A.col(0) = (law.forces(eC + h, eW) - law.forces(eC - h, eW)) / (2 * h);
+        A.col(1) = (law.forces(eC, eW + h) - law.forces(eC, eW - h)) / (2 * h);
+        const double m = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(0.5 * (A + A.transpose())).eigenvalues()(0);
+        if (m < worst) worst = m, at_C = eC, at_W = eW;
+      }
+    std::printf("\n#   smallest stiffness eigenvalue %.4g N/mm at (%.2f, %.2f)\n", worst, at_C, at_W);
+  }
   // Identifiability at J* (only when LM ended at a point the FE solves with sensitivities).
   if (res.termination == ident::Termination::fe_failure) return;
   const ident::Evaluation e = r.objective->evaluate(res.parameters, true);

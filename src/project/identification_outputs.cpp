@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 
 #include "json.hpp"
 #include "tricot/fem/solver.hpp"
@@ -72,6 +73,46 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
     j["relative_error"] = err;
     j["error_in_std_errors"] = in_se;
   }
+  return j;
+}
+
+json eq9_json(const ident::Objective& objective, const Eigen::VectorXd& J, const ident::StrainDomain& practical,
+              int nearest) {
+  const auto points = eq9_points(objective, nearest);
+  const std::unique_ptr<fem::Law> law = objective.law_at(J);
+  // The identified force per unit width at (εC, εW): P of the homogeneous state F = diag(λC, λW) in
+  // the material frame (Q = I), whose P11 and P22 are the course and wale forces (THEORY §5).
+  auto force = [&](int i) {
+    return [&law, i](double eC, double eW) {
+      fem::LawInput in;
+      in.F = Vec2(std::sqrt(1 + 2 * eC), std::sqrt(1 + 2 * eW)).asDiagonal();
+      fem::LawOutput out;
+      law->evaluate(in, {false, false}, out);
+      return out.P(i, i);
+    };
+  };
+  json j;
+  for (int f = 0; f < 2; ++f) {
+    const char* name = f == 0 ? "course" : "wale";
+    if (points[f].empty()) {
+      j[name] = nullptr;
+      continue;
+    }
+    ident::Eq9Error e;
+    try {
+      e = ident::eq9_error(points[f], force(f), practical);
+    } catch (const InputError& err) {
+      if (err.where().key != "eq9.practical") throw;
+      ident::StrainDomain all;  // the default domain holds no point of these data: whole range only
+      all.eC_min = all.eW_min = -1e300;
+      all.eC_max = all.eW_max = 1e300;
+      e = ident::eq9_error(points[f], force(f), all);
+      e.practical = std::numeric_limits<double>::quiet_NaN(), e.points_practical = 0;
+    }
+    j[name] = {{"whole", e.whole}, {"practical", e.practical}, {"points_whole", e.points_whole},
+               {"points_practical", e.points_practical}};
+  }
+  j["practical"] = {{"course", {practical.eC_min, practical.eC_max}}, {"wale", {practical.eW_min, practical.eW_max}}};
   return j;
 }
 

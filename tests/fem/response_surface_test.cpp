@@ -25,6 +25,9 @@ namespace {
 
 /// Central differences (h = 1e-6) of these smooth maps are exact to ~1e-9 relative; a wrong term is O(1).
 constexpr double kFdTol = 1e-7;
+/// At rest and at a small strain the central differences straddle ε = 0, where the compression
+/// branch (docs/theory/fabric.md §3.1) is C¹ but its curvature jumps: error O(h |a_2| / a_1) ≈ 1e-6.
+constexpr double kFdKinkTol = 1e-5;
 /// Identities that hold exactly in real arithmetic, checked to a few ulps of the O(1) forces.
 constexpr double kRoundOff = 1e-13;
 
@@ -83,8 +86,9 @@ TEST(ResponseSurface, TangentMatchesFiniteDifferencesFromIdentityToLargeRotation
         LawOutput out;
         law.evaluate({s.F, Q}, {true, false}, out);
         auto P = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return flatten(P_of(law, unflatten(Vec4(x)), Q)); };
-        EXPECT_TRUE(JacobianMatches(P, flatten(s.F), out.A, kFdTol)) << s.name;
-      worst = std::max(worst, tricot::test::jacobian_error(P, flatten(s.F), out.A));
+        const bool at_kink = s.name == "identity" || s.name == "small strain";
+        EXPECT_TRUE(JacobianMatches(P, flatten(s.F), out.A, at_kink ? kFdKinkTol : kFdTol)) << s.name;
+        if (!at_kink) worst = std::max(worst, tricot::test::jacobian_error(P, flatten(s.F), out.A));
       }
     }
   }
