@@ -13,6 +13,7 @@
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -132,33 +133,76 @@ std::vector<ident::SurfacePoint> surface_points(const Campaign& c, fem::PullDire
   return p;
 }
 
-/// Linear least squares of each force's monomials on its eq. 9 points (through the law's own basis,
-/// so with its compression branch). With max_degree = 1 only the own-direction slope (εC in F_C, εW
-/// in F_W) is fitted, the others 0: an uncoupled start.
+/// The smallest eigenvalue of the symmetric part of ∂(F_C, F_W)/∂(εC, εW) [N/mm] over the strains
+/// the rig's fields reach (εC ∈ [−0.4, 1.3] × εW ∈ [−0.4, 1.4], step 0.05): < 0 means the law has a
+/// softening or an unstable coupling somewhere the FE goes, and Newton fails there.
+double smallest_stiffness(const fem::ResponseSurface& law, double* at_C = nullptr, double* at_W = nullptr) {
+  double worst = 1e300;
+  constexpr double h = 1e-6;  // central differences of a C¹ polynomial: error O(h²)
+  for (int i = 0; i <= 34; ++i)
+    for (int j = 0; j <= 36; ++j) {
+      const double eC = -0.4 + 0.05 * i, eW = -0.4 + 0.05 * j;
+      Eigen::Matrix2d A;
+      A.col(0) = (law.forces(eC + h, eW) - law.forces(eC - h, eW)) / (2 * h);
+      A.col(1) = (law.forces(eC, eW + h) - law.forces(eC, eW - h)) / (2 * h);
+      const double m = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(0.5 * (A + A.transpose())).eigenvalues()(0);
+      if (m < worst) {
+        worst = m;
+        if (at_C) *at_C = eC, *at_W = eW;
+      }
+    }
+  return worst;
+}
+
+/// LM's start: each force's monomials fitted by linear least squares to its eq. 9 points (through
+/// the law's own basis), ridge-regularised toward the own-direction slope fit (a1 and c1 only) in
+/// column-normalised units: x(λ) = argmin |A x − b|² + λ |x − x_slope|². λ is the smallest of 0,
+/// 1e-6 … 1e2 (×10) whose law is stable over the fields' strains (smallest_stiffness > 0): the plain
+/// fit extrapolates to the high strains at the clips (εW ≈ 1.3 where the centre reaches 0.65) and
+/// to negative stiffness there. With max_degree = 1, the slope fit itself.
 Eigen::VectorXd polynomial_start(const fem::ResponseSurface& law, const Campaign& c, int max_degree = 99) {
   const Eigen::Index n = law.coefficients().size();
-  Eigen::VectorXd J = Eigen::VectorXd::Zero(n);
   const Eigen::Index nc = static_cast<Eigen::Index>(law.course_monomials().size());
   fem::ResponseSurface unit = law;
+  std::array<Eigen::MatrixXd, 2> A;
+  std::array<Eigen::VectorXd, 2> b, x_slope, norms;
   for (int force = 0; force < 2; ++force) {
-    const auto& mono = force == 0 ? law.course_monomials() : law.wale_monomials();
-    const Eigen::Index col = force == 0 ? 0 : nc;
+    const Eigen::Index col = force == 0 ? 0 : nc, m = force == 0 ? nc : n - nc;
     const auto pts = surface_points(c, force == 0 ? fem::PullDirection::course : fem::PullDirection::wale, nullptr);
-    std::vector<Eigen::Index> kept;
-    for (size_t m = 0; m < mono.size(); ++m)
-      if (max_degree > 1 || (force == 0 ? mono[m].p == 1 && mono[m].q == 0 : mono[m].p == 0 && mono[m].q == 1))
-        kept.push_back(col + static_cast<Eigen::Index>(m));
-    Eigen::MatrixXd A(pts.size(), kept.size());
-    Eigen::VectorXd b(pts.size());
-    for (size_t m = 0; m < kept.size(); ++m) {
-      unit.set_coefficients(Eigen::VectorXd::Unit(n, kept[m]));
-      for (size_t i = 0; i < pts.size(); ++i) A(i, m) = unit.forces(pts[i].eC, pts[i].eW)(force);
+    A[force].resize(static_cast<Eigen::Index>(pts.size()), m);
+    b[force].resize(static_cast<Eigen::Index>(pts.size()));
+    for (Eigen::Index k = 0; k < m; ++k) {
+      unit.set_coefficients(Eigen::VectorXd::Unit(n, col + k));
+      for (size_t i = 0; i < pts.size(); ++i) A[force](i, k) = unit.forces(pts[i].eC, pts[i].eW)(force);
     }
-    for (size_t i = 0; i < pts.size(); ++i) b(i) = pts[i].force;
-    const Eigen::VectorXd x = A.colPivHouseholderQr().solve(b);
-    for (size_t m = 0; m < kept.size(); ++m) J(kept[m]) = x(m);
+    for (size_t i = 0; i < pts.size(); ++i) b[force](i) = pts[i].force;
+    norms[force] = A[force].colwise().norm().transpose();
+    A[force] = A[force] * norms[force].cwiseInverse().asDiagonal();
+    // The own-direction monomial is the first of each list (a1: εC in F_C; c1: εW in F_W).
+    x_slope[force] = Eigen::VectorXd::Zero(m);
+    x_slope[force](0) = A[force].col(0).dot(b[force]) / A[force].col(0).squaredNorm();
   }
-  return J;
+  auto solve = [&](double lambda) {
+    Eigen::VectorXd J(n);
+    for (int force = 0; force < 2; ++force) {
+      const Eigen::Index m = A[force].cols();
+      const Eigen::MatrixXd M = A[force].transpose() * A[force] + lambda * Eigen::MatrixXd::Identity(m, m);
+      const Eigen::VectorXd x = M.colPivHouseholderQr().solve(A[force].transpose() * b[force] + lambda * x_slope[force]);
+      J.segment(force == 0 ? 0 : nc, m) = x.cwiseQuotient(norms[force]);
+    }
+    return J;
+  };
+  if (max_degree <= 1) return solve(1e12);
+  fem::ResponseSurface trial = law;
+  for (double lambda : {0.0, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0, 100.0}) {
+    const Eigen::VectorXd J = solve(lambda);
+    trial.set_coefficients(J);
+    if (smallest_stiffness(trial) > 0) {
+      std::printf("# start: ridge lambda = %g (smallest stiffness %.3g N/mm)\n", lambda, smallest_stiffness(trial));
+      return J;
+    }
+  }
+  return solve(1e12);
 }
 
 struct Surfaces {
@@ -300,20 +344,10 @@ void report(benchmark::State& state, const Campaign& c, const Run& r, const std:
   std::printf("#   J*:");
   for (size_t k = 0; k < res.names.size(); ++k) std::printf(" %s=%.4g", res.names[k].c_str(), res.parameters(k));
   {
-    // The law's stability over the strains of the fields: the smallest eigenvalue of the symmetric
-    // part of ∂(F_C, F_W)/∂(εC, εW) over εC ∈ [−0.4, 1.3] × εW ∈ [−0.4, 1.4].
     fem::ResponseSurface law = fem::ResponseSurface::preset(res.names.size() == 14 ? "paper14" : "paper24", kShear);
     law.set_coefficients(res.parameters);
-    double worst = 1e9, at_C = 0, at_W = 0;
-    constexpr double h = 1e-6;
-    for (double eC = -0.4; eC <= 1.3; eC += 0.05)
-      for (double eW = -0.4; eW <= 1.4; eW += 0.05) {
-        Eigen::Matrix2d A;
-        A.col(0) = (law.forces(eC + h, eW) - law.forces(eC - h, eW)) / (2 * h);
-        A.col(1) = (law.forces(eC, eW + h) - law.forces(eC, eW - h)) / (2 * h);
-        const double m = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(0.5 * (A + A.transpose())).eigenvalues()(0);
-        if (m < worst) worst = m, at_C = eC, at_W = eW;
-      }
+    double at_C = 0, at_W = 0;
+    const double worst = smallest_stiffness(law, &at_C, &at_W);
     std::printf("\n#   smallest stiffness eigenvalue %.4g N/mm at (%.2f, %.2f)\n", worst, at_C, at_W);
   }
   // Identifiability at J* (only when LM ended at a point the FE solves with sensitivities).

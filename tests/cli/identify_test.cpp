@@ -252,5 +252,19 @@ TEST_F(Identify, APracticalDomainOutsideTheDataNamesTheKeyAndTheDataRange) {
   EXPECT_NE(r.err.find("a domain that meets the data"), std::string::npos) << r.err;
 }
 
+
+TEST_F(Identify, ACoefficientListOfTheWrongLengthForAPresetNamesTheKeyAndTheTerms) {
+  std::string project = small_project("../exp", "", "[[parameter]]\nname = \"a1\"\n");
+  const std::string mr = project.substr(project.find("[law]"), project.find("[[test]]") - project.find("[law]"));
+  project.replace(project.find(mr), mr.size(),
+                  "[law]\ntype = \"response_surface\"\n[law.response_surface]\npreset = \"paper14\"\n"
+                  "coefficients = [0.1, 0.2, 0.3]\n\n");
+  const auto r = identify("wrong_length", project);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("law.response_surface.coefficients"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("got 3 values"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("14 (a1, a2"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace tricot::project
