@@ -292,6 +292,9 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   for (size_t k = 0; k < names.size(); ++k) {
     ident::Parameter q;
     q.name = names[k], q.start = J0(k), q.scale = std::max(std::abs(J_fit(k)), 1e-3);
+    // A knit locks, it never softens in tension: the leading own-direction coefficient (a6; c4 or
+    // c6) is kept ≥ 0, so the surface stiffens at the clips' strains beyond the data (εW ≈ 1.3).
+    if (q.name == "a6" || q.name == (preset == "paper14" ? "c4" : "c6")) q.lower = 0, q.start = std::max(q.start, 0.0);
     p.push_back(q);
   }
   Run run;

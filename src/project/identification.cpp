@@ -58,6 +58,8 @@ IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& 
   if (outcome.result.termination != ident::Termination::fe_failure)
     write_fit(req.out, *objective, outcome.result, solver, req.plots, log);
   if (req.plots) plot_history(req.out, outcome, log);
+  if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
+    write_eq9(req.out, *objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest, req.plots, log);
   if (req.print_summary) print_summary(outcome, req.out, log);
   return outcome;
 }

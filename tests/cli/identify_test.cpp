@@ -242,6 +242,11 @@ TEST_F(Identify, ResultJsonHasTheEq9ErrorOfEachSurface) {
   EXPECT_LT(j["eq9"]["wale"]["practical"].get<double>(), kEq9);
   EXPECT_GT(j["eq9"]["wale"]["points_practical"].get<int>(), 0);
   EXPECT_EQ(j["eq9"]["practical"]["wale"][1].get<double>(), 0.4);
+  // The points with their identified force (the plots' data).
+  const io::Table t = io::read_csv(root_ / "eq9" / "out" / "eq9_wale.csv");
+  ASSERT_EQ(t.rows.size(), 10u);
+  EXPECT_NEAR(t.rows.back()[3] / t.rows.back()[2], 1.0, kEq9);
+  EXPECT_FALSE(fs::exists(root_ / "eq9" / "out" / "eq9_course.csv"));
 }
 
 TEST_F(Identify, APracticalDomainOutsideTheDataNamesTheKeyAndTheDataRange) {
