@@ -9,11 +9,14 @@
 //   build/bench/knit_campaign_benchmark --benchmark_filter=110/paper14
 #include <benchmark/benchmark.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <chrono>
 #include <stdexcept>
@@ -130,34 +133,76 @@ std::vector<ident::SurfacePoint> surface_points(const Campaign& c, fem::PullDire
   return p;
 }
 
-/// Linear least squares of each force's monomials (of total degree ≤ max_degree; the others 0) on its
-/// eq. 9 points. The full fit sets LM's scales; LM starts from the own-direction slopes alone: the full
-/// polynomial extrapolates wildly to the compressed strips of the fields (εW down to −0.36 below the
-/// clips), and a fitted linear coupling is not positive definite (b1 d1 > a1 c1): the FE fails there.
-Eigen::VectorXd polynomial_start(const fem::ResponseSurface& law, const Campaign& c, int max_degree = 99) {
-  Eigen::VectorXd J(law.coefficients().size());
-  int col = 0;
-  for (int force = 0; force < 2; ++force) {
-    const auto& mono = force == 0 ? law.course_monomials() : law.wale_monomials();
-    const auto pts = surface_points(c, force == 0 ? fem::PullDirection::course : fem::PullDirection::wale, nullptr);
-    std::vector<size_t> kept;
-    // Degree 1: the own-direction slope only (εC in F_C, εW in F_W), an uncoupled and so stable start.
-    for (size_t m = 0; m < mono.size(); ++m)
-      if (max_degree > 1 || (force == 0 ? mono[m].p == 1 && mono[m].q == 0 : mono[m].p == 0 && mono[m].q == 1))
-        kept.push_back(m);
-    Eigen::MatrixXd A(pts.size(), kept.size());
-    Eigen::VectorXd b(pts.size());
-    for (size_t i = 0; i < pts.size(); ++i) {
-      for (size_t m = 0; m < kept.size(); ++m)
-        A(i, m) = std::pow(pts[i].eC, mono[kept[m]].p) * std::pow(pts[i].eW, mono[kept[m]].q);
-      b(i) = pts[i].force;
+/// The smallest eigenvalue of the symmetric part of ∂(F_C, F_W)/∂(εC, εW) [N/mm] over the strains
+/// the rig's fields reach (εC ∈ [−0.4, 1.3] × εW ∈ [−0.4, 1.4], step 0.05): < 0 means the law has a
+/// softening or an unstable coupling somewhere the FE goes, and Newton fails there.
+double smallest_stiffness(const fem::ResponseSurface& law, double* at_C = nullptr, double* at_W = nullptr) {
+  double worst = 1e300;
+  constexpr double h = 1e-6;  // central differences of a C¹ polynomial: error O(h²)
+  for (int i = 0; i <= 34; ++i)
+    for (int j = 0; j <= 36; ++j) {
+      const double eC = -0.4 + 0.05 * i, eW = -0.4 + 0.05 * j;
+      Eigen::Matrix2d A;
+      A.col(0) = (law.forces(eC + h, eW) - law.forces(eC - h, eW)) / (2 * h);
+      A.col(1) = (law.forces(eC, eW + h) - law.forces(eC, eW - h)) / (2 * h);
+      const double m = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(0.5 * (A + A.transpose())).eigenvalues()(0);
+      if (m < worst) {
+        worst = m;
+        if (at_C) *at_C = eC, *at_W = eW;
+      }
     }
-    const Eigen::VectorXd x = A.colPivHouseholderQr().solve(b);
-    J.segment(col, mono.size()).setZero();
-    for (size_t m = 0; m < kept.size(); ++m) J(col + kept[m]) = x(m);
-    col += static_cast<int>(mono.size());
+  return worst;
+}
+
+/// LM's start: each force's monomials fitted by linear least squares to its eq. 9 points (through
+/// the law's own basis), ridge-regularised toward the own-direction slope fit (a1 and c1 only) in
+/// column-normalised units: x(λ) = argmin |A x − b|² + λ |x − x_slope|². λ is the smallest of 0,
+/// 1e-6 … 1e2 (×10) whose law is stable over the fields' strains (smallest_stiffness > 0): the plain
+/// fit extrapolates to the high strains at the clips (εW ≈ 1.3 where the centre reaches 0.65) and
+/// to negative stiffness there. With max_degree = 1, the slope fit itself.
+Eigen::VectorXd polynomial_start(const fem::ResponseSurface& law, const Campaign& c, int max_degree = 99) {
+  const Eigen::Index n = law.coefficients().size();
+  const Eigen::Index nc = static_cast<Eigen::Index>(law.course_monomials().size());
+  fem::ResponseSurface unit = law;
+  std::array<Eigen::MatrixXd, 2> A;
+  std::array<Eigen::VectorXd, 2> b, x_slope, norms;
+  for (int force = 0; force < 2; ++force) {
+    const Eigen::Index col = force == 0 ? 0 : nc, m = force == 0 ? nc : n - nc;
+    const auto pts = surface_points(c, force == 0 ? fem::PullDirection::course : fem::PullDirection::wale, nullptr);
+    A[force].resize(static_cast<Eigen::Index>(pts.size()), m);
+    b[force].resize(static_cast<Eigen::Index>(pts.size()));
+    for (Eigen::Index k = 0; k < m; ++k) {
+      unit.set_coefficients(Eigen::VectorXd::Unit(n, col + k));
+      for (size_t i = 0; i < pts.size(); ++i) A[force](i, k) = unit.forces(pts[i].eC, pts[i].eW)(force);
+    }
+    for (size_t i = 0; i < pts.size(); ++i) b[force](i) = pts[i].force;
+    norms[force] = A[force].colwise().norm().transpose();
+    A[force] = A[force] * norms[force].cwiseInverse().asDiagonal();
+    // The own-direction monomial is the first of each list (a1: εC in F_C; c1: εW in F_W).
+    x_slope[force] = Eigen::VectorXd::Zero(m);
+    x_slope[force](0) = A[force].col(0).dot(b[force]) / A[force].col(0).squaredNorm();
   }
-  return J;
+  auto solve = [&](double lambda) {
+    Eigen::VectorXd J(n);
+    for (int force = 0; force < 2; ++force) {
+      const Eigen::Index m = A[force].cols();
+      const Eigen::MatrixXd M = A[force].transpose() * A[force] + lambda * Eigen::MatrixXd::Identity(m, m);
+      const Eigen::VectorXd x = M.colPivHouseholderQr().solve(A[force].transpose() * b[force] + lambda * x_slope[force]);
+      J.segment(force == 0 ? 0 : nc, m) = x.cwiseQuotient(norms[force]);
+    }
+    return J;
+  };
+  if (max_degree <= 1) return solve(1e12);
+  fem::ResponseSurface trial = law;
+  for (double lambda : {0.0, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0, 100.0}) {
+    const Eigen::VectorXd J = solve(lambda);
+    trial.set_coefficients(J);
+    if (smallest_stiffness(trial) > 0) {
+      std::printf("# start: ridge lambda = %g (smallest stiffness %.3g N/mm)\n", lambda, smallest_stiffness(trial));
+      return J;
+    }
+  }
+  return solve(1e12);
 }
 
 struct Surfaces {
@@ -223,7 +268,8 @@ struct Run {
 
 Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   fem::ResponseSurface law = fem::ResponseSurface::preset(preset, kShear);
-  const Eigen::VectorXd J_fit = polynomial_start(law, c), J0 = polynomial_start(law, c, 1);
+  const Eigen::VectorXd J_fit = polynomial_start(law, c);
+  const Eigen::VectorXd J0 = std::getenv("TRICOT_CAMPAIGN_SLOPE_START") ? polynomial_start(law, c, 1) : J_fit;
   law.set_coefficients(J_fit);
   const Surfaces fit_errors = errors(c, law);
   law.set_coefficients(J0);
@@ -246,6 +292,9 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   for (size_t k = 0; k < names.size(); ++k) {
     ident::Parameter q;
     q.name = names[k], q.start = J0(k), q.scale = std::max(std::abs(J_fit(k)), 1e-3);
+    // A knit locks, it never softens in tension: the leading own-direction coefficient (a6; c4 or
+    // c6) is kept ≥ 0, so the surface stiffens at the clips' strains beyond the data (εW ≈ 1.3).
+    if (q.name == "a6" || q.name == (preset == "paper14" ? "c4" : "c6")) q.lower = 0, q.start = std::max(q.start, 0.0);
     p.push_back(q);
   }
   Run run;
@@ -295,6 +344,15 @@ void report(benchmark::State& state, const Campaign& c, const Run& r, const std:
               r.errors.wale.points_practical);
   row("LS fit of the points (no FE)", r.start_errors);
   row("identified (FE, field + force)", r.errors);
+  std::printf("#   J*:");
+  for (size_t k = 0; k < res.names.size(); ++k) std::printf(" %s=%.4g", res.names[k].c_str(), res.parameters(k));
+  {
+    fem::ResponseSurface law = fem::ResponseSurface::preset(res.names.size() == 14 ? "paper14" : "paper24", kShear);
+    law.set_coefficients(res.parameters);
+    double at_C = 0, at_W = 0;
+    const double worst = smallest_stiffness(law, &at_C, &at_W);
+    std::printf("\n#   smallest stiffness eigenvalue %.4g N/mm at (%.2f, %.2f)\n", worst, at_C, at_W);
+  }
   // Identifiability at J* (only when LM ended at a point the FE solves with sensitivities).
   if (res.termination == ident::Termination::fe_failure) return;
   const ident::Evaluation e = r.objective->evaluate(res.parameters, true);

@@ -18,13 +18,25 @@ double ipow(double x, int n) {
   return r;
 }
 
-/// εC^p εW^q and its two partial derivatives.
+/// One factor x^n of a monomial and its derivative. With `linear_compression` [choice], a power
+/// n ≥ 2 vanishes for x < 0 (x^n for x ≥ 0, 0 below: C¹ at 0, since its slope there is 0); x^1 and
+/// x^0 are unchanged. The law stays linear in its coefficients.
+struct Factor {
+  double v, d;
+};
+Factor factor(double x, int n, bool linear_compression) {
+  if (n == 0) return {1.0, 0.0};
+  if (linear_compression && n >= 2 && x < 0) return {0.0, 0.0};
+  return {ipow(x, n), n * ipow(x, n - 1)};
+}
+
+/// εC^p εW^q (each factor extended as in `factor`) and its two partial derivatives.
 struct MonomialValue {
   double v, d_C, d_W;
 };
-MonomialValue eval(const Monomial& m, double eC, double eW) {
-  const double pC = ipow(eC, m.p), pW = ipow(eW, m.q);
-  return {pC * pW, m.p > 0 ? m.p * ipow(eC, m.p - 1) * pW : 0.0, m.q > 0 ? m.q * pC * ipow(eW, m.q - 1) : 0.0};
+MonomialValue eval(const Monomial& m, double eC, double eW, bool linear_compression) {
+  const Factor C = factor(eC, m.p, linear_compression), W = factor(eW, m.q, linear_compression);
+  return {C.v * W.v, C.d * W.v, C.v * W.d};
 }
 
 void check_monomials(const std::vector<Monomial>& list, const char* force) {
@@ -96,8 +108,8 @@ void ResponseSurface::set_coefficients(const Eigen::VectorXd& c) {
 Vec2 ResponseSurface::forces(double eps_C, double eps_W) const {
   Vec2 f = Vec2::Zero();
   const std::size_t nc = course_.size();
-  for (std::size_t k = 0; k < nc; ++k) f(0) += c_(k) * eval(course_[k], eps_C, eps_W).v;
-  for (std::size_t k = 0; k < wale_.size(); ++k) f(1) += c_(nc + k) * eval(wale_[k], eps_C, eps_W).v;
+  for (std::size_t k = 0; k < nc; ++k) f(0) += c_(k) * eval(course_[k], eps_C, eps_W, linear_compression()).v;
+  for (std::size_t k = 0; k < wale_.size(); ++k) f(1) += c_(nc + k) * eval(wale_[k], eps_C, eps_W, linear_compression()).v;
   return f;
 }
 
@@ -114,13 +126,13 @@ void ResponseSurface::evaluate(const LawInput& in, const LawRequest& req, LawOut
   detail::FabricForces f;
   const std::size_t nc = course_.size();
   for (std::size_t i = 0; i < nc; ++i) {
-    const MonomialValue m = eval(course_[i], eC, eW);
+    const MonomialValue m = eval(course_[i], eC, eW, linear_compression());
     f.F_C += c_(i) * m.v;
     f.dFC_deC += c_(i) * m.d_C;
     f.dFC_deW += c_(i) * m.d_W;
   }
   for (std::size_t i = 0; i < wale_.size(); ++i) {
-    const MonomialValue m = eval(wale_[i], eC, eW);
+    const MonomialValue m = eval(wale_[i], eC, eW, linear_compression());
     f.F_W += c_(nc + i) * m.v;
     f.dFW_deC += c_(nc + i) * m.d_C;
     f.dFW_deW += c_(nc + i) * m.d_W;
@@ -130,9 +142,9 @@ void ResponseSurface::evaluate(const LawInput& in, const LawRequest& req, LawOut
     // Linear: ∂P/∂c_k = R Q T_k Qᵀ with T_k = diag(monomial, 0) (course) or diag(0, monomial) (wale).
     out.dP_dc.resize(c_.size());
     for (std::size_t i = 0; i < nc; ++i)
-      out.dP_dc[i] = detail::fabric_basis(in, k, Vec2(eval(course_[i], eC, eW).v, 0).asDiagonal());
+      out.dP_dc[i] = detail::fabric_basis(in, k, Vec2(eval(course_[i], eC, eW, linear_compression()).v, 0).asDiagonal());
     for (std::size_t i = 0; i < wale_.size(); ++i)
-      out.dP_dc[nc + i] = detail::fabric_basis(in, k, Vec2(0, eval(wale_[i], eC, eW).v).asDiagonal());
+      out.dP_dc[nc + i] = detail::fabric_basis(in, k, Vec2(0, eval(wale_[i], eC, eW, linear_compression()).v).asDiagonal());
   } else {
     out.dP_dc.clear();
   }

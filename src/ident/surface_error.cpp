@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <string>
+
+#include <Eigen/QR>
 
 #include "tricot/core/error.hpp"
 
@@ -44,6 +47,43 @@ Eq9Error eq9_error(const std::vector<SurfacePoint>& points, const std::function<
   e.whole = sum / e.points_whole;
   e.practical = sum_p / e.points_practical;
   return e;
+}
+
+std::optional<TestSurfacePoints> test_surface_points(const fem::TestModel& model, const TestData& data, int nearest) {
+  constexpr double kAngleTol = 1e-9;  // degrees: the two pulls are exactly 0 or 90 in a project
+  TestSurfacePoints out;
+  if (std::abs(model.material_angle) <= kAngleTol)
+    out.force = SurfaceForce::wale;
+  else if (std::abs(model.material_angle - 90) <= kAngleTol)
+    out.force = SurfaceForce::course;
+  else
+    return std::nullopt;
+  const int n = data.point_count();
+  if (data.edge_force.empty() || data.field_kind != FieldKind::cumulative || n < 3 || data.u.rows() != data.steps())
+    return std::nullopt;
+  // The points nearest the centre (the quarter model's origin).
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return data.points.col(a).norm() < data.points.col(b).norm(); });
+  const int m = std::clamp(nearest, 3, n);
+  Eigen::MatrixXd A(m, 3);
+  for (int i = 0; i < m; ++i) A.row(i) << 1, data.points(0, order[i]), data.points(1, order[i]);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  if (qr.rank() < 3) return std::nullopt;  // collinear points: no gradient
+  const double width = 2 * model.mesh.X.row(0).maxCoeff();
+  for (int k = 0; k < data.steps(); ++k) {
+    Eigen::VectorXd bu(m), bv(m);
+    for (int i = 0; i < m; ++i) bu(i) = data.u(k, order[i]), bv(i) = data.v(k, order[i]);
+    const Eigen::Vector3d gu = qr.solve(bu), gv = qr.solve(bv);
+    Eigen::Matrix2d F;
+    F << 1 + gu(1), gu(2), gv(1), 1 + gv(2);
+    const Eigen::Matrix2d E = 0.5 * (F.transpose() * F - Eigen::Matrix2d::Identity());
+    // Wale pulled (angle 0): course along x. Course pulled (90): course along y.
+    const bool course_along_x = out.force == SurfaceForce::wale;
+    const double eC = course_along_x ? E(0, 0) : E(1, 1), eW = course_along_x ? E(1, 1) : E(0, 0);
+    out.points.push_back({eC, eW, data.edge_force[k] / width});
+  }
+  return out;
 }
 
 }  // namespace tricot::ident

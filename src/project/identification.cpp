@@ -51,12 +51,18 @@ IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& 
   outcome.result = ident::identify(*objective, options, log.reporter());
 
   // Outputs.
-  io::write_atomic(req.out / "result.json", result_json(outcome, *objective, req.resume).dump(2) + "\n");
+  json result = result_json(outcome, *objective, req.resume);
+  const auto eq9_points_found = eq9_points(*objective, P.eq9_nearest);
+  if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
+    result["eq9"] = eq9_json(*objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest);
+  io::write_atomic(req.out / "result.json", result.dump(2) + "\n");
   write_history(req.out / "history.csv", outcome.result);
   if (req.plots) fs::create_directories(req.out / "plots");
   if (outcome.result.termination != ident::Termination::fe_failure)
     write_fit(req.out, *objective, outcome.result, solver, req.plots, log);
   if (req.plots) plot_history(req.out, outcome, log);
+  if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
+    write_eq9(req.out, *objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest, req.plots, log);
   if (req.print_summary) print_summary(outcome, req.out, log);
   write_identification_report(root, P, outcome, req.out,
                               std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());

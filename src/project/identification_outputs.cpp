@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 
 #include "json.hpp"
 #include "tricot/fem/solver.hpp"
@@ -73,6 +74,108 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
     j["error_in_std_errors"] = in_se;
   }
   return j;
+}
+
+namespace {
+
+// The identified force per unit width at (εC, εW): P of the homogeneous state F = diag(λC, λW) in the
+// material frame (Q = I), whose P11 and P22 are the course and wale forces (THEORY §5).
+double identified_force(const fem::Law& law, int i, double eC, double eW) {
+  fem::LawInput in;
+  in.F = Vec2(std::sqrt(1 + 2 * eC), std::sqrt(1 + 2 * eW)).asDiagonal();
+  fem::LawOutput out;
+  law.evaluate(in, {false, false}, out);
+  return out.P(i, i);
+}
+
+}  // namespace
+
+json eq9_json(const ident::Objective& objective, const Eigen::VectorXd& J, const ident::StrainDomain& practical,
+              int nearest) {
+  const auto points = eq9_points(objective, nearest);
+  const std::unique_ptr<fem::Law> law = objective.law_at(J);
+  auto force = [&](int i) { return [&law, i](double eC, double eW) { return identified_force(*law, i, eC, eW); }; };
+  json j;
+  for (int f = 0; f < 2; ++f) {
+    const char* name = f == 0 ? "course" : "wale";
+    if (points[f].empty()) {
+      j[name] = nullptr;
+      continue;
+    }
+    ident::Eq9Error e;
+    try {
+      e = ident::eq9_error(points[f], force(f), practical);
+    } catch (const InputError& err) {
+      if (err.where().key != "eq9.practical") throw;
+      ident::StrainDomain all;  // the default domain holds no point of these data: whole range only
+      all.eC_min = all.eW_min = -1e300;
+      all.eC_max = all.eW_max = 1e300;
+      e = ident::eq9_error(points[f], force(f), all);
+      e.practical = std::numeric_limits<double>::quiet_NaN(), e.points_practical = 0;
+    }
+    j[name] = {{"whole", e.whole}, {"practical", e.practical}, {"points_whole", e.points_whole},
+               {"points_practical", e.points_practical}};
+  }
+  j["practical"] = {{"course", {practical.eC_min, practical.eC_max}}, {"wale", {practical.eW_min, practical.eW_max}}};
+  return j;
+}
+
+void write_eq9(const fs::path& dir, const ident::Objective& objective, const Eigen::VectorXd& J,
+               const ident::StrainDomain& practical, int nearest, bool plots, const Log& log) {
+  const auto points = eq9_points(objective, nearest);
+  const std::unique_ptr<fem::Law> law = objective.law_at(J);
+  for (int f = 0; f < 2; ++f) {
+    if (points[f].empty()) continue;
+    const std::string name = f == 0 ? "course" : "wale";
+    io::Table t;
+    t.columns = {"eC", "eW", "force_exp", "force_id", "relative_error", "practical"};
+    double c0 = 1e300, c1 = -1e300, w0 = 1e300, w1 = -1e300;
+    for (const auto& p : points[f]) {
+      const double id = identified_force(*law, f, p.eC, p.eW);
+      t.rows.push_back({p.eC, p.eW, p.force, id, p.force != 0 ? std::abs(id - p.force) / std::abs(p.force) : 0.0,
+                        practical.contains(p.eC, p.eW) ? 1.0 : 0.0});
+      c0 = std::min(c0, p.eC), c1 = std::max(c1, p.eC), w0 = std::min(w0, p.eW), w1 = std::max(w1, p.eW);
+    }
+    io::write_atomic(dir / ("eq9_" + name + ".csv"), io::to_csv(t));
+    // The identified surface on a 25 × 25 grid over the points' strain range (blank line per scan).
+    std::string grid = "eC,eW,force_id\n";
+    for (int a = 0; a <= 24; ++a) {
+      for (int b = 0; b <= 24; ++b) {
+        const double eC = c0 + (c1 - c0) * a / 24, eW = w0 + (w1 - w0) * b / 24;
+        grid += fmt::format("{:.9g},{:.9g},{:.9g}\n", eC, eW, identified_force(*law, f, eC, eW));
+      }
+      grid += "\n";
+    }
+    io::write_atomic(dir / ("eq9_surface_" + name + ".csv"), grid);
+    if (!plots) continue;
+    const std::string script = fmt::format(R"gp(set terminal pngcairo size 1300,560 font ",11"
+set output {0}
+set datafile separator ","
+set multiplot layout 1,2 title "eq. 9, {1} force: identified surface and experimental points; relative error (practical domain outlined)" noenhanced
+set xlabel "eps_C (Green-Lagrange)"
+set ylabel "eps_W"
+set zlabel "F_{{{1}}} [N/mm]" rotate
+set view 60,35
+set key top left
+splot {2} using 1:2:3 skip 1 with lines lc rgb "#4060c0" title "identified", \
+  {3} using 1:2:3 skip 1 with points pt 7 ps 0.7 lc rgb "#000000" title "experimental"
+set view map
+unset zlabel
+set key off
+set title "|F_id - F_exp| / |F_exp|" noenhanced
+set object 1 rect from {4:.6g},{5:.6g} to {6:.6g},{7:.6g} fs empty border lc rgb "#d00000" lw 2 front
+set cbrange [0:*]
+set palette rgbformulae 22,13,-31
+plot {3} using 1:2:5 skip 1 with points pt 7 ps 1.2 palette
+unset multiplot
+)gp",
+                                           io::gnuplot_quote(dir / "plots" / ("eq9_" + name + ".png")), name,
+                                           io::gnuplot_quote(dir / ("eq9_surface_" + name + ".csv")),
+                                           io::gnuplot_quote(dir / ("eq9_" + name + ".csv")), practical.eC_min,
+                                           practical.eW_min, practical.eC_max, practical.eW_max);
+    std::string why;
+    if (!io::run_gnuplot(script, &why)) log.print("  (no plot: " + why + ")");
+  }
 }
 
 void write_history(const fs::path& file, const ident::IdentifyResult& r) {

@@ -12,6 +12,18 @@ namespace tricot::project {
 
 /// DIR/result.json (DESIGN.md keys, then the uncertainty, the data groups and the truth's errors).
 json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bool resumed);
+/// result.json's "eq9" (THEORY §9, paper Table 5): {"course": {"whole", "practical", "points_whole",
+/// "points_practical"}, "wale": {…}, "practical": {"course": [min, max], "wale": [min, max]}}, the
+/// identified law (the objective's law at J) against the data's experimental points; a force
+/// without points is null.
+json eq9_json(const ident::Objective& objective, const Eigen::VectorXd& J, const ident::StrainDomain& practical,
+              int nearest);
+/// DIR/eq9_<force>.csv (eC, eW, force_exp, force_id, relative_error, practical per point),
+/// DIR/eq9_surface_<force>.csv (the identified surface on a grid over the points' range) and, with
+/// `plots`, DIR/plots/eq9_<force>.png: the surface with the experimental points (paper Figs 11–14)
+/// and the error map with the practical domain outlined (Figs 15–16).
+void write_eq9(const std::filesystem::path& dir, const ident::Objective& objective, const Eigen::VectorXd& J,
+               const ident::StrainDomain& practical, int nearest, bool plots, const Log& log);
 /// DIR/history.csv: iteration, objective, one column per coefficient.
 void write_history(const std::filesystem::path& file, const ident::IdentifyResult& r);
 /// DIR/plots/history.png: f and every coefficient (over the truth or the identified value) per iteration.

@@ -8,6 +8,7 @@
 #include "schema.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/ident/objective.hpp"
+#include "tricot/ident/surface_error.hpp"
 #include "tricot/project/case_spec.hpp"
 #include "tricot/project/identification.hpp"
 
@@ -216,6 +217,25 @@ ident::IdentifyOptions IdentifyTable::options() const {
   return o;
 }
 
+SectionSpec eq9_section() {
+  const ident::StrainDomain d;
+  SectionSpec s{"eq9",
+                "Eq. (9) in result.json (THEORY §9, paper Table 5): the mean relative distance between the\n"
+                "identified and the measured force per unit width at the experimental points (each step of a\n"
+                "test pulled along wale, material_angle 0, or course, 90: grip force / full width against the\n"
+                "centre strain of the measured field), over all points and over the practical domain.",
+                false, {}, {}};
+  s.keys = {
+      key("practical_course", io::Reals{d.eC_min, d.eC_max}, "[min, max] Green–Lagrange εC of practical use (paper: 60–100 %).",
+          -1, 100),
+      key("practical_wale", io::Reals{d.eW_min, d.eW_max}, "[min, max] Green–Lagrange εW of practical use (paper: 20–40 %).",
+          -1, 100),
+      key("nearest", std::int64_t{6}, "Field points nearest the centre that the centre strain is fitted on (affine), ≥ 3.",
+          3, 1000000),
+  };
+  return s;
+}
+
 io::SectionSpec identify_schema() {
   io::SectionSpec root = case_schema();
   root.help =
@@ -226,7 +246,52 @@ io::SectionSpec identify_schema() {
   root.sections.push_back(parameter_section());
   root.sections.push_back(data_section());
   root.sections.push_back(identify_section());
+  root.sections.push_back(eq9_section());
   return root;
+}
+
+namespace {
+
+// [eq9]: the practical domain, checked against the experimental points of the data (a domain that
+// holds none of a surface's points is an error located at its key, naming the data's strain range).
+void read_eq9(const Node& n, Project& P) {
+  for (const char* k : {"practical_course", "practical_wale"}) {
+    const io::Reals& r = n.reals(k);
+    if (r.size() != 2 || r[0] > r[1])
+      n.fail(k, "not a strain interval", fmt::format("{} values", r.size()), "[min, max] with min <= max");
+  }
+  P.eq9_practical.eC_min = n.reals("practical_course")[0], P.eq9_practical.eC_max = n.reals("practical_course")[1];
+  P.eq9_practical.eW_min = n.reals("practical_wale")[0], P.eq9_practical.eW_max = n.reals("practical_wale")[1];
+  P.eq9_nearest = static_cast<int>(n.integer("nearest"));
+  // A domain the user gave must meet the data; the default one may not (then "practical" is null).
+  if (!n.given("practical_course") && !n.given("practical_wale")) return;
+  const auto points = eq9_points(*P.objective, P.eq9_nearest);
+  for (int f = 0; f < 2; ++f) {
+    if (points[f].empty()) continue;
+    try {
+      (void)ident::eq9_error(points[f], [](double, double) { return 0.0; }, P.eq9_practical);
+    } catch (const InputError& e) {
+      if (e.where().key != "eq9.practical") throw;
+      const std::string what = std::string(e.what()).substr(e.where().key.size() + 2);
+      n.fail(f == 0 ? "practical_course" : "practical_wale",
+             std::string(f == 0 ? "course" : "wale") + " surface: " + what);
+    }
+  }
+}
+
+}  // namespace
+
+std::array<std::vector<ident::SurfacePoint>, 2> eq9_points(const ident::Objective& objective, int nearest) {
+  std::array<std::vector<ident::SurfacePoint>, 2> out;
+  const auto& models = objective.models();
+  const auto& tests = objective.experiment().tests;
+  for (std::size_t t = 0; t < tests.size() && t < models.size(); ++t) {
+    const auto p = ident::test_surface_points(models[t], tests[t], nearest);
+    if (!p) continue;
+    auto& dst = out[p->force == ident::SurfaceForce::course ? 0 : 1];
+    dst.insert(dst.end(), p->points.begin(), p->points.end());
+  }
+  return out;
 }
 
 Project build_project(const io::Node& root, const fs::path& base) {
@@ -297,6 +362,7 @@ Project build_project(const io::Node& root, const fs::path& base) {
     if (k == "data") relocate(e, dn, "");
     throw InputError({root.file(), 0, k}, std::string(e.what()).substr(k.empty() ? 0 : k.size() + 2));
   }
+  read_eq9(root.section("eq9"), P);
   return P;
 }
 

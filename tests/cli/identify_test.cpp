@@ -224,5 +224,52 @@ TEST_F(Identify, HelpTeachesTheProjectFormat) {
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
 }
 
+
+// Eq. 9 (THEORY §9): the strip is pulled along y with material_angle 0, so its steps are points of
+// the wale surface (course: null). The identified law of a converged inverse crime reproduces the
+// grip force per width at the centre strain of the measured (homogeneous) field.
+TEST_F(Identify, ResultJsonHasTheEq9ErrorOfEachSurface) {
+  constexpr double kEq9 = 1e-3;  // LM stops on δ short of the optimum; the centre fit is exact
+  ASSERT_EQ(identify("eq9", small_project("../exp", std::string(kStopOnDelta) +
+                                                        "[eq9]\npractical_course = [-1.0, 0.0]\npractical_wale = [0.2, 0.4]\n"))
+                .exit_code,
+            0);
+  const json j = result("eq9");
+  ASSERT_TRUE(j.contains("eq9"));
+  EXPECT_TRUE(j["eq9"]["course"].is_null());
+  EXPECT_EQ(j["eq9"]["wale"]["points_whole"].get<int>(), 10);
+  EXPECT_LT(j["eq9"]["wale"]["whole"].get<double>(), kEq9);
+  EXPECT_LT(j["eq9"]["wale"]["practical"].get<double>(), kEq9);
+  EXPECT_GT(j["eq9"]["wale"]["points_practical"].get<int>(), 0);
+  EXPECT_EQ(j["eq9"]["practical"]["wale"][1].get<double>(), 0.4);
+  // The points with their identified force (the plots' data).
+  const io::Table t = io::read_csv(root_ / "eq9" / "out" / "eq9_wale.csv");
+  ASSERT_EQ(t.rows.size(), 10u);
+  EXPECT_NEAR(t.rows.back()[3] / t.rows.back()[2], 1.0, kEq9);
+  EXPECT_FALSE(fs::exists(root_ / "eq9" / "out" / "eq9_course.csv"));
+}
+
+TEST_F(Identify, APracticalDomainOutsideTheDataNamesTheKeyAndTheDataRange) {
+  const auto r = identify("eq9_outside", small_project("../exp", "[eq9]\npractical_wale = [2.0, 3.0]\n"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("eq9.practical_wale"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("holds no experimental point"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("a domain that meets the data"), std::string::npos) << r.err;
+}
+
+
+TEST_F(Identify, ACoefficientListOfTheWrongLengthForAPresetNamesTheKeyAndTheTerms) {
+  std::string project = small_project("../exp", "", "[[parameter]]\nname = \"a1\"\n");
+  const std::string mr = project.substr(project.find("[law]"), project.find("[[test]]") - project.find("[law]"));
+  project.replace(project.find(mr), mr.size(),
+                  "[law]\ntype = \"response_surface\"\n[law.response_surface]\npreset = \"paper14\"\n"
+                  "coefficients = [0.1, 0.2, 0.3]\n\n");
+  const auto r = identify("wrong_length", project);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("law.response_surface.coefficients"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("got 3 values"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("14 (a1, a2"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace tricot::project

@@ -12,6 +12,13 @@
 // (needs ∂R/∂F) and in general not major-symmetric (the law is not derived from a potential).
 // λ3 = 1/det F (incompressible knit; reported only).
 //
+// Compression [choice] (docs/theory/fabric.md §3.1): a knit carries little compression, and a
+// polynomial fitted to tension extrapolates wildly below 0 (a free strip near the clips of the rig is
+// compressed to εW ≈ −0.38 while no test measures there). By default (Compression::linear) every
+// factor x^n with n ≥ 2 of a monomial is replaced by 0 for x < 0, x^1 is kept: the law is linear in
+// compression, C¹ at 0, and still linear in its coefficients (∂P/∂c exact). Compression::polynomial
+// keeps the plain polynomial everywhere.
+//
 // Coefficient names, in the order of coefficients():
 //   separable / presets (THEORY §5):
 //     F_C = Σ_{i=1..nC} a_i εC^i + Σ_{j=1..mC} b_j εW^j,   F_W = Σ_{i=1..nW} c_i εW^i + Σ_{j=1..mW} d_j εC^j,
@@ -35,6 +42,9 @@ struct Monomial {
 
 class ResponseSurface : public Law {
  public:
+  /// How the monomials extend to negative strains (see the file comment).
+  enum class Compression { linear, polynomial };
+
   /// Default G_s [N/mm]: about 1 % of a compression-knit course stiffness, enough to keep the
   /// tangent regular, too small to matter in the biaxial force.
   static constexpr double kDefaultShearStiffness = 0.01;
@@ -69,6 +79,9 @@ class ResponseSurface : public Law {
   const std::vector<Monomial>& course_monomials() const { return course_; }
   const std::vector<Monomial>& wale_monomials() const { return wale_; }
   double shear_stiffness() const { return G_s_; }
+  Compression compression() const { return compression_; }
+  void set_compression(Compression c) { compression_ = c; }
+  bool linear_compression() const { return compression_ == Compression::linear; }
 
  private:
   ResponseSurface(std::vector<Monomial> course, std::vector<Monomial> wale, double G_s,
@@ -78,6 +91,7 @@ class ResponseSurface : public Law {
   std::vector<std::string> names_;
   Eigen::VectorXd c_;
   double G_s_;
+  Compression compression_ = Compression::linear;
 };
 
 }  // namespace tricot::fem

@@ -5,7 +5,11 @@
 
 #include <functional>
 #include <limits>
+#include <optional>
 #include <vector>
+
+#include "tricot/fem/model.hpp"
+#include "tricot/ident/experiment.hpp"
 
 namespace tricot::ident {
 
@@ -40,5 +44,20 @@ struct Eq9Error {
 /// domain holds no point, and (key `eq9.points`) when no point has a non-zero force.
 Eq9Error eq9_error(const std::vector<SurfacePoint>& points, const std::function<double(double, double)>& identified,
                    const StrainDomain& practical = {});
+
+/// Which surface a test's points belong to: the force its grip measures (THEORY §9 [choice]).
+enum class SurfaceForce { course, wale };
+
+/// The eq. 9 points of one measured test (THEORY §9 [choice]), or nullopt when the test gives none:
+/// a material angle other than 0 (wale pulled, along y) or 90 (course pulled) [± 1e-9°], no grip
+/// force, or no cumulative field of ≥ 3 points. Per step: force = edge_force / (2 × the quarter
+/// mesh's width) [N/mm], and (εC, εW) at the specimen centre X = (0, 0) from the Green–Lagrange strain
+/// of an affine fit u = a + G X of the measured displacements at the `nearest` field points closest
+/// to the centre (all points if fewer).
+struct TestSurfacePoints {
+  SurfaceForce force = SurfaceForce::wale;
+  std::vector<SurfacePoint> points;  ///< one per step
+};
+std::optional<TestSurfacePoints> test_surface_points(const fem::TestModel& model, const TestData& data, int nearest = 6);
 
 }  // namespace tricot::ident

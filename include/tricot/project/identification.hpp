@@ -2,6 +2,7 @@
 // history.csv, plots): the pipeline of `tricot identify`, which `tricot demo` runs too.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -13,6 +14,7 @@
 #include "tricot/fem/solver.hpp"
 #include "tricot/ident/identify.hpp"
 #include "tricot/ident/objective.hpp"
+#include "tricot/ident/surface_error.hpp"
 #include "tricot/io/config.hpp"
 #include "tricot/project/spec.hpp"
 
@@ -54,7 +56,13 @@ struct Project {
   ident::IdentifyOptions options;  ///< from [identify]
   std::optional<Truth> truth;      ///< the experiment's truth.json, when it has one
   std::unique_ptr<ident::Objective> objective;
+  ident::StrainDomain eq9_practical;  ///< [eq9] practical_course, practical_wale
+  int eq9_nearest = 6;                ///< [eq9] nearest
 };
+
+/// Eq. 9's experimental points of an objective's data (THEORY §9 [choice]): [0] course (tests with
+/// material_angle 90), [1] wale (angle 0), one per step, from ident::test_surface_points.
+std::array<std::vector<ident::SurfacePoint>, 2> eq9_points(const ident::Objective& objective, int nearest);
 /// Reads the experiment of a validated project (relative to `base`) and builds its objective.
 /// Throws InputError located in the project file (FileError for a missing file or folder).
 Project build_project(const io::Node& root, const std::filesystem::path& base);
