@@ -77,11 +77,11 @@ TEST(ReportInBrowser, EveryFigureLoadsAndThePagePrintsToPdf) {
   ASSERT_TRUE(fs::exists(html));
   ASSERT_TRUE(fs::exists(dir / "out" / "report.json"));
 
-  // The figures the page embeds: the LM history and the fit of the one test.
+  // The figures the page embeds: the LM history, the fit of the one test and the eq. 9 surface.
   const std::string page = io::read_text(html);
   std::size_t images = 0;
   for (std::size_t at = page.find("<img "); at != std::string::npos; at = page.find("<img ", at + 1)) ++images;
-  EXPECT_EQ(images, 2u);
+  EXPECT_EQ(images, 3u);
 
   // Every image decoded in the browser (the check script added to a copy of the page).
   std::string checked = page;
