@@ -309,8 +309,11 @@ io::SectionSpec case_schema() {
 // ---------------------------------------------------------------------------------------------------
 // Specs from validated tables
 
-MeshSpec MeshSpec::from_config(const io::Node& n) {
-  MeshSpec m;
+namespace {
+// [mesh] and [test.mesh] share their keys; only their defaults differ.
+template <class Spec>
+Spec mesh_from_config(const io::Node& n) {
+  Spec m;
   m.width = n.real("width"), m.height = n.real("height");
   m.element = n.string("element");
   m.nx = static_cast<int>(n.integer("nx")), m.ny = static_cast<int>(n.integer("ny"));
@@ -318,16 +321,11 @@ MeshSpec MeshSpec::from_config(const io::Node& n) {
   m.origin = Origin(n);
   return m;
 }
+}  // namespace
 
-TestMeshSpec TestMeshSpec::from_config(const io::Node& n) {
-  TestMeshSpec m;
-  m.width = n.real("width"), m.height = n.real("height");
-  m.element = n.string("element");
-  m.nx = static_cast<int>(n.integer("nx")), m.ny = static_cast<int>(n.integer("ny"));
-  m.grading = n.real("grading"), m.grading_x = n.real("grading_x");
-  m.origin = Origin(n);
-  return m;
-}
+MeshSpec MeshSpec::from_config(const io::Node& n) { return mesh_from_config<MeshSpec>(n); }
+
+TestMeshSpec TestMeshSpec::from_config(const io::Node& n) { return mesh_from_config<TestMeshSpec>(n); }
 
 MooneyRivlinSpec::MooneyRivlinSpec() {
   // Default: the paper's validation set (docs/validation/laws-iso.md), a rubber-like S curve.

@@ -112,6 +112,21 @@ io::SectionSpec lab_schema() {
 
 namespace {
 
+// A column of a `tricot dic` table that may be absent or hold empty cells (a lost point): NaN there.
+std::vector<double> optional_numbers(const io::LogTable& t, const char* column) {
+  std::vector<double> v(t.rows(), NAN);
+  if (!t.has_column(column)) return v;
+  const auto cells = t.text(column);
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    try {
+      v[i] = cells[i].empty() ? NAN : std::stod(cells[i]);
+    } catch (const std::exception&) {
+      v[i] = NAN;
+    }
+  }
+  return v;
+}
+
 std::string num(double v) { return fmt::format("{:.9g}", v); }
 
 fs::path resolve(const io::Node& n, const std::string& k) {
@@ -336,19 +351,7 @@ dic::SequenceResult read_dic_folder(const fs::path& dir, std::vector<std::string
   const io::LogTable t = io::read_log(pf, io::LogFormat{',', false, 1});
   const auto frame = t.numbers("frame"), id = t.numbers("id"), x0 = t.numbers("x0"), y0 = t.numbers("y0");
   const auto status = t.text("status");
-  const auto col = [&](const char* c) {
-    std::vector<double> v(t.rows(), NAN);
-    if (!t.has_column(c)) return v;
-    const auto s = t.text(c);
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      try {
-        v[i] = s[i].empty() ? NAN : std::stod(s[i]);
-      } catch (...) {
-        v[i] = NAN;
-      }
-    }
-    return v;
-  };
+  const auto col = [&](const char* c) { return optional_numbers(t, c); };
   const auto x = col("x"), y = col("y"), sx = col("sigma_x"), sy = col("sigma_y"), zn = col("zncc");
   int frames = 0, points = 0;
   for (std::size_t i = 0; i < t.rows(); ++i) frames = std::max(frames, int(frame[i]) + 1), points = std::max(points, int(id[i]) + 1);
@@ -380,19 +383,7 @@ dic::SequenceResult read_dic_folder(const fs::path& dir, std::vector<std::string
     const io::LogTable ti = io::read_log(inc, io::LogFormat{',', false, 1});
     const auto from = ti.numbers("from"), to = ti.numbers("to"), iid = ti.numbers("id");
     const auto st = ti.text("status");
-    const auto icol = [&](const char* c) {
-      std::vector<double> v(ti.rows(), NAN);
-      if (!ti.has_column(c)) return v;
-      const auto s = ti.text(c);
-      for (std::size_t i = 0; i < s.size(); ++i) {
-        try {
-          v[i] = s[i].empty() ? NAN : std::stod(s[i]);
-        } catch (...) {
-          v[i] = NAN;
-        }
-      }
-      return v;
-    };
+    const auto icol = [&](const char* c) { return optional_numbers(ti, c); };
     const auto u = icol("u"), v = icol("v"), su = icol("sigma_x"), sv = icol("sigma_y");
     r.increments.resize(std::size_t(std::max(0, frames - 1)));
     for (int k = 0; k + 1 < frames; ++k) {
