@@ -94,6 +94,7 @@ Runner add_identify(CLI::App& app) {
   cmd->add_option("--kill-after", args->kill_after, "Testing aid: kill the run after N checkpoints")->group("");
   add_print_config(cmd, project::identify_schema);
   return [args]() {
+    check_out_dir(args->out_dir);
     const io::Node root = io::read_config(project::identify_schema(), args->project);
     Console console(args->verbose, args->quiet);
     project::IdentifyRequest req;

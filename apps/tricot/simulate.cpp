@@ -74,6 +74,7 @@ Runner add_simulate(CLI::App& app) {
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
   add_print_config(cmd, project::case_schema);
   return [args]() {
+    check_out_dir(args->out_dir);
     const io::Node root = io::read_config(project::case_schema(), args->case_file);
     Console console(args->verbose, args->quiet);
     const project::SimulationOutcome o =

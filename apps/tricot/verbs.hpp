@@ -22,6 +22,9 @@ Runner add_demo(CLI::App& app);
 Runner add_experiment(CLI::App& app);
 Runner add_relax(CLI::App& app);
 
+/// Refuses an output folder before any work: empty (InputError) or a file, or under a file (FileError).
+void check_out_dir(const std::string& dir);
+
 /// Adds `--print-config` to a verb: prints the verb's fully commented default config and exits 0.
 void add_print_config(CLI::App* verb, std::function<io::SectionSpec()> schema);
 

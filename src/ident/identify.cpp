@@ -277,7 +277,8 @@ std::optional<Eigen::VectorXd> stability_trial(const Problem& problem, const Ide
     }
   const int m = static_cast<int>(trials.size());
   std::vector<Evaluation> e(m);
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  // More threads than cores never speeds this up, and a team of 1024 can fail to start (libgomp aborts).
+  const int threads = options.threads > 0 ? std::min(options.threads, omp_get_num_procs()) : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int i = 0; i < m; ++i) e[i] = problem.evaluate(trials[i], false);
   state.evaluations += m;

@@ -59,11 +59,21 @@ void write_atomic(const fs::path& path, const std::string& content) {
 }
 
 std::string read_text(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (!fs::exists(st)) throw FileError({path.string(), 0, ""}, "file not found");
+  if (fs::is_directory(st)) throw FileError({path.string(), 0, ""}, "is a folder, not a file", "", "a regular file");
+  if (!fs::is_regular_file(st))
+    throw FileError({path.string(), 0, ""}, "not a regular file (a device, pipe or socket)", "", "a regular file");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError({path.string(), 0, ""}, "cannot open the file");
+  if (!in) throw FileError({path.string(), 0, ""}, std::string("cannot open the file: ") + std::strerror(errno));
   std::stringstream buf;
   buf << in.rdbuf();
-  return buf.str();
+  if (in.bad()) throw FileError({path.string(), 0, ""}, "read failed");
+  std::string text = buf.str();
+  // A UTF-8 byte-order mark (Excel and Windows editors write one) is not part of the first cell or key.
+  if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
+  return text;
 }
 
 std::size_t Table::column(const std::string& name, const std::string& file) const {

@@ -50,7 +50,7 @@ io::SectionSpec dic_schema() {
       key("update_zncc", d0.update_zncc, "auto mode: update the reference when a frame's mean ZNCC drops below this.", 0, 1),
       key("update_loss", d0.update_loss, "auto mode: ... or when more than this fraction of the points fail.", 0, 1),
       key("batch", std::int64_t{d0.batch}, "Points propagated per round (1 = strict highest-ZNCC-first order).", 1, 4096),
-      key("threads", std::int64_t{d0.threads}, "OpenMP threads, 0 = all cores.", 0, 1024),
+      key("threads", std::int64_t{d0.threads}, "OpenMP threads, 0 = all cores; more than the cores run as many as the cores.", 0, 1024),
   };
   SectionSpec st{"strain", "Green–Lagrange strain by a least-squares plane fit over a window of grid points.", false, {}, {}};
   st.keys = {

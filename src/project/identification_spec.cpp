@@ -107,7 +107,7 @@ SectionSpec identify_section() {
       key("difference", std::string("forward"), "finite_difference only: forward or central.", -kInf, kInf,
           {"forward", "central"}),
       key("fd_step", o.fd_step, "finite_difference only: step h_k = fd_step · scale_k, in (0, 0.1].", 0, 0.1),
-      key("threads", std::int64_t{o.threads}, "Threads for tests and finite-difference columns; 0 = all cores.", 0, 1024),
+      key("threads", std::int64_t{o.threads}, "Threads for tests and finite-difference columns; 0 = all cores; more than the cores run as many as the cores.", 0, 1024),
       key("initial_trust_region_radius", o.initial_trust_region_radius, "LM's first trust-region radius (1/μ₀, LM units), > 0.",
           0, 1e16),
   };
