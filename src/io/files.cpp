@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <random>
 #include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "tricot/core/error.hpp"
 
@@ -159,18 +161,48 @@ std::string gnuplot_quote(const fs::path& p) {
 }
 
 bool run_gnuplot(const std::string& script, std::string* why) {
-  FILE* p = popen("gnuplot 2>&1", "w");
+  // gnuplot's messages go to a temporary file, never to our stdout: on failure the first line that
+  // names the problem becomes `why`.
+  char log_name[] = "/tmp/tricot-gnuplot-XXXXXX";
+  const int fd = mkstemp(log_name);
+  if (fd < 0) {
+    if (why) *why = std::string("cannot make a temporary file for gnuplot's messages: ") + std::strerror(errno);
+    return false;
+  }
+  close(fd);
+  FILE* p = popen(fmt::format("gnuplot >'{}' 2>&1", log_name).c_str(), "w");
   if (!p) {
+    std::remove(log_name);
     if (why) *why = "cannot start gnuplot";
     return false;
   }
   fwrite(script.data(), 1, script.size(), p);
   const int rc = pclose(p);
-  if (rc != 0) {
-    if (why) *why = "gnuplot failed (is gnuplot-nox installed?)";
-    return false;
+  std::string output;
+  {
+    std::ifstream in(log_name);
+    std::stringstream buf;
+    buf << in.rdbuf();
+    output = buf.str();
   }
-  return true;
+  std::remove(log_name);
+  if (rc == 0) return true;
+  if (why) {
+    if (WIFEXITED(rc) && WEXITSTATUS(rc) == 127) {
+      *why = "gnuplot is not installed (apt install gnuplot-nox)";
+    } else {
+      std::string first;
+      std::istringstream in(output);
+      for (std::string line; std::getline(in, line);) {
+        const auto b = line.find_first_not_of(" \t^");
+        if (b == std::string::npos) continue;
+        first = line.substr(b);
+        if (line.find("rror") != std::string::npos || line.find("line ") != std::string::npos) break;
+      }
+      *why = "gnuplot failed" + (first.empty() ? std::string() : ": " + first);
+    }
+  }
+  return false;
 }
 
 }  // namespace tricot::io
