@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <map>
+#include <type_traits>
 #include <nlohmann/json.hpp>
 
 #include "tricot/core/error.hpp"
@@ -157,8 +158,24 @@ T get(const json& j, const std::string& key, const std::string& file, const std:
   try {
     return j.at(key).get<T>();
   } catch (const json::exception&) {
-    throw InputError({file, 0, path + key}, "missing or of the wrong type");
+    throw InputError({file, 0, path + key}, "missing or of the wrong type", j.is_object() && j.contains(key) ? j[key].dump() : "none");
   }
+}
+
+// Reads `j[key]` as T when present (else `fallback`), or throws InputError naming the file and key:
+// nlohmann's own type_error names neither.
+template <class T>
+T get_or(const json& j, const std::string& key, T fallback, const std::string& file, const std::string& path) {
+  if (!j.is_object() || !j.contains(key)) return fallback;
+  const json& v = j[key];
+  bool ok = false;
+  if constexpr (std::is_same_v<T, std::string>) ok = v.is_string();
+  else if constexpr (std::is_floating_point_v<T>) ok = v.is_number();
+  else ok = v.is_number_integer() || v.is_number_unsigned();
+  if (!ok)
+    throw InputError({file, 0, path + key}, "of the wrong type", v.dump(),
+                     std::is_same_v<T, std::string> ? "a string" : std::is_floating_point_v<T> ? "a number" : "an integer");
+  return v.get<T>();
 }
 
 }  // namespace
@@ -257,9 +274,9 @@ std::optional<Truth> read_truth(const fs::path& dir) {
     t.names.push_back(name);
     t.values.push_back(value.get<double>());
   }
-  t.noise_relative = j.value("noise_relative", 0.0);
-  t.seed = j.value("seed", std::uint64_t{0});
-  t.field_kind = j.value("field_kind", std::string("cumulative")) == "incremental" ? ident::FieldKind::incremental
+  t.noise_relative = get_or(j, "noise_relative", 0.0, file, "");
+  t.seed = get_or(j, "seed", std::uint64_t{0}, file, "");
+  t.field_kind = get_or(j, "field_kind", std::string("cumulative"), file, "") == "incremental" ? ident::FieldKind::incremental
                                                                                    : ident::FieldKind::cumulative;
   if (j.contains("tests")) {
     if (!j["tests"].is_array()) throw InputError({file, 0, "tests"}, "not an array");
@@ -267,19 +284,19 @@ std::optional<Truth> read_truth(const fs::path& dir) {
       Truth::Test x;
       x.name = get<std::string>(s, "name", file, "tests.");
       const std::string p = "tests." + x.name + ".";
-      x.control = s.value("control", std::string());
-      x.steps = s.value("steps", 0);
-      x.points = s.value("points", 0);
-      x.dropped_points = s.value("dropped_points", 0);
+      x.control = get_or(s, "control", std::string(), file, p);
+      x.steps = get_or(s, "steps", 0, file, p);
+      x.points = get_or(s, "points", 0, file, p);
+      x.dropped_points = get_or(s, "dropped_points", 0, file, p);
       if (s.contains("mesh")) {
         const json& m = s["mesh"];
-        x.mesh.type = m.value("element", std::string("Q8")) == "Q4" ? fem::ElementType::Q4 : fem::ElementType::Q8;
-        x.mesh.width = m.value("width", 2 * x.mesh.width) / 2;
-        x.mesh.height = m.value("height", 2 * x.mesh.height) / 2;
-        x.mesh.nx = m.value("nx", x.mesh.nx);
-        x.mesh.ny = m.value("ny", x.mesh.ny);
-        x.mesh.grading = m.value("grading", 1.0);
-        x.dofs = m.value("dofs", 0);
+        x.mesh.type = get_or(m, "element", std::string("Q8"), file, p + "mesh.") == "Q4" ? fem::ElementType::Q4 : fem::ElementType::Q8;
+        x.mesh.width = get_or(m, "width", 2 * x.mesh.width, file, p + "mesh.") / 2;
+        x.mesh.height = get_or(m, "height", 2 * x.mesh.height, file, p + "mesh.") / 2;
+        x.mesh.nx = get_or(m, "nx", x.mesh.nx, file, p + "mesh.");
+        x.mesh.ny = get_or(m, "ny", x.mesh.ny, file, p + "mesh.");
+        x.mesh.grading = get_or(m, "grading", 1.0, file, p + "mesh.");
+        x.dofs = get_or(m, "dofs", 0, file, p + "mesh.");
       }
       if (s.contains("sigma")) {
         const json& g = s["sigma"];
