@@ -64,6 +64,19 @@ int integer_cell(const Cells& c, std::size_t row, std::size_t col) {
   return static_cast<int>(v);
 }
 
+// Largest |value| accepted in forces.csv and field.csv (mm, N, s, px): far beyond any specimen, and its
+// square sums stay finite, so a group's RMS scale (THEORY §2) cannot overflow to a zero weight.
+constexpr double kLargestDatum = 1e12;
+
+// Every cell of the table within ±kLargestDatum, or InputError at FILE:LINE: COLUMN (issue 14).
+void check_magnitudes(const Cells& c) {
+  for (std::size_t r = 0; r < c.t.rows.size(); ++r)
+    for (std::size_t col = 0; col < c.t.rows[r].size(); ++col)
+      if (!(std::abs(c.t.rows[r][col]) <= kLargestDatum))
+        throw InputError(c.at(r, c.t.columns[col]), "value out of range", num(c.t.rows[r][col]),
+                         "|value| <= " + num(kLargestDatum));
+}
+
 std::optional<std::size_t> find_column(const io::Table& t, const std::string& name) {
   for (std::size_t i = 0; i < t.columns.size(); ++i)
     if (t.columns[i] == name) return i;
@@ -75,6 +88,7 @@ void read_forces(const fs::path& file, ident::TestData& d) {
   const Cells c{t, file.string()};
   const std::size_t step = t.column("step", c.file), load = t.column("load", c.file);
   if (t.rows.empty()) throw InputError({c.file, 0, ""}, "no steps: the file has a header and no rows");
+  check_magnitudes(c);
   const auto disp = find_column(t, "edge_displacement"), force = find_column(t, "edge_force");
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     const int k = integer_cell(c, r, step);
@@ -96,6 +110,7 @@ void read_field(const fs::path& file, ident::TestData& d) {
   const std::size_t step = t.column("step", c.file), id = t.column("id", c.file), x = t.column("x", c.file),
                     y = t.column("y", c.file), u = t.column("u", c.file), v = t.column("v", c.file);
   if (t.rows.empty()) return;  // a header only: no field data
+  check_magnitudes(c);
   const int K = d.steps();
 
   // Points in the order of their first appearance; each (step, id) once; x, y the same at every step.
