@@ -73,9 +73,6 @@ TEST(ScaledResiduals, AllZeroDataWithoutSigmaIsAnError) {
   EXPECT_NO_THROW(d.add("z", GroupKind::field_u, 0, Eigen::Vector3d::Zero(), 1, 0.01));
 }
 
-}  // namespace
-}  // namespace tricot::ident
-
 TEST(ScaledResiduals, AGroupWhoseRmsOverflowsIsAnErrorNotAZeroWeight) {
   ScaledResiduals d;
   try {
@@ -86,3 +83,6 @@ TEST(ScaledResiduals, AGroupWhoseRmsOverflowsIsAnErrorNotAZeroWeight) {
     EXPECT_NE(std::string(e.what()).find("RMS overflows"), std::string::npos) << e.what();
   }
 }
+
+}  // namespace
+}  // namespace tricot::ident
