@@ -33,8 +33,9 @@ int main(int argc, char** argv) {
     std::string verb;
     for (const CLI::App* s : app.get_subcommands()) verb = s->get_name();
     std::string what = e.what();
-    if (verb.empty() && argc > 1 && argv[1][0] != '-')
-      what = std::string("unknown verb '") + argv[1] + "' (simulate, identify, dic, synth, demo, experiment, relax)";
+    if (verb.empty() && argc > 1)
+      what = std::string(argv[1][0] == '-' ? "unknown option '" : "unknown verb '") + argv[1] +
+             "' (verbs: simulate, identify, dic, synth, demo, experiment, relax)";
     what += verb.empty() ? "; see tricot --help" : "; see tricot " + verb + " --help";
     std::fprintf(stderr, "tricot: error: %s\n", format_error({"command line", 0, verb}, what, {}, {}).c_str());
     return static_cast<int>(ExitCode::usage);
