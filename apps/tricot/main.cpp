@@ -12,7 +12,7 @@
 #include "verbs.hpp"
 
 
-int main(int argc, char** argv) {
+int tricot_cli_main(int argc, char** argv) {
   using namespace tricot;
   CLI::App app{
       "tricot — identify the large-strain law of a knitted fabric from biaxial tension tests.\n"

@@ -29,3 +29,7 @@ void check_out_dir(const std::string& dir);
 void add_print_config(CLI::App* verb, std::function<io::SectionSpec()> schema);
 
 }  // namespace tricot::cli
+
+/// The whole program (main.cpp): parses argv, runs the verb, and turns every error into one line on
+/// stderr and a documented exit code. entry.cpp's main() calls it; the bad-input suite calls it in-process.
+int tricot_cli_main(int argc, char** argv);
