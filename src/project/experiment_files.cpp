@@ -8,6 +8,8 @@
 #include <type_traits>
 #include <nlohmann/json.hpp>
 
+#include "json.hpp"
+
 #include "tricot/core/error.hpp"
 #include "tricot/io/files.hpp"
 
@@ -278,9 +280,7 @@ std::optional<Truth> read_truth(const fs::path& dir) {
   try {
     j = json::parse(io::read_text(path));
   } catch (const json::parse_error& e) {
-    std::string what = e.what();  // "[json.exception.parse_error.101] parse error at line 1, …"
-    if (const auto p = what.find("] "); what.rfind("[json.exception", 0) == 0 && p != std::string::npos) what.erase(0, p + 2);
-    throw InputError({file, 0, ""}, "not valid JSON: " + what);
+    throw InputError({file, 0, ""}, "not valid JSON: " + json_problem(e));
   }
   Truth t;
   t.law = get<std::string>(j, "law", file, "");
