@@ -323,8 +323,8 @@ std::vector<Case> generated_cases() {
       {"Synth", "experiment.toml", "synth {F} -q -o {D}/out", project::synth_schema(), synth_doc(), {}},
       {"Identify", "project.toml", "identify {F} -q --no-plots -o {D}/out", project::identify_schema(), project_doc(),
        identify_files()},
-      {"Experiment", "lab.toml", "experiment {F} -q -o {D}/out", project::lab_schema(), empty_lab, {}},
       {"Dic", "dic.toml", "dic {F} -q -o {D}/out {D}/f0.png {D}/f1.png", project::dic_schema(), Doc{}, {}},
+      {"Experiment", "lab.toml", "experiment {F} -q -o {D}/out", project::lab_schema(), empty_lab, {}},
   };
   for (const Verb& v : verbs) schema_cases(v, v.schema, "", "", out);
   // The verbs' schemas share tables (a project is a case plus more): keep each key once per verb, and
