@@ -60,6 +60,22 @@ TEST(Sequence, IncrementalModeRecoversWhenEveryVelocityGuessIsWrong) {
   EXPECT_LT(rms, kTrackingTol);
 }
 
+// A knit's natural tracers repeat every stitch (10 px here): a look-alike subset sits one pitch
+// away. A 24 px first step (2.4 pitches) followed by small ones must still be tracked to the truth,
+// not to a neighbouring stitch.
+TEST(Sequence, IncrementalModeTracksAKnitTextureWithoutSlippingAStitch) {
+  StretchSequence s;
+  s.speckle.texture = synth::Texture::knit;
+  s.final_stretch = Vec2(1.3, 1.1);
+  s.frames = 4;
+  s.shifts = {Vec2::Zero(), Vec2(24, 0), Vec2(24, 0), Vec2(24, 0), Vec2(24, 0)};
+  const SequenceResult r = test::track(s, options(SequenceMode::incremental));
+  EXPECT_EQ(r.termination, SequenceTermination::completed);
+  const auto [rms, ok] = test::rms_error(s, r, s.frames);
+  EXPECT_EQ(ok, static_cast<int>(r.grid.size())) << r.frames.back().message;
+  EXPECT_LT(rms, kTrackingTol);
+}
+
 TEST(Sequence, DriftGrowsNoFasterThanTheSquareRootOfTheNumberOfIncrements) {
   // The same final deformation reached in 5 and in 20 increments: independent errors per increment
   // would make the second 2 = √4 times larger, a bias repeated at every increment 4 times larger.
