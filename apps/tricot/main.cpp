@@ -37,35 +37,37 @@ int tricot_cli_main(int argc, char** argv) {
       what = std::string(argv[1][0] == '-' ? "unknown option '" : "unknown verb '") + argv[1] +
              "' (verbs: simulate, identify, dic, synth, demo, experiment, relax)";
     what += verb.empty() ? "; see tricot --help" : "; see tricot " + verb + " --help";
+    for (char& c : what)
+      if (c == '\n' || c == '\r') c = ' ';
     std::fprintf(stderr, "tricot: error: %s\n", format_error({"command line", 0, verb}, what, {}, {}).c_str());
     return static_cast<int>(ExitCode::usage);
   }
+  // One line whatever the message holds (a multi-line TOML string echoed as `got`, a library's text).
+  const auto error = [](std::string line) {
+    for (char& c : line)
+      if (c == '\n' || c == '\r') c = ' ';
+    std::fprintf(stderr, "tricot: error: %s\n", line.c_str());
+  };
   try {
     for (const auto& [name, run] : verbs)
       if (app.got_subcommand(name)) return static_cast<int>(run());
   } catch (const InputError& e) {
-    std::fprintf(stderr, "tricot: error: %s\n", e.what());
+    error(e.what());
     return static_cast<int>(e.exit_code());
   } catch (const std::filesystem::filesystem_error& e) {
     // A folder that cannot be made or read, e.g. -o naming a file: the contract's FILE: what, exit 3.
     const std::string file = e.path1().empty() ? "filesystem" : e.path1().string();
-    std::fprintf(stderr, "tricot: error: %s\n", format_error({file, 0, ""}, e.code().message(), {}, {}).c_str());
+    error(format_error({file, 0, ""}, e.code().message(), {}, {}));
     return static_cast<int>(ExitCode::input_missing);
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "tricot: error: %s\n",
-                 format_error({"memory", 0, ""}, "out of memory", {},
-                              "a smaller mesh, fewer or smaller images, or a machine with more memory")
-                     .c_str());
+    error(format_error({"memory", 0, ""}, "out of memory", {},
+                       "a smaller mesh, fewer or smaller images, or a machine with more memory"));
     return static_cast<int>(ExitCode::usage);
   } catch (const std::system_error& e) {
-    std::fprintf(stderr, "tricot: error: %s\n",
-                 format_error({"system", 0, ""}, e.what(), {}, "fewer threads or more memory").c_str());
+    error(format_error({"system", 0, ""}, e.what(), {}, "fewer threads or more memory"));
     return static_cast<int>(ExitCode::usage);
   } catch (const std::exception& e) {
-    std::string what = e.what();
-    for (char& c : what)
-      if (c == '\n' || c == '\r') c = ' ';  // one line, whatever the library wrote
-    std::fprintf(stderr, "tricot: error: %s\n", what.c_str());
+    error(e.what());
     return static_cast<int>(ExitCode::usage);
   }
   return static_cast<int>(ExitCode::usage);

@@ -436,6 +436,14 @@ std::vector<Case> written_cases() {
   add({"Simulate_Utf16IsASyntaxError", {{"case.toml", std::string("\xFF\xFE[\0m\0", 6)}}, sim, 2, {"{D}/case.toml"}});
   add({"Simulate_BinaryFile", {{"case.toml", std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10)}}, sim, 2, {"{D}/case.toml"}});
 
+  add({"Simulate_MultiLineStringStaysOneLine",
+       {{"case.toml", replace_all(render(case_doc()), "kind = \"uniaxial\"", "kind = \"\"\"uni\naxial\"\"\"")}}, sim, 2,
+       {"{D}/case.toml:14: test[0].kind"}});
+  add({"Simulate_TestNameWithASlash", {{"case.toml", replace_all(render(case_doc()), "name = \"tension\"", "name = \"a/b\"")}},
+       sim, 2, {"{D}/case.toml:13: test[0].name"}});
+  add({"Simulate_TestNameEmpty", {{"case.toml", replace_all(render(case_doc()), "name = \"tension\"", "name = \"\"")}}, sim, 2,
+       {"{D}/case.toml:13: test[0].name"}});
+
   // --- Resources: a mesh beyond the memory, threads beyond the cores -----------------------------
   {
     int line = 0;
