@@ -676,7 +676,7 @@ std::vector<Case> written_cases() {
   add({"Relax_LogMissing", {}, rel, 3, {"{D}/log.txt: file not found"}});
   add({"Relax_LogIsAFolder", {{"log.txt", "/"}}, rel, 3, {"{D}/log.txt: is a folder"}});
   add({"Relax_LogEmpty", {{"log.txt", ""}}, rel, 2, {"{D}/log.txt"}});
-  add({"Relax_LogHeaderOnly", {{"log.txt", "time,force\n"}}, rel, 2, {"{D}/log.txt: no header row found"}});
+  add({"Relax_LogHeaderOnly", {{"log.txt", "time,force\n"}}, rel, 2, {"{D}/log.txt:1: no data rows"}});
   add({"Relax_NoForceColumn", {{"log.txt", "time,load\n0,1\n1,2\n"}}, rel, 2, {"{D}/log.txt", "force"}});
   add({"Relax_NamedColumnMissing", {{"log.txt", "time,force\n0,1\n1,2\n"}}, rel + " --force Kraft", 2, {"{D}/log.txt", "Kraft"}});
   add({"Relax_MaxTermsZero", {{"log.txt", "time,force\n0,1\n1,2\n"}}, rel + " --max-terms 0", 2, {"max_terms"}});
