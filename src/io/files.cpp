@@ -163,21 +163,22 @@ std::string gnuplot_quote(const fs::path& p) {
 bool run_gnuplot(const std::string& script, std::string* why) {
   // gnuplot's messages go to a temporary file, never to our stdout: on failure the first line that
   // names the problem becomes `why`.
+  // The script goes through a file too, not a pipe: a gnuplot that is missing or stops early would
+  // leave our write to a closed pipe, and SIGPIPE would end the run.
   char log_name[] = "/tmp/tricot-gnuplot-XXXXXX";
+  char script_name[] = "/tmp/tricot-gnuplot-XXXXXX";
   const int fd = mkstemp(log_name);
-  if (fd < 0) {
-    if (why) *why = std::string("cannot make a temporary file for gnuplot's messages: ") + std::strerror(errno);
+  const int sd = fd < 0 ? -1 : mkstemp(script_name);
+  if (fd < 0 || sd < 0) {
+    if (fd >= 0) close(fd), std::remove(log_name);
+    if (why) *why = std::string("cannot make a temporary file for gnuplot: ") + std::strerror(errno);
     return false;
   }
   close(fd);
-  FILE* p = popen(fmt::format("gnuplot >'{}' 2>&1", log_name).c_str(), "w");
-  if (!p) {
-    std::remove(log_name);
-    if (why) *why = "cannot start gnuplot";
-    return false;
-  }
-  fwrite(script.data(), 1, script.size(), p);
-  const int rc = pclose(p);
+  const bool written = ::write(sd, script.data(), script.size()) == static_cast<ssize_t>(script.size());
+  close(sd);
+  const int rc = written ? std::system(fmt::format("gnuplot '{}' >'{}' 2>&1 </dev/null", script_name, log_name).c_str()) : -1;
+  std::remove(script_name);
   std::string output;
   {
     std::ifstream in(log_name);
