@@ -2,6 +2,8 @@
 #include "tricot/project/output_dir.hpp"
 
 #include <algorithm>
+#include <csignal>
+#include <cstdlib>
 #include <set>
 #include <system_error>
 
@@ -49,6 +51,9 @@ void roll_forward(const fs::path& dir, const std::string& verb) {
   const fs::path journal = journal_of(dir, verb);
   const auto remove = read_list(journal, "remove");
   const auto move = read_list(journal, "move");
+  auto files = move;
+  for (const auto& f : read_list(journal, "keep")) files.push_back(f);
+  std::sort(files.begin(), files.end());
   const fs::path staging = OutputDir::staging_of(dir, verb);
   for (const auto& f : remove) remove_with_empty_parents(dir, dir / f);
   for (const auto& f : move) {
@@ -61,7 +66,7 @@ void roll_forward(const fs::path& dir, const std::string& verb) {
   }
   json m;
   m["verb"] = verb;
-  m["files"] = move;
+  m["files"] = files;
   io::write_atomic(manifest_of(dir, verb), m.dump(1) + "\n");
   std::error_code ec;
   fs::remove_all(staging, ec);
@@ -87,21 +92,29 @@ OutputDir::OutputDir(fs::path dir, std::string verb, bool keep_staging)
   if (!keep_staging) fs::remove_all(staging_, ec);
 }
 
-void OutputDir::publish() {
+void OutputDir::publish(const std::vector<std::string>& scope) {
+  // Testing aid: a run killed with everything staged (tests/cli/outputs_test.cpp).
+  if (const char* v = std::getenv("TRICOT_TEST_KILL_BEFORE_PUBLISH"); v && verb_ == v) std::raise(SIGKILL);
   std::vector<std::string> written;
   std::error_code ec;
   if (fs::is_directory(staging_, ec))
     for (const auto& e : fs::recursive_directory_iterator(staging_))
-    if (e.is_regular_file()) written.push_back(e.path().lexically_relative(staging_).generic_string());
+      if (e.is_regular_file()) written.push_back(e.path().lexically_relative(staging_).generic_string());
   std::sort(written.begin(), written.end());
   const std::set<std::string> now(written.begin(), written.end());
-  std::vector<std::string> stale;
-  for (const auto& f : published(dir_, verb_))
-    if (!now.count(f)) stale.push_back(f);
+  const auto in_scope = [&](const std::string& f) {
+    return scope.empty() || std::any_of(scope.begin(), scope.end(), [&](const std::string& p) { return f.starts_with(p); });
+  };
+  std::vector<std::string> stale, kept;
+  for (const auto& f : published(dir_, verb_)) {
+    if (now.count(f)) continue;
+    (in_scope(f) ? stale : kept).push_back(f);
+  }
   json j;
   j["verb"] = verb_;
   j["remove"] = stale;
   j["move"] = written;
+  j["keep"] = kept;  // a partial run's: the earlier files it leaves, still the folder's
   io::write_atomic(journal_of(dir_, verb_), j.dump(1) + "\n");
   roll_forward(dir_, verb_);
 }

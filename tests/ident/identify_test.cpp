@@ -227,7 +227,9 @@ TEST(Identify, ResumedFromACheckpointReachesTheSameAnswer) {
 // the end (phase done: only the uncertainty is left).
 constexpr double kResumedAnswer = 1e-10;  // issue 14: the uninterrupted answer to round-off
 
-void expect_every_checkpoint_resumes_to(const Problem& p, const IdentifyOptions& base) {
+// `same_message`: false for a run to round-off, whose stopping message quotes a gradient of a few ulps
+// (the last bit depends on allocation alignment: ResumedFromACheckpointReachesTheSameAnswer).
+void expect_every_checkpoint_resumes_to(const Problem& p, const IdentifyOptions& base, bool same_message = true) {
   std::vector<Checkpoint> saved;
   IdentifyOptions o = base;
   o.on_checkpoint = [&](const Checkpoint& c) { saved.push_back(c); };
@@ -241,7 +243,9 @@ void expect_every_checkpoint_resumes_to(const Problem& p, const IdentifyOptions&
     SCOPED_TRACE("resumed from checkpoint " + std::to_string(i) + " (phase " + to_string(saved[i].phase) +
                  ", iteration " + std::to_string(saved[i].iterations) + ")");
     EXPECT_EQ(rest.termination, full.termination);
-    EXPECT_EQ(rest.message, full.message);
+    if (same_message) {
+      EXPECT_EQ(rest.message, full.message);
+    }
     EXPECT_EQ(rest.iterations, full.iterations);
     EXPECT_EQ(rest.restarts, full.restarts);
     EXPECT_EQ(rest.stability_passed, full.stability_passed);
@@ -259,7 +263,7 @@ TEST(Identify, ResumedFromAnyCheckpointReachesTheUninterruptedAnswerWithTheSameI
   o.epsilon = 0;  // stops on δ: eq. (3) or Ceres's step test on a trial step
   expect_every_checkpoint_resumes_to(p, o);
   o.delta = 1e-12;  // to round-off
-  expect_every_checkpoint_resumes_to(p, o);
+  expect_every_checkpoint_resumes_to(p, o, /*same_message=*/false);
   // With a bound Ceres makes its step test from the first trial of a solve, resumed or not.
   auto params = test::curve_parameters(Eigen::Vector3d(1.2, 1.4, 0.5));
   params[0].upper = 1.8;

@@ -26,8 +26,11 @@ class OutputDir {
 
   /// Publishes the staging folder's files into DIR (renames), removes the files of the verb's earlier
   /// run that this run did not write, records this run's files in DIR/.tricot-<verb>.json and
-  /// removes the staging folder. Throws FileError when a file cannot be moved.
-  void publish();
+  /// removes the staging folder. With `scope` (folder prefixes such as "tension/"), a partial run:
+  /// only the earlier files under those prefixes are replaced, the others stay and stay recorded.
+  /// Throws FileError when a file cannot be moved. Testing aid: with the environment variable
+  /// TRICOT_TEST_KILL_BEFORE_PUBLISH set to the verb, the process kills itself (SIGKILL) first.
+  void publish(const std::vector<std::string>& scope = {});
 
   /// The files (relative to DIR, '/'-separated) of the last run of `verb` published in DIR; empty
   /// when none was.
