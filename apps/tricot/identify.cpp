@@ -99,7 +99,8 @@ Runner add_identify(CLI::App& app) {
   cmd->add_flag("--kill-before-publish", args->kill_before_publish, "Testing aid: kill the run before publishing")->group("");
   add_print_config(cmd, project::identify_schema);
   return [args]() {
-    const io::Node root = io::read_config(project::identify_schema(), args->project);
+    const project::IdentificationSpec spec =
+        project::read_identification_spec(io::read_config(project::identify_schema(), args->project));
     Console console(args->verbose, args->quiet);
     project::IdentifyRequest req;
     req.base = fs::path(args->project).parent_path();
@@ -109,7 +110,7 @@ Runner add_identify(CLI::App& app) {
     req.kill_after = args->kill_after;
     req.kill_after_evaluations = args->kill_after_evaluations;
     req.kill_before_publish = args->kill_before_publish;
-    const project::IdentifyOutcome o = project::run_identification(root, req, console.log());
+    const project::IdentifyOutcome o = project::run_identification(spec, req, console.log());
     return o.result.converged() ? ExitCode::ok : ExitCode::not_converged;
   };
 }

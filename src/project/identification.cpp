@@ -63,8 +63,12 @@ IdentifyOutcome finished_run(const ident::Checkpoint& c, const fs::path& out, co
 }  // namespace
 
 IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& req, const Log& log) {
+  return run_identification(read_identification_spec(root), req, log);
+}
+
+IdentifyOutcome run_identification(const IdentificationSpec& spec, const IdentifyRequest& req, const Log& log) {
   const auto started = std::chrono::steady_clock::now();
-  Project P = build_project(root, req.base);
+  Project P = build_project(spec, req.base);
   const auto& law = P.law;
   const auto& models = P.models;
   const auto& solver = P.solver;
@@ -125,7 +129,7 @@ IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& 
   if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
     write_eq9(dir, *objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest, req.plots, log);
   if (req.print_summary) print_summary(outcome, req.out, log);
-  write_identification_report(root, P, outcome, dir,
+  write_identification_report(spec, P, outcome, dir,
                               std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   if (req.kill_before_publish) std::raise(SIGKILL);  // testing aid
   output.publish();

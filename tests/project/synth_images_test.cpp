@@ -103,5 +103,54 @@ TEST(SynthImages, NoImagesUnlessEnabled) {
   EXPECT_FALSE(fs::exists(dir / "exp" / "tension" / kImagesFolder));
 }
 
+std::string message_of(const SynthImagesSpec& s) {
+  try {
+    s.validate();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(SynthImagesSpec, TheSchemasDefaultsAreTheSpecsDefaults) {
+  const SynthImagesSpec read =
+      SynthImagesSpec::from_config(io::default_config(io::SectionSpec{"", "", false, {}, {synth_images_section()}}).section("images"));
+  const SynthImagesSpec code;
+  EXPECT_EQ(read.enabled, code.enabled);
+  EXPECT_EQ(read.pixel_size, code.pixel_size);
+  EXPECT_EQ(read.width, code.width);
+  EXPECT_EQ(read.height, code.height);
+  EXPECT_EQ(read.speckle_size, code.speckle_size);
+  EXPECT_EQ(read.coverage, code.coverage);
+  EXPECT_EQ(read.subsamples, code.subsamples);
+  EXPECT_EQ(read.background, code.background);
+  EXPECT_EQ(read.noise, code.noise);
+  EXPECT_EQ(read.bits, code.bits);
+  EXPECT_EQ(read.every_n_steps, code.every_n_steps);
+  EXPECT_EQ(message_of(code), "no error");
+}
+
+TEST(SynthImagesSpec, ABadValueBuiltInCodeNamesItsKeyValueAndRange) {
+  SynthImagesSpec s;
+  s.width = 4;
+  EXPECT_EQ(message_of(s), "synth.images.width: out of range (got 4, expected 8 to 20000)");
+  s = {};
+  s.background = 1.5;
+  EXPECT_EQ(message_of(s), "synth.images.background: out of range (got 1.5, expected 0 to 1)");
+  s = {};
+  s.bits = 12;
+  EXPECT_EQ(message_of(s), "synth.images.bits: PNG files are 8 or 16 bit (got 12, expected 8 or 16)");
+}
+
+TEST(SynthImagesSpec, ItsOptionsAreTheRenderersInItsUnits) {
+  SynthImagesSpec s;
+  s.speckle_size = 6;
+  s.pixel_size = 0.25;
+  const synth::SpecimenImageOptions o = s.options(7);
+  EXPECT_EQ(o.speckle.radius, 3.0);  // speckle_size is twice the blob radius
+  EXPECT_EQ(o.camera.mm_per_px, 0.25);
+  EXPECT_EQ(o.speckle.seed, 7u);
+}
+
 }  // namespace
 }  // namespace tricot::project
