@@ -45,9 +45,14 @@ TOML
 "$BIN" synth experiment.toml -q -o exp
 
 ms() { date +%s%3N; }
-t0=$(ms)
-"$BIN" identify project.toml -q -o whole >/dev/null
-T=$(( $(ms) - t0 ))
+T=
+for r in 1 2 3; do  # the shortest of three: the kills then fall inside a run on a busy machine too
+  rm -rf whole
+  t0=$(ms)
+  "$BIN" identify project.toml -q -o whole >/dev/null
+  t=$(( $(ms) - t0 ))
+  [ -z "$T" ] || [ "$t" -lt "$T" ] && T=$t
+done
 echo "uninterrupted: $T ms, $(python3 -c "import json; j=json.load(open('whole/result.json')); print(j['iterations'], 'LM iterations,', j['termination'])")"
 
 compare() {  # prints "ok" or why not
@@ -63,7 +68,7 @@ PY
 good=0
 for i in $(seq 1 "$N"); do
   d=run_$i
-  at=$(( T * i / (N + 1) ))
+  at=$(( T * i * 9 / (10 * (N + 1)) ))  # spread over the first 90 % of the run
   "$BIN" identify project.toml -q -o "$d" >/dev/null 2>&1 &
   pid=$!
   python3 -c "import time; time.sleep($at/1000)"
