@@ -103,18 +103,19 @@ ident::Checkpoint read_checkpoint(const fs::path& file, const std::string& finge
     c.failed_evaluations = j.at("failed_evaluations").get<int>();
     c.restarts = j.at("restarts").get<int>();
     c.wall_seconds = j.at("wall_seconds").get<double>();
-    const auto phase = ident::phase_from_string(j.at("phase").get<std::string>());
-    if (!phase)
-      throw InputError({file.string(), 0, "phase"}, "unknown phase", j.at("phase").get<std::string>(),
-                       "lm, stability or done");
+    // A checkpoint written before issue 14 has no phase: LM under way.
+    const std::string phase_name = j.value("phase", std::string("lm"));
+    const auto phase = ident::phase_from_string(phase_name);
+    if (!phase) throw InputError({file.string(), 0, "phase"}, "unknown phase", phase_name, "lm, stability or done");
     c.phase = *phase;
-    const auto termination = termination_from_string(j.at("termination").get<std::string>());
+    const std::string termination_name = j.value("termination", std::string("fe_failure"));
+    const auto termination = termination_from_string(termination_name);
     if (!termination)
-      throw InputError({file.string(), 0, "termination"}, "unknown termination", j.at("termination").get<std::string>(),
+      throw InputError({file.string(), 0, "termination"}, "unknown termination", termination_name,
                        "a termination of result.json");
     c.termination = *termination;
-    c.message = j.at("message").get<std::string>();
-    c.stability_passed = j.at("stability_passed").get<bool>();
+    c.message = j.value("message", std::string());
+    c.stability_passed = j.value("stability_passed", false);
     for (const json& e : j.at("history"))
       c.history.push_back({e.at("iteration").get<int>(), e.at("objective").get<double>(), json_vec(e.at("parameters")),
                            e.at("restart").get<int>()});
