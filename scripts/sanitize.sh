@@ -6,9 +6,9 @@
 #   scripts/sanitize.sh                 # build-sanitize/, baseline x86-64 (see docs/validation.md)
 #   BUILD=dir TRICOT_NATIVE=ON JOBS=4 scripts/sanitize.sh
 #   scripts/sanitize.sh --no-tests      # the examples only
-# The build is baseline ISA (TRICOT_NATIVE=OFF) by default: with -march=native, GCC 12 gives stack
-# arrays 64-byte alignment for AVX-512 stores, which ASan's fake stack (stack-use-after-return)
-# does not honour, so every `simulate` crashed there (docs/validation.md, issue 14).
+# The build is baseline x86-64 (TRICOT_NATIVE=OFF) by default: portable, and the SEGV reported under
+# stack-use-after-return (issue 14) was seen only with -march=native; TRICOT_NATIVE=ON checks the
+# native build (docs/validation.md, "Sanitizers").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build-sanitize}
