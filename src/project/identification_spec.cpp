@@ -139,14 +139,15 @@ std::vector<ident::Parameter> build_parameters(const IdentificationSpec& spec, c
     x.name = name;
     x.start = p.start ? *p.start : c(it - names.begin());
     x.scale = p.scale;
-    if (!(x.scale >= 0) || !std::isfinite(x.scale))
-      p.origin.fail("scale", "out of range", io::to_toml(x.scale), ">= 0");
-    if (!std::isfinite(x.start)) p.origin.fail("start", "not a finite number", io::to_toml(x.start), "a finite value");
+    // A start taken from [law] was checked with the law (its constructor); a given one is checked here.
+    if (p.start) check_key(p.origin, parameter_section(), "start", *p.start);
+    check_key(p.origin, parameter_section(), "scale", p.scale);
     if (x.start == 0 && x.scale == 0)
       p.origin.fail("scale",
                     fmt::format("parameter {} starts at 0 and has no scale: LM's steps are relative to the start", name),
                     "0.0", "> 0, the size of a typical change of " + name);
     const io::Reals& b = p.bounds;
+    check_key(p.origin, parameter_section(), "bounds", b);
     if (!b.empty()) {
       if (b.size() != 2) p.origin.fail("bounds", "two values: [lower, upper]", io::to_toml(b), "[] or [lower, upper]");
       if (!(b[0] < b[1])) p.origin.fail("bounds", "lower must be below upper", io::to_toml(b), "lower < upper");
@@ -174,19 +175,6 @@ struct Model {
   ident::StrainDomain practical;
 };
 
-void check_word(const Origin& o, const char* key, const std::string& v, std::initializer_list<const char*> words) {
-  std::string all;
-  for (const char* w : words) {
-    if (v == w) return;
-    all += (all.empty() ? "" : ", ") + std::string(w);
-  }
-  o.fail(key, "unknown value", "\"" + v + "\"", "one of " + all);
-}
-
-void check_non_negative(const Origin& o, const char* key, double v) {
-  if (!(v >= 0) || !std::isfinite(v)) o.fail(key, "out of range", io::to_toml(v), ">= 0");
-}
-
 Model check_model(const IdentificationSpec& spec) {
   Model m;
   spec.check_tests();
@@ -202,10 +190,15 @@ Model check_model(const IdentificationSpec& spec) {
   m.options = spec.identify.options();
   const ProjectExperimentSpec& ex = spec.experiment;
   m.field_kind = ex.kind();
-  check_non_negative(ex.origin, "sigma_edge_displacement", ex.sigma_edge_displacement);
-  check_non_negative(ex.origin, "sigma_edge_force", ex.sigma_edge_force);
-  check_non_negative(ex.origin, "sigma_field", ex.sigma_field);
-  check_word(spec.data.origin, "field_sigma", spec.data.field_sigma, {"group", "per_point"});
+  const SectionSpec experiment = experiment_section(), data = data_section();
+  check_key(ex.origin, experiment, "sigma_edge_displacement", ex.sigma_edge_displacement);
+  check_key(ex.origin, experiment, "sigma_edge_force", ex.sigma_edge_force);
+  check_key(ex.origin, experiment, "sigma_field", ex.sigma_field);
+  const DataSpec& d = spec.data;
+  check_key(d.origin, data, "edge_displacement", d.edge_displacement);
+  check_key(d.origin, data, "edge_force", d.edge_force);
+  check_key(d.origin, data, "field", d.field);
+  check_key(d.origin, data, "field_sigma", d.field_sigma);
   m.practical = spec.eq9.practical();
   return m;
 }
@@ -340,7 +333,7 @@ ProjectExperimentSpec ProjectExperimentSpec::from_config(const io::Node& n) {
 }
 
 ident::FieldKind ProjectExperimentSpec::kind() const {
-  check_word(origin, "field_kind", field_kind, {"cumulative", "incremental"});
+  check_key(origin, experiment_section(), "field_kind", field_kind);
   return field_kind == "incremental" ? ident::FieldKind::incremental : ident::FieldKind::cumulative;
 }
 
@@ -385,7 +378,10 @@ ident::StrainDomain Eq9Spec::practical() const {
   }
   if (practical_course) d.eC_min = (*practical_course)[0], d.eC_max = (*practical_course)[1];
   if (practical_wale) d.eW_min = (*practical_wale)[0], d.eW_max = (*practical_wale)[1];
-  if (nearest < 3) origin.fail("nearest", "out of range", std::to_string(nearest), ">= 3");
+  const SectionSpec table = eq9_section();
+  if (practical_course) check_key(origin, table, "practical_course", *practical_course);
+  if (practical_wale) check_key(origin, table, "practical_wale", *practical_wale);
+  check_key(origin, table, "nearest", std::int64_t{nearest});
   return d;
 }
 

@@ -39,6 +39,11 @@ io::SectionSpec synth_images_section() {
       key("pixel_size", d.pixel_size, "Pixel size on the specimen, mm/px, > 0.", 1e-6, 1e4),
       key("width", std::int64_t{d.width}, "Image width, px.", 8, 20000),
       key("height", std::int64_t{d.height}, "Image height, px.", 8, 20000),
+      key("texture", d.texture,
+          "What the camera sees: \"speckle\" (a painted speckle of round blobs) or \"knit\" (the knit's\n"
+          "natural tracers, as the paper: stitches in wales along the material's wale axis, each a V of two\n"
+          "legs, pitch 2 speckle_size across the wales and 1.6 speckle_size along them, with yarn fuzz).",
+          -1e300, 1e300, {"speckle", "knit"}),
       key("speckle_size", d.speckle_size, "Speckle size in px of the reference image (twice the mean blob radius).", 0.2, 2000),
       key("coverage", d.coverage, "Speckle density: blobs per unit area × π r² (0.6: bright blobs cover about 45 % of the area).", 0.01, 99),
       key("subsamples", std::int64_t{d.subsamples}, "Samples per pixel and direction that integrate each pixel's area.", 1, 16),
@@ -56,6 +61,7 @@ SynthImagesSpec SynthImagesSpec::from_config(const io::Node& s) {
   m.pixel_size = s.real("pixel_size");
   m.width = static_cast<int>(s.integer("width"));
   m.height = static_cast<int>(s.integer("height"));
+  m.texture = s.string("texture");
   m.speckle_size = s.real("speckle_size");
   m.coverage = s.real("coverage");
   m.subsamples = static_cast<int>(s.integer("subsamples"));
@@ -72,6 +78,8 @@ void SynthImagesSpec::validate() const {
   check_key(origin, table, "pixel_size", pixel_size);
   check_key(origin, table, "width", std::int64_t{width});
   check_key(origin, table, "height", std::int64_t{height});
+  if (!synth::texture_from_string(texture))
+    origin.fail("texture", "not a texture", texture, "\"speckle\" or \"knit\"");
   check_key(origin, table, "speckle_size", speckle_size);
   check_key(origin, table, "coverage", coverage);
   check_key(origin, table, "subsamples", std::int64_t{subsamples});
@@ -87,6 +95,7 @@ synth::SpecimenImageOptions SynthImagesSpec::options(std::uint64_t seed) const {
   o.camera.mm_per_px = pixel_size;
   o.camera.width = width;
   o.camera.height = height;
+  o.speckle.texture = synth::texture_from_string(texture).value_or(synth::Texture::speckle);
   o.speckle.radius = 0.5 * speckle_size;
   o.speckle.coverage = coverage;
   o.speckle.subsamples = subsamples;
@@ -99,7 +108,8 @@ synth::SpecimenImageOptions SynthImagesSpec::options(std::uint64_t seed) const {
 
 int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fem::SimulationResult& sim,
                  std::uint64_t seed, const fs::path& test_dir, const Log& log) {
-  const synth::SpecimenImageOptions o = s.options(seed);
+  synth::SpecimenImageOptions o = s.options(seed);
+  o.speckle.wale_angle_deg = -model.material_angle;  // the wales along the material's axis 1; pixel y is down
   const synth::SpecimenRenderer renderer(model.mesh, o);
   const int every = s.every_n_steps;
   const int steps = static_cast<int>(sim.steps.size());
@@ -133,6 +143,7 @@ int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fe
       {"width", c.width},
       {"height", c.height},
       {"bits", o.bits},
+      {"texture", synth::to_string(o.speckle.texture)},
       {"speckle_size_px", 2 * o.speckle.radius},
       {"noise", o.noise},
       {"seed", seed},

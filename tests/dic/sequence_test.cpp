@@ -219,3 +219,20 @@ TEST(Sequence, PositionSigmaStartsAtZeroAndAccumulatesOverIncrements) {
     }
   }
 }
+
+TEST(Sequence, TheReferenceFramesStrainIsExactlyZero) {
+  StretchSequence s;
+  s.frames = 1;
+  const SequenceResult r = test::track(s, options(SequenceMode::incremental));
+  int valid = 0;
+  for (const StrainPoint& e : r.frames[0].strain) {
+    valid += e.valid;
+    if (!e.valid) continue;
+    EXPECT_EQ(e.exx, 0.0);
+    EXPECT_EQ(e.eyy, 0.0);
+    EXPECT_EQ(e.exy, 0.0);
+    EXPECT_EQ(e.F, Mat2::Identity());
+  }
+  EXPECT_GT(valid, 0);
+}
+

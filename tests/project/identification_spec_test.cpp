@@ -67,10 +67,10 @@ TEST(IdentificationSpec, ABadValueBuiltInCodeIsNamedByItsDottedKey) {
   s = small_project();
   s.experiment.field_kind = "total";
   EXPECT_EQ(message_of(s),
-            "experiment.field_kind: unknown value (got \"total\", expected one of cumulative, incremental)");
+            "experiment.field_kind: not a valid choice (got \"total\", expected one of cumulative, incremental)");
   s = small_project();
   s.data.field_sigma = "each";
-  EXPECT_EQ(message_of(s), "data.field_sigma: unknown value (got \"each\", expected one of group, per_point)");
+  EXPECT_EQ(message_of(s), "data.field_sigma: not a valid choice (got \"each\", expected one of group, per_point)");
   s = small_project();
   s.eq9.practical_wale = io::Reals{0.4, 0.2};
   EXPECT_EQ(message_of(s),

@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "testing/experiment_case.hpp"
 #include "tricot/project/experiment_files.hpp"
 #include "testing/cli.hpp"
@@ -91,6 +93,30 @@ TEST(SynthImages, ABitDepthOtherThan8Or16IsAConfigErrorAtItsLine) {
   EXPECT_NE(r.err.find("experiment.toml:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("synth.images.bits"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "exp" / "tension")) << "nothing is written before the table is checked";
+}
+
+TEST(SynthImages, AnUnknownTextureIsAConfigErrorAtItsLine) {
+  const fs::path dir = scratch_dir("synth_images_texture");
+  const auto r = synth(dir, "texture = \"jersey\"\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("synth.images.texture"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("knit"), std::string::npos) << r.err;  // the choices are listed
+}
+
+// The knit texture differs from the speckle of the same seed, and camera.json says which one it is.
+TEST(SynthImages, AKnitTextureIsRenderedAndRecorded) {
+  const fs::path dir = scratch_dir("synth_images_knit");
+  ASSERT_EQ(synth(dir / "knit", "texture = \"knit\"\n").exit_code, 0);
+  ASSERT_EQ(synth(dir / "speckle", "").exit_code, 0);
+  const auto frame = [&](const char* which) {
+    return image::load_image(dir / which / "exp" / "tension" / kImagesFolder / "frame_0000.png").image;
+  };
+  const image::Image knit = frame("knit"), speckle = frame("speckle");
+  double diff = 0;
+  for (std::size_t i = 0; i < knit.pixels.size(); ++i) diff += std::abs(knit.pixels[i] - speckle.pixels[i]);
+  EXPECT_GT(diff / knit.pixels.size(), 0.02) << "mean absolute difference, fraction of full scale";
+  const std::string camera = io::read_text(dir / "knit" / "exp" / "tension" / kImagesFolder / kCameraFile);
+  EXPECT_NE(camera.find("\"texture\": \"knit\""), std::string::npos) << camera;
 }
 
 TEST(SynthImages, NoImagesUnlessEnabled) {

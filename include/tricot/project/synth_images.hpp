@@ -37,6 +37,7 @@ struct SynthImagesSpec {
   double pixel_size = 0.1;    ///< mm/px on the specimen
   int width = 600;            ///< px
   int height = 600;           ///< px
+  std::string texture = "speckle";  ///< "speckle" (painted) or "knit" (the knit's own stitches)
   double speckle_size = 5;    ///< px: twice the mean blob radius
   double coverage = 0.6;      ///< blobs per unit area × π r²
   int subsamples = 4;         ///< per pixel and direction
