@@ -89,7 +89,7 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   const fs::path published = req.out / kCheckpointFile;
   std::error_code ec;
   if (req.resume && !fs::exists(kept, ec) && !fs::exists(published, ec))
-    read_checkpoint(kept, fingerprint);  // FileError: nothing to resume
+    read_checkpoint(published, fingerprint);  // FileError naming DIR/checkpoint.json: nothing to resume
   OutputDir output(req.out, "identify", /*keep_staging=*/req.resume);  // completes a killed publication
   if (req.resume) {
     if (fs::exists(kept, ec)) {
