@@ -145,10 +145,13 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   }
 
   dic::SequenceTracker tracker(ref.image, grid, s.sequence, log.reporter());
+  int overlays = 0;
   const auto write_overlay = [&](const image::Image& img, const dic::TrackedFrame& f) {
-    if (s.outputs.overlays)
-      io::write_atomic(staged / "overlays" / overlay_name(f.frame),
-                       image::encode_png(dic::draw_overlay(img, grid, s.sequence.dic.step, f, s.outputs.overlay)));
+    const bool last = f.frame == static_cast<int>(images.size()) - 1;
+    if (!s.outputs.overlays || (f.frame % s.outputs.overlay_every != 0 && !last)) return;
+    io::write_atomic(staged / "overlays" / overlay_name(f.frame),
+                     image::encode_png(dic::draw_overlay(img, grid, s.sequence.dic.step, f, s.outputs.overlay)));
+    ++overlays;
   };
   {
     const dic::TrackedFrame& f0 = tracker.result().frames.front();
@@ -177,7 +180,7 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   if (s.outputs.increments) io::write_atomic(staged / "increments.csv", increments_csv(r)), written += ", increments.csv";
   if (s.outputs.physical) io::write_atomic(staged / "specimen.csv", specimen_csv(r, *s.outputs.physical)), written += ", specimen.csv";
   if (s.outputs.overlays) {
-    written += fmt::format(", {} overlays in {}", r.frames.size(), (out_dir / "overlays").string());
+    written += fmt::format(", {} overlays in {}", overlays, (out_dir / "overlays").string());
   }
   output.publish();
   const dic::TrackedFrame& last = r.frames.back();

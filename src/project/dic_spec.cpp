@@ -71,7 +71,9 @@ io::SectionSpec dic_schema() {
   };
   SectionSpec out{"output", "What is written besides DIR/points.csv and DIR/frames.csv.", false, {}, {}};
   out.keys = {
-      key("overlays", o0.overlays, "DIR/overlays/frame_NNNN.png: maps drawn over every image."),
+      key("overlays", o0.overlays, "DIR/overlays/frame_NNNN.png: maps drawn over the images (see overlay_every)."),
+      key("overlay_every", std::int64_t{o0.overlay_every},
+          "An overlay of frame 0, of every n-th frame and of the last (1 = every frame; drawing costs time).", 1, 1000000),
       key("panels", o0.panels,
           "Maps in each overlay, two per row: displacement, u, v, exx, eyy, exy, zncc."),
       key("panel_width", std::int64_t{o0.panel_width}, "px: each map is scaled down to at most this width.", 100, 10000),
@@ -133,7 +135,7 @@ DicSpec DicSpec::from_config(const io::Node& root, std::filesystem::path dir) {
   const Node& ph = root.section("physical");
   x.physical = {ph.real("mm_per_px"), ph.reals("centre_px"), ph.real("angle_deg"), ph.boolean("y_up"), Origin(ph)};
   const Node& out = root.section("output");
-  x.output = {out.boolean("overlays"), out.strings("panels"), static_cast<int>(out.integer("panel_width")),
+  x.output = {out.boolean("overlays"), static_cast<int>(out.integer("overlay_every")), out.strings("panels"), static_cast<int>(out.integer("panel_width")),
               out.real("zncc_floor"), out.boolean("increments"), Origin(out)};
   return x;
 }
@@ -241,6 +243,9 @@ DicSettings DicSpec::settings(const image::Image& reference) const {
 
     // [output]
     s.outputs.overlays = output.overlays;
+    if (output.overlay_every < 1)
+      output.origin.fail("overlay_every", "out of range", std::to_string(output.overlay_every), "1 to 1000000");
+    s.outputs.overlay_every = output.overlay_every;
     s.outputs.overlay.panels.clear();
     for (const std::string& name : output.panels) {
       const auto it = std::find(kPanels.begin(), kPanels.end(), name);

@@ -135,7 +135,10 @@ TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays)
   ASSERT_EQ(frames.size(), 4u);
   EXPECT_EQ(frames[0][0], "frame");
   EXPECT_EQ(frames[3][1], f.files[2].string());
-  for (int k = 0; k < 3; ++k) EXPECT_TRUE(fs::exists(out / "overlays" / ("frame_000" + std::to_string(k) + ".png"))) << k;
+  // overlay_every = 10 (default): the reference and the last frame
+  EXPECT_TRUE(fs::exists(out / "overlays" / "frame_0000.png"));
+  EXPECT_FALSE(fs::exists(out / "overlays" / "frame_0001.png"));
+  EXPECT_TRUE(fs::exists(out / "overlays" / "frame_0002.png"));
   EXPECT_NE(r.out.find("3 frames"), std::string::npos) << r.out;
 }
 

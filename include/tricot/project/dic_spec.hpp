@@ -61,6 +61,7 @@ struct PhysicalTable {
 /// [output]: what is written besides points.csv and frames.csv.
 struct OutputTable {
   bool overlays = true;
+  int overlay_every = 10;
   io::Strings panels{"displacement", "exx", "eyy", "zncc"};
   int panel_width = 800;
   double zncc_floor = 0.9;
@@ -71,6 +72,7 @@ struct OutputTable {
 /// What the run writes besides DIR/points.csv and DIR/frames.csv.
 struct DicOutputs {
   bool overlays = true;            ///< DIR/overlays/frame_NNNN.png
+  int overlay_every = 10;          ///< of frame 0, every overlay_every-th frame and the last
   dic::OverlayOptions overlay;
   bool increments = false;         ///< DIR/increments.csv (fixed-point incremental fields)
   std::optional<dic::PhysicalFrame> physical;  ///< DIR/specimen.csv when [physical] mm_per_px > 0
