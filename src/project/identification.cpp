@@ -55,6 +55,7 @@ IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& 
   const auto eq9_points_found = eq9_points(*objective, P.eq9_nearest);
   if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
     result["eq9"] = eq9_json(*objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest);
+  result["identifiability"] = identifiability_json(*objective, outcome.result, P.identifiability);
   io::write_atomic(req.out / "result.json", result.dump(2) + "\n");
   write_history(req.out / "history.csv", outcome.result);
   if (req.plots) fs::create_directories(req.out / "plots");

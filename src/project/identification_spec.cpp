@@ -7,6 +7,7 @@
 
 #include "schema.hpp"
 #include "tricot/fem/solver.hpp"
+#include "tricot/ident/identifiability.hpp"
 #include "tricot/ident/objective.hpp"
 #include "tricot/ident/surface_error.hpp"
 #include "tricot/project/case_spec.hpp"
@@ -236,6 +237,17 @@ SectionSpec eq9_section() {
   return s;
 }
 
+SectionSpec identifiability_section() {
+  const ident::IdentifiabilityOptions o;
+  SectionSpec s{"identifiability",
+                "result.json's \"identifiability\" (THEORY §8, beyond the paper): relative standard errors, the\n"
+                "least identifiable direction and each test's share of the information, from ∂r/∂J at the answer.",
+                false, {}, {}};
+  s.keys = {key("pinned_relative_error", o.pinned_relative_error,
+                "A coefficient is pinned down when its relative standard error is below this, > 0.", 0, 1e6)};
+  return s;
+}
+
 io::SectionSpec identify_schema() {
   io::SectionSpec root = case_schema();
   root.help =
@@ -247,6 +259,7 @@ io::SectionSpec identify_schema() {
   root.sections.push_back(data_section());
   root.sections.push_back(identify_section());
   root.sections.push_back(eq9_section());
+  root.sections.push_back(identifiability_section());
   return root;
 }
 
@@ -363,6 +376,10 @@ Project build_project(const io::Node& root, const fs::path& base) {
     throw InputError({root.file(), 0, k}, std::string(e.what()).substr(k.empty() ? 0 : k.size() + 2));
   }
   read_eq9(root.section("eq9"), P);
+  P.identifiability.pinned_relative_error = root.section("identifiability").real("pinned_relative_error");
+  if (!(P.identifiability.pinned_relative_error > 0))
+    root.section("identifiability").fail("pinned_relative_error", "must be positive",
+                                         fmt::format("{}", P.identifiability.pinned_relative_error), "> 0");
   return P;
 }
 
