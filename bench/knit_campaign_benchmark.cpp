@@ -272,6 +272,9 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   const Eigen::VectorXd J0 = std::getenv("TRICOT_CAMPAIGN_SLOPE_START") ? polynomial_start(law, c, 1) : J_fit;
   law.set_coefficients(J_fit);
   const Surfaces fit_errors = errors(c, law);
+  std::printf("# start (%s): coefficients = [", preset.c_str());
+  for (Eigen::Index k = 0; k < J_fit.size(); ++k) std::printf("%s%.6g", k ? ", " : "", J_fit(k));
+  std::printf("]\n");
   law.set_coefficients(J0);
   std::vector<fem::TestModel> models;
   ident::Experiment data;
