@@ -9,6 +9,7 @@ find_package(GTest REQUIRED)
 find_package(benchmark REQUIRED)
 find_package(OpenMP REQUIRED)
 find_package(Threads REQUIRED)
+find_package(ZLIB REQUIRED)  # compressed VTU arrays
 
 # SuiteSparse (CHOLMOD, UMFPACK) through Eigen's support modules. Debian's package ships no CMake
 # config for these, so find the libraries directly.

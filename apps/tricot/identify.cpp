@@ -94,7 +94,8 @@ Runner add_identify(CLI::App& app) {
   cmd->add_option("--kill-after", args->kill_after, "Testing aid: kill the run after N checkpoints")->group("");
   add_print_config(cmd, project::identify_schema);
   return [args]() {
-    const io::Node root = io::read_config(project::identify_schema(), args->project);
+    const project::IdentificationSpec spec =
+        project::read_identification_spec(io::read_config(project::identify_schema(), args->project));
     Console console(args->verbose, args->quiet);
     project::IdentifyRequest req;
     req.base = fs::path(args->project).parent_path();
@@ -102,7 +103,7 @@ Runner add_identify(CLI::App& app) {
     req.resume = args->resume;
     req.plots = !args->no_plots;
     req.kill_after = args->kill_after;
-    const project::IdentifyOutcome o = project::run_identification(root, req, console.log());
+    const project::IdentifyOutcome o = project::run_identification(spec, req, console.log());
     return o.result.converged() ? ExitCode::ok : ExitCode::not_converged;
   };
 }

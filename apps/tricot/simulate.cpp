@@ -17,6 +17,8 @@ struct SimulateArgs {
   std::string out_dir;
   std::string only_test;
   bool no_vtu = false;
+  int vtu_every = 1;
+  bool vtu_ascii = false;
   bool verbose = false;
   bool quiet = false;
 };
@@ -70,6 +72,11 @@ Runner add_simulate(CLI::App& app) {
   cmd->add_option("-o,--out", args->out_dir, "Output folder: one sub-folder per test")->required();
   cmd->add_option("--test", args->only_test, "Run only the test of this name");
   cmd->add_flag("--no-vtu", args->no_vtu, "Do not write the step_NNNN.vtu fields (steps.csv and plots only)");
+  cmd->add_option("--vtu-every", args->vtu_every,
+                  "Write the VTU of every N-th step and of the last (default 1: every step)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--vtu-ascii", args->vtu_ascii,
+                "VTU arrays as decimal text instead of compressed binary (larger; for reading by eye)");
   cmd->add_flag("-v,--verbose", args->verbose, "Log every step and Newton iteration (residual norms)");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
   add_print_config(cmd, project::case_schema);
@@ -77,7 +84,10 @@ Runner add_simulate(CLI::App& app) {
     const io::Node root = io::read_config(project::case_schema(), args->case_file);
     Console console(args->verbose, args->quiet);
     const project::SimulationOutcome o =
-        project::run_simulation(root, {args->out_dir, args->only_test, !args->no_vtu, args->case_file}, console.log());
+        project::run_simulation(root,
+                                {args->out_dir, args->only_test, !args->no_vtu, args->vtu_every,
+                                 args->vtu_ascii ? io::VtuFormat::ascii : io::VtuFormat::binary, args->case_file},
+                                console.log());
     for (const auto& f : o.failures) std::fprintf(stderr, "tricot: error: %s: %s\n", args->case_file.c_str(), f.c_str());
     return o.failures.empty() ? ExitCode::ok : ExitCode::not_converged;
   };

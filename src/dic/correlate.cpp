@@ -45,7 +45,7 @@ class Propagation {
   Propagation(const Frame& ref, const Frame& cur, const std::vector<Vec2>& centres,
               const std::vector<std::array<int, 4>>& nb, const DicOptions& o, PairResult& r)
       : reference_(ref), current_(cur), centres_(centres), neighbours_(nb), options_(o), result_(r),
-        state_(centres.size(), State::open), tries_(centres.size(), 0) {}
+        state_(centres.size(), State::open), tries_(centres.size(), 0), guess_failed_(centres.size(), 0) {}
 
   /// Marks k as computed: good points feed the queue, bad ones may be retried once from another parent.
   void settle(int k, const PointMatch& m) {
@@ -61,15 +61,17 @@ class Propagation {
     }
   }
 
-  /// A failure from a caller's guess: propagation may still try the point once from a neighbour.
+  /// A failure from a caller's guess: propagation may still try the point once from a neighbour, and
+  /// a seed may still be placed on it (every guess can be wrong: a step unlike the one before).
   void record_failure(int k, const PointMatch& m) {
     result_.points[k] = m;
     tries_[k] = 1;
+    guess_failed_[k] = 1;
   }
 
   bool open(int k) const { return state_[k] == State::open; }
-  /// Never attempted: the only points a seed may be placed on.
-  bool untried(int k) const { return state_[k] == State::open && tries_[k] == 0; }
+  /// Never attempted from a neighbour or as a seed: the only points a seed may be placed on.
+  bool untried(int k) const { return state_[k] == State::open && tries_[k] == guess_failed_[k]; }
   bool ok(int k) const { return state_[k] == State::done; }
   /// How many points are good so far.
   int good() const { return static_cast<int>(std::count(state_.begin(), state_.end(), State::done)); }
@@ -109,6 +111,7 @@ class Propagation {
   PairResult& result_;
   std::vector<State> state_;
   std::vector<unsigned char> tries_;
+  std::vector<unsigned char> guess_failed_;  ///< 1 when the caller's guess failed (not a try of ours)
   std::priority_queue<std::pair<double, int>> queue_;
 };
 

@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -89,6 +90,15 @@ cv::Mat stretched_template(const Frame& ref, const Vec2& c, const Mat2& F, int n
   return T;
 }
 
+/// The rotation by `deg` degrees (counter-clockwise on screen is clockwise in image rows: the sign
+/// only has to cover both turns).
+Mat2 rotation(double deg) {
+  const double t = deg * std::numbers::pi / 180;
+  Mat2 R;
+  R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
+  return R;
+}
+
 struct Candidate {
   double zncc = -2;
   cv::Point at;  ///< top-left corner of the best match
@@ -117,31 +127,37 @@ SeedGuess wide_seed_guess(const Frame& ref, const Frame& cur, const Vec2& centre
   cv::Scalar mean, stddev;
   cv::meanStdDev(S, mean, stddev);
   if (!(stddev[0] > 1e-6 * std::max(1.0, cur.image.full_scale))) return out;  // a blank image
-  // 1. Locate: every candidate stretch over the whole image, at half resolution.
+  // 1. Locate: every candidate stretch, and rotations of near-isotropic ones (a free edge turns as
+  // the knit shrinks), over the whole image at half resolution.
   cv::Mat S2;
   cv::resize(S, S2, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  std::vector<Mat2> coarse_F;
   const double stretches[] = {0.8, 1.0, 1.25, 1.55, 1.9};
-  Candidate coarse;
   for (double sx : stretches)
-    for (double sy : stretches) {
-      const Mat2 F = Vec2(sx, sy).asDiagonal();
-      cv::Mat T2;
-      cv::resize(stretched_template(ref, centre, F, n), T2, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
-      match(S2, T2, F, coarse);
-    }
+    for (double sy : stretches) coarse_F.push_back(Vec2(sx, sy).asDiagonal());
+  for (double deg : {-40.0, -25.0, -12.0, 12.0, 25.0, 40.0})
+    for (double s : {0.9, 1.15, 1.45}) coarse_F.push_back(s * rotation(deg));
+  Candidate coarse;
+  for (const Mat2& F : coarse_F) {
+    cv::Mat T2;
+    cv::resize(stretched_template(ref, centre, F, n), T2, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    match(S2, T2, F, coarse);
+  }
   if (coarse.zncc <= -1.5) return out;
-  // 2. Refine at full resolution: stretches within ±12 % of the best, ±6 px around its place.
+  // 2. Refine at full resolution: stretches within ±12 % and turns within ±6° of the best, ±6 px
+  // around its place.
   const int half2 = (n / 2) / 2;  // the half-resolution template's half width (resize rounds n/2)
   const cv::Point guess_centre(2 * (coarse.at.x + half2), 2 * (coarse.at.y + half2));
   const int r = 6;
   const cv::Rect roi = cv::Rect(guess_centre.x - n / 2 - r, guess_centre.y - n / 2 - r, n + 2 * r, n + 2 * r) &
                        cv::Rect(0, 0, S.cols, S.rows);
   Candidate fine;
-  for (double fx : {0.89, 0.94, 1.0, 1.06, 1.12})
-    for (double fy : {0.89, 0.94, 1.0, 1.06, 1.12}) {
-      const Mat2 F = (Vec2(fx, fy).asDiagonal() * coarse.F).eval();
-      match(S, stretched_template(ref, centre, F, n), F, fine, roi);
-    }
+  for (double deg : {-6.0, 0.0, 6.0})
+    for (double fx : {0.89, 0.94, 1.0, 1.06, 1.12})
+      for (double fy : {0.89, 0.94, 1.0, 1.06, 1.12}) {
+        const Mat2 F = (rotation(deg) * Vec2(fx, fy).asDiagonal() * coarse.F).eval();
+        match(S, stretched_template(ref, centre, F, n), F, fine, roi);
+      }
   if (fine.zncc <= -1.5) return out;
   out.found = true;
   out.zncc = fine.zncc;

@@ -110,7 +110,11 @@ SequenceTracker::SequenceTracker(const image::Image& reference, std::vector<Grid
   std::vector<char> good(n);
   for (int k = 0; k < n; ++k) good[k] = f0.status[k] == PointStatus::ok, f0.ok += good[k];
   f0.mean_zncc = 1;
+  // The reference against itself: F = I exactly where a strain can be computed (the plane fit would
+  // give round-off, ±2e-16, where the reader expects 0).
   f0.strain = green_lagrange(g, f0.x, good, s.o.strain);
+  for (StrainPoint& e : f0.strain)
+    if (e.valid) e = StrainPoint{Mat2::Identity(), 0, 0, 0, true};
   f0.message = std::to_string(f0.ok) + "/" + std::to_string(n) + " points with texture";
   s.result.frames.push_back(std::move(f0));
 }

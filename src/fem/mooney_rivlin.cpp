@@ -61,17 +61,19 @@ EnergyDerivatives derivatives(const std::vector<MooneyRivlinTerm>& terms, double
 }  // namespace
 
 MooneyRivlin::MooneyRivlin(std::vector<MooneyRivlinTerm> terms) : terms_(std::move(terms)) {
+  // Keys: the config's (`[law.mooney_rivlin]` terms, values), so that no caller renames them.
   for (std::size_t k = 0; k < terms_.size(); ++k) {
     const auto& t = terms_[k];
-    std::string key = "material.";
-    key += term_name(t);
-    const Location where{"", 0, key};
-    if (t.i < 0 || t.j < 0 || t.i > 9 || t.j > 9 || (t.i == 0 && t.j == 0))
-      throw InputError(where, "bad Mooney–Rivlin exponents",
+    const std::string name = term_name(t);
+    if (t.i < 0 || t.i > 9 || t.j < 0 || t.j > 9 || (t.i == 0 && t.j == 0))
+      throw InputError(Location{"", 0, "material.terms"}, "bad Mooney–Rivlin exponents of term " + std::to_string(k + 1),
                        "(" + std::to_string(t.i) + ", " + std::to_string(t.j) + ")", "0–9 each, not both 0");
-    if (!std::isfinite(t.C)) throw InputError(where, "not a finite number", std::to_string(t.C), "a finite N/mm");
+    if (!std::isfinite(t.C))
+      throw InputError(Location{"", 0, "material.values"}, name + " is not a finite number", std::to_string(t.C),
+                       "a finite N/mm");
     for (std::size_t m = 0; m < k; ++m)
-      if (terms_[m].i == t.i && terms_[m].j == t.j) throw InputError(where, "coefficient given twice");
+      if (terms_[m].i == t.i && terms_[m].j == t.j)
+        throw InputError(Location{"", 0, "material.terms"}, "coefficient given twice", name, "each C<i><j> once");
   }
 }
 

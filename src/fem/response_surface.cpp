@@ -54,9 +54,9 @@ void check_monomials(const std::vector<Monomial>& list, const char* force) {
     const Monomial& m = list[i];
     const std::string got = std::string(force) + " monomial (" + std::to_string(m.p) + ", " + std::to_string(m.q) + ")";
     if (m.p < 0 || m.q < 0 || m.p + m.q == 0)
-      throw InputError(Location{"", 0, "material.monomials"}, "bad exponents", got, "p >= 0, q >= 0, p + q >= 1");
+      throw InputError(Location{"", 0, std::string("material.") + force}, "bad exponents", got, "p >= 0, q >= 0, p + q >= 1");
     if (std::find(list.begin(), list.begin() + i, m) != list.begin() + i)
-      throw InputError(Location{"", 0, "material.monomials"}, "repeated monomial", got, "each (p, q) once per force");
+      throw InputError(Location{"", 0, std::string("material.") + force}, "repeated monomial", got, "each (p, q) once per force");
   }
 }
 
@@ -75,7 +75,7 @@ ResponseSurface::ResponseSurface(std::vector<Monomial> course, std::vector<Monom
   check_monomials(course_, "course");
   check_monomials(wale_, "wale");
   if (!(G_s > 0) || !std::isfinite(G_s))
-    throw InputError(Location{"", 0, "material.G_s"}, "out of range", std::to_string(G_s), "> 0 N/mm");
+    throw InputError(Location{"", 0, "material.shear_stiffness"}, "out of range", std::to_string(G_s), "> 0 N/mm");
   c_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(course_.size() + wale_.size()));
 }
 

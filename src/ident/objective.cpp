@@ -78,7 +78,9 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
     coefficient_.push_back(static_cast<int>(it - names.begin()));
     if (std::isnan(p.start)) p.start = c0(coefficient_.back());
   }
-  validate(parameters_);
+#ifndef NDEBUG
+  validate(parameters_);  // the caller's check (project: IdentificationSpec::validate); trusted in release
+#endif
 
   // Field points: located once in each reference mesh; all must be inside.
   for (size_t t = 0; t < models_.size(); ++t)

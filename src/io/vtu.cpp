@@ -1,10 +1,14 @@
 #include "tricot/io/vtu.hpp"
 
 #include <fmt/format.h>
+#include <zlib.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
+#include "tricot/io/base64.hpp"
 #include "tricot/io/files.hpp"
 
 namespace tricot::io {
@@ -42,18 +46,58 @@ std::string number(double x) {
   return fmt::format("{}", x);
 }
 
-void data_array(std::string& out, const VtuField& f) {
-  out += fmt::format("        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n",
-                     f.name, f.components);
-  for (std::size_t i = 0; i < f.values.size(); i += f.components) {
-    out += "         ";
-    for (int c = 0; c < f.components; ++c) {
-      out += ' ';
-      out += number(f.values[i + c]);
+// One <DataArray>: `values` of a numeric type T, `components` per tuple, as text or zlib + base64.
+class ArrayWriter {
+ public:
+  explicit ArrayWriter(VtuFormat format) : format_(format) {}
+
+  // As text, `per_line` values a line (a tuple, or a cell's nodes).
+  template <class T>
+  void write(std::string& out, const char* type, const std::string& name, int components,
+             const std::vector<T>& values, int per_line = 0) const {
+    if (per_line == 0) per_line = components;
+    out += fmt::format("        <DataArray type=\"{}\" Name=\"{}\"", type, name);
+    if (components > 1) out += fmt::format(" NumberOfComponents=\"{}\"", components);
+    out += fmt::format(" format=\"{}\">\n", format_ == VtuFormat::ascii ? "ascii" : "binary");
+    if (format_ == VtuFormat::ascii) {
+      for (std::size_t i = 0; i < values.size(); i += per_line) {
+        out += "         ";
+        for (int c = 0; c < per_line; ++c) {
+          out += ' ';
+          out += number(static_cast<double>(values[i + c]));
+        }
+        out += "\n";
+      }
+    } else {
+      out += "          ";
+      out += compressed(std::string_view(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)));
+      out += "\n";
     }
-    out += "\n";
+    out += "        </DataArray>\n";
   }
-  out += "        </DataArray>\n";
+
+ private:
+  // vtkZLibDataCompressor's layout with header_type UInt64: the header [blocks, block size, last block
+  // size, compressed size of each block] and the compressed bytes, each base64 on its own. One block.
+  static std::string compressed(std::string_view raw) {
+    static_assert(std::endian::native == std::endian::little, "the VTU files say byte_order=LittleEndian");
+    uLongf size = compressBound(raw.size());
+    std::string packed(size, '\0');
+    if (compress2(reinterpret_cast<Bytef*>(packed.data()), &size, reinterpret_cast<const Bytef*>(raw.data()),
+                  raw.size(), Z_BEST_SPEED) != Z_OK)
+      throw std::runtime_error("vtu: zlib could not compress an array");
+    packed.resize(size);
+    const std::uint64_t header[4] = {raw.empty() ? 0u : 1u, raw.size(), raw.size(), packed.size()};
+    const std::size_t header_bytes = (raw.empty() ? 3 : 4) * sizeof(std::uint64_t);
+    return base64(std::string_view(reinterpret_cast<const char*>(header), header_bytes)) +
+           (raw.empty() ? std::string() : base64(packed));
+  }
+
+  VtuFormat format_;
+};
+
+void data_array(std::string& out, const ArrayWriter& w, const VtuField& f) {
+  w.write(out, "Float64", f.name, f.components, f.values);
 }
 
 // The first field of each kind becomes ParaView's active one.
@@ -73,45 +117,43 @@ std::string attributes(const std::vector<VtuField>& fields) {
 
 }  // namespace
 
-std::string to_vtu(const VtuGrid& g) {
+std::string to_vtu(const VtuGrid& g, VtuFormat format) {
   g.check();
   const std::size_t np = g.point_count(), nc = g.cell_count();
   const int n = vtk_nodes(g.cell_type);
+  const ArrayWriter w(format);
   std::string out;
-  out.reserve(64 * (np + nc));
+  out.reserve((format == VtuFormat::ascii ? 64 : 16) * (np + nc));
   out += "<?xml version=\"1.0\"?>\n";
-  out += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
-  out += "  <UnstructuredGrid>\n";
+  out += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"";
+  if (format == VtuFormat::binary) out += " compressor=\"vtkZLibDataCompressor\"";
+  out += ">\n  <UnstructuredGrid>\n";
   out += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", np, nc);
   out += "      <Points>\n";
-  data_array(out, VtuField{"Points", 3, g.points});
+  data_array(out, w, VtuField{"Points", 3, g.points});
   out += "      </Points>\n";
   out += "      <Cells>\n";
-  out += "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (std::size_t c = 0; c < nc; ++c) {
-    out += "         ";
-    for (int k = 0; k < n; ++k) out += fmt::format(" {}", g.connectivity[c * n + k]);
-    out += "\n";
-  }
-  out += "        </DataArray>\n";
-  out += "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n         ";
-  for (std::size_t c = 0; c < nc; ++c) out += fmt::format(" {}", (c + 1) * n);
-  out += "\n        </DataArray>\n";
-  out += "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n         ";
-  for (std::size_t c = 0; c < nc; ++c) out += fmt::format(" {}", static_cast<int>(g.cell_type));
-  out += "\n        </DataArray>\n";
+  const std::vector<std::int64_t> connectivity(g.connectivity.begin(), g.connectivity.end());
+  std::vector<std::int64_t> offsets(nc);
+  for (std::size_t c = 0; c < nc; ++c) offsets[c] = static_cast<std::int64_t>((c + 1) * n);
+  const std::vector<std::uint8_t> types(nc, static_cast<std::uint8_t>(g.cell_type));
+  w.write(out, "Int64", "connectivity", 1, connectivity, n);
+  w.write(out, "Int64", "offsets", 1, offsets);
+  w.write(out, "UInt8", "types", 1, types);
   out += "      </Cells>\n";
   out += "      <PointData" + attributes(g.point_data) + ">\n";
-  for (const auto& f : g.point_data) data_array(out, f);
+  for (const auto& f : g.point_data) data_array(out, w, f);
   out += "      </PointData>\n";
   out += "      <CellData" + attributes(g.cell_data) + ">\n";
-  for (const auto& f : g.cell_data) data_array(out, f);
+  for (const auto& f : g.cell_data) data_array(out, w, f);
   out += "      </CellData>\n";
   out += "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
   return out;
 }
 
-void write_vtu(const std::filesystem::path& path, const VtuGrid& grid) { write_atomic(path, to_vtu(grid)); }
+void write_vtu(const std::filesystem::path& path, const VtuGrid& grid, VtuFormat format) {
+  write_atomic(path, to_vtu(grid, format));
+}
 
 void write_pvd(const std::filesystem::path& path, const std::vector<PvdEntry>& entries) {
   std::string out = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";

@@ -612,17 +612,15 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
 }
 
 std::unique_ptr<fem::Law> LawSpec::law() const {
-  // The law's constructor checks its coefficients (the one check on their way to the engine) and names
-  // a bad one `material.<name>`: that is the key of the sub-table, except where the table holds the
-  // coefficients as a list (`values`, `coefficients`) or names a field otherwise (`shear_stiffness`).
-  auto at = [](const InputError& e, const Origin& table, const char* list_key) {
-    if (!e.where().file.empty()) throw e;
-    const std::string& k = e.where().key;
-    if (list_key) {
-      const std::string key = k.ends_with("G_s") ? "shear_stiffness" : k.ends_with("monomials") ? "course" : list_key;
-      throw InputError(table.where(key), problem_of(e));
+  // The law's constructor is the one check of its coefficients on their way to the engine. It names a
+  // bad one by its key in the sub-table (`material.values`, `material.mu`, `material.shear_stiffness`,
+  // …), so the error is placed at that key of the sub-table's Origin as it is.
+  auto build = [](const Origin& table, auto&& make) -> std::unique_ptr<fem::Law> {
+    try {
+      return make();
+    } catch (const InputError& e) {
+      rethrow_fem(e, {.material = &table});
     }
-    rethrow_fem(e, {.material = &table});
   };
   if (type == "mooney_rivlin") {
     const MooneyRivlinSpec& s = mooney_rivlin;
@@ -638,38 +636,23 @@ std::unique_ptr<fem::Law> LawSpec::law() const {
                       "C10, C01, C20, C21, C03, …");
       terms.push_back({n[1] - '0', n[2] - '0', s.values[k]});
     }
-    try {
-      return std::make_unique<fem::MooneyRivlin>(std::move(terms));
-    } catch (const InputError& e) {
-      at(e, s.origin, "values");
-    }
+    return build(s.origin, [&] { return std::make_unique<fem::MooneyRivlin>(std::move(terms)); });
   }
   if (type == "neo_hookean") {
     const NeoHookeanSpec& s = neo_hookean;
-    if (!(s.mu > 0)) s.origin.fail("mu", "must be positive", num(s.mu), "> 0");
-    try {
-      return std::make_unique<fem::NeoHookean>(s.mu, s.lambda);
-    } catch (const InputError& e) {
-      at(e, s.origin, nullptr);
-    }
+    return build(s.origin, [&] { return std::make_unique<fem::NeoHookean>(s.mu, s.lambda); });
   }
   if (type == "corotational") {
     const CorotationalSpec& s = corotational;
-    try {
-      if (s.moduli == "isotropic") {
-        if (!(s.G > 0)) s.origin.fail("G", "must be positive", num(s.G), "> 0");
-        if (!(s.K > 0)) s.origin.fail("K", "must be positive", num(s.K), "> 0");
-        return std::make_unique<fem::CorotationalOrthotropic>(fem::CorotationalOrthotropic::isotropic(s.G, s.K));
-      }
-      return std::make_unique<fem::CorotationalOrthotropic>(s.D11, s.D22, s.D12, s.D66);
-    } catch (const InputError& e) {
-      at(e, s.origin, nullptr);
-    }
+    return build(s.origin, [&] {
+      return s.moduli == "isotropic"
+                 ? std::make_unique<fem::CorotationalOrthotropic>(fem::CorotationalOrthotropic::isotropic(s.G, s.K))
+                 : std::make_unique<fem::CorotationalOrthotropic>(s.D11, s.D22, s.D12, s.D66);
+    });
   }
   if (type == "response_surface") {
     const ResponseSurfaceSpec& s = response_surface;
-    if (!(s.shear_stiffness > 0)) s.origin.fail("shear_stiffness", "must be positive", num(s.shear_stiffness), "> 0");
-    try {
+    return build(s.origin, [&] {
       fem::ResponseSurface rs =
           s.preset == "general"
               ? fem::ResponseSurface(monomials(s.origin, s.course, "course"), monomials(s.origin, s.wale, "wale"),
@@ -683,16 +666,12 @@ std::unique_ptr<fem::Law> LawSpec::law() const {
         rs.set_coefficients(Eigen::Map<const Eigen::VectorXd>(c.data(), static_cast<Eigen::Index>(c.size())));
       }
       return std::make_unique<fem::ResponseSurface>(std::move(rs));
-    } catch (const InputError& e) {
-      at(e, s.origin, "coefficients");
-    }
+    });
   }
   if (type == "reference_fabric") {
-    try {
+    return build(reference_fabric.origin, [&] {
       return std::make_unique<fem::ReferenceFabric>(static_cast<const fem::ReferenceFabricParameters&>(reference_fabric));
-    } catch (const InputError& e) {
-      at(e, reference_fabric.origin, nullptr);
-    }
+    });
   }
   origin.fail("type", "unknown law", "\"" + type + "\"",
               "mooney_rivlin, neo_hookean, corotational, response_surface or reference_fabric");

@@ -37,6 +37,22 @@ std::array<double, 4> truth() {
 
 std::string list(const std::array<double, 4>& v) { return io::to_toml(io::Reals(v.begin(), v.end())); }
 
+// A word or a list of words as a TOML basic string ("Q8"; the words here need no escapes).
+std::string word(const std::string& w) { return "\"" + w + "\""; }
+std::string words(const io::Strings& ws) {
+  std::string s;
+  for (const auto& w : ws) s += (s.empty() ? "" : ", ") + word(w);
+  return "[" + s + "]";
+}
+
+// A real as TOML, with the exponent written as a person would ("1e-5", not "1e-05").
+std::string real(double x) {
+  std::string s = io::to_toml(x);
+  for (const char* e : {"e-0", "e+0"})
+    if (const auto at = s.find(e); at != std::string::npos) s.erase(at + 2, 1);
+  return s;
+}
+
 }  // namespace
 
 std::string demo_experiment_toml(double noise_relative) {
@@ -82,7 +98,38 @@ inset = 1.0
                      list(truth()), io::to_toml(noise_relative));
 }
 
+IdentificationSpec demo_project_spec(const DemoProject& p) {
+  IdentificationSpec s;
+  s.mesh.width = 50, s.mesh.height = 200, s.mesh.element = "Q8", s.mesh.nx = 10, s.mesh.ny = 34;
+  s.law.type = "mooney_rivlin";
+  s.law.mooney_rivlin.terms = io::Strings(kNames.begin(), kNames.end());
+  s.law.mooney_rivlin.values = io::Reals(p.start.begin(), p.start.end());
+  TestSpec t;
+  t.name = "tension", t.kind = "uniaxial", t.control = "force", t.grip_holds_x = true;
+  t.load_max = 20, t.steps = 35;
+  s.test = {t};
+  s.experiment.dir = p.experiment_dir;
+  s.experiment.field_kind = "cumulative";
+  s.experiment.sigma_from_truth = p.sigma_from_truth;
+  for (const char* name : kNames) {
+    ParameterSpec q;
+    q.name = name;
+    s.parameter.push_back(q);
+  }
+  s.data.edge_displacement = p.edge_displacement;
+  s.data.field = p.field;
+  s.identify.epsilon = p.epsilon;
+  s.identify.delta = 1e-5;
+  s.identify.jacobian = p.jacobian;
+  return s;
+}
+
 std::string demo_project_toml(const DemoProject& p) {
+  const IdentificationSpec s = demo_project_spec(p);
+  const MeshSpec& m = s.mesh;
+  const TestSpec& t = s.test.front();
+  std::string parameters;
+  for (const auto& q : s.parameter) parameters += fmt::format("[[parameter]]\nname = {}\n", word(q.name));
   return fmt::format(R"(# Identify the four Mooney–Rivlin coefficients of the paper's validation case (§3.3, Table 1) from
 # the synthetic experiment of experiment.toml, on the paper's mesh size (10 × 34 Q8, 2218 dofs).
 #   tricot synth examples/uniaxial-mooney/experiment.toml -o examples/uniaxial-mooney/experiment
@@ -91,52 +138,49 @@ std::string demo_project_toml(const DemoProject& p) {
 # field; set one weight to 0.0 for "field only" or "edge only". (Written by src/project/demo.cpp.)
 
 [mesh]
-width = 50.0
-height = 200.0
-element = "Q8"
-nx = 10
-ny = 34
+width = {}
+height = {}
+element = {}
+nx = {}
+ny = {}
 
 [law]
-type = "mooney_rivlin"
+type = {}
 
 [law.mooney_rivlin]
-terms = ["C10", "C20", "C21", "C03"]
+terms = {}
 values = {}   # N/mm: the start point
 
 [[test]]
-name = "tension"
-kind = "uniaxial"
-control = "force"
-grip_holds_x = true
-load_max = 20.0
-steps = 35
+name = {}
+kind = {}
+control = {}
+grip_holds_x = {}
+load_max = {}
+steps = {}
 
 [experiment]
-dir = "{}"
-field_kind = "cumulative"
+dir = {}
+field_kind = {}
 sigma_from_truth = {}   # true: σ of the noise synth added, from truth.json (THEORY §8)
 
-[[parameter]]
-name = "C10"
-[[parameter]]
-name = "C20"
-[[parameter]]
-name = "C21"
-[[parameter]]
-name = "C03"
-
+{}
 [data]
 edge_displacement = {}
 field = {}
 
 [identify]
 epsilon = {}         # the paper's ε (eq. 2)
-delta = 1e-5            # the paper's δ (eq. 3)
-jacobian = "{}"
+delta = {}            # the paper's δ (eq. 3)
+jacobian = {}
 )",
-                     list(p.start), p.experiment_dir, p.sigma_from_truth ? "true" : "false",
-                     io::to_toml(p.edge_displacement), io::to_toml(p.field), io::to_toml(p.epsilon), p.jacobian);
+                     io::to_toml(m.width), io::to_toml(m.height), word(m.element), m.nx, m.ny,
+                     word(s.law.type), words(s.law.mooney_rivlin.terms), io::to_toml(s.law.mooney_rivlin.values),
+                     word(t.name), word(t.kind), word(t.control), io::to_toml(*t.grip_holds_x),
+                     io::to_toml(t.load_max), t.steps, word(s.experiment.dir), word(s.experiment.field_kind),
+                     io::to_toml(s.experiment.sigma_from_truth), parameters, io::to_toml(s.data.edge_displacement),
+                     io::to_toml(s.data.field), real(s.identify.epsilon), real(s.identify.delta),
+                     word(s.identify.jacobian));
 }
 
 namespace {
@@ -165,10 +209,10 @@ Run identify_case(const fs::path& out, const std::string& name, const std::strin
                   const Log& log, const DemoRequest& args,
                   std::function<void(const ident::Checkpoint&)> observe = {}) {
   Run run{name, label, out / name, {}};
-  const std::string text = demo_project_toml(p);
-  const fs::path file = run.dir / "project.toml";
-  io::write_atomic(file, text);
-  const io::Node root = io::parse_config(identify_schema(), text, file.string());
+  // The spec is built in code; project.toml is written from it for the user (and not read back).
+  IdentificationSpec spec = demo_project_spec(p);
+  spec.file = run.dir / "project.toml";
+  io::write_atomic(spec.file, demo_project_toml(p));
   IdentifyRequest req;
   req.base = run.dir;
   req.out = run.dir;
@@ -176,9 +220,9 @@ Run identify_case(const fs::path& out, const std::string& name, const std::strin
   req.observe = std::move(observe);
   log.print(fmt::format("-- {}: {}", name, label));
   if (args.each_run)
-    args.each_run([&](const Log& own) { run.outcome = run_identification(root, req, own); });
+    args.each_run([&](const Log& own) { run.outcome = run_identification(spec, req, own); });
   else
-    run.outcome = run_identification(root, req, log);
+    run.outcome = run_identification(spec, req, log);
   log.print("   " + run.outcome.result.brief_report());
   return run;
 }
@@ -304,8 +348,7 @@ unset multiplot
 // of Table 1, and what each costs against one forward FE solve (best of three, this machine).
 std::string jacobian_check(const fs::path& out) {
   DemoProject p;
-  const std::string text = demo_project_toml(p);
-  const Project P = build_project(io::parse_config(identify_schema(), text, (out / "project.toml").string()), out);
+  const Project P = build_project(demo_project_spec(p), out);
   const ident::Problem& problem = *P.objective;
   Eigen::VectorXd J(4);
   for (std::size_t k = 0; k < 4; ++k) J(Eigen::Index(k)) = p.start[k];

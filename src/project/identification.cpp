@@ -17,8 +17,12 @@ namespace tricot::project {
 namespace fs = std::filesystem;
 
 IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& req, const Log& log) {
+  return run_identification(read_identification_spec(root), req, log);
+}
+
+IdentifyOutcome run_identification(const IdentificationSpec& spec, const IdentifyRequest& req, const Log& log) {
   const auto started = std::chrono::steady_clock::now();
-  Project P = build_project(root, req.base);
+  Project P = build_project(spec, req.base);
   const auto& law = P.law;
   const auto& models = P.models;
   const auto& solver = P.solver;
@@ -65,7 +69,7 @@ IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& 
   if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
     write_eq9(req.out, *objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest, req.plots, log);
   if (req.print_summary) print_summary(outcome, req.out, log);
-  write_identification_report(root, P, outcome, req.out,
+  write_identification_report(spec, P, outcome, req.out,
                               std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   return outcome;
 }

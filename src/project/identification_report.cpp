@@ -76,7 +76,7 @@ bool add_eq9(Document& d, const fs::path& result_json) {
 
 }  // namespace report
 
-report::Document identification_report(const io::Node& root, const Project& P, const IdentifyOutcome& o,
+report::Document identification_report(const IdentificationSpec& spec, const Project& P, const IdentifyOutcome& o,
                                        const fs::path& out, double wall_seconds) {
   using namespace report;
   const ident::IdentifyResult& r = o.result;
@@ -87,7 +87,7 @@ report::Document identification_report(const io::Node& root, const Project& P, c
 
   Document d;
   d.title = fmt::format("Identification of {} coefficients of the {} law", n, P.law->name());
-  d.subtitle = fmt::format("{} · {} values in {} data groups · {} Jacobian · {}", fs::path(root.file()).filename().string(),
+  d.subtitle = fmt::format("{} · {} values in {} data groups · {} Jacobian · {}", spec.file.filename().string(),
                            o.residuals, objective.data().groups().size(), ident::to_string(r.jacobian),
                            r.converged() ? "converged" : "NOT converged");
 
@@ -103,8 +103,8 @@ report::Document identification_report(const io::Node& root, const Project& P, c
     std::string tests;
     for (const auto& m : P.models) tests += (tests.empty() ? "" : ", ") + m.name;
     KeyValueTable t{"Project and model", {}};
-    t.rows = {{"project file", fs::absolute(root.file()).lexically_normal().string()},
-              {"experiment folder", root.section("experiment").string("dir")},
+    t.rows = {{"project file", fs::absolute(spec.file).lexically_normal().string()},
+              {"experiment folder", spec.experiment.dir},
               {"law", P.law->name()},
               {"tests", tests},
               {"identification mesh", fmt::format("{} dofs (first test)", o.dofs)},
@@ -274,9 +274,9 @@ report::Document identification_report(const io::Node& root, const Project& P, c
   return d;
 }
 
-void write_identification_report(const io::Node& root, const Project& project, const IdentifyOutcome& outcome,
+void write_identification_report(const IdentificationSpec& spec, const Project& project, const IdentifyOutcome& outcome,
                                  const fs::path& out, double wall_seconds) {
-  report::write(identification_report(root, project, outcome, out, wall_seconds), out);
+  report::write(identification_report(spec, project, outcome, out, wall_seconds), out);
 }
 
 }  // namespace tricot::project

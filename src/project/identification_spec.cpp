@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "schema.hpp"
@@ -115,51 +116,45 @@ SectionSpec identify_section() {
   return s;
 }
 
-// `e.what()` is "FILE:LINE: KEY: problem …" with file and line empty for the library's errors;
-// rethrow it at `key` of node `n` of the project file.
-[[noreturn]] void relocate(const InputError& e, const Node& n, const std::string& key) {
-  std::string s = e.what();
-  const std::string k = e.where().key;
-  if (!k.empty() && s.rfind(k + ": ", 0) == 0) s = s.substr(k.size() + 2);
-  throw InputError(n.where(key), s);
-}
-
-std::vector<ident::Parameter> build_parameters(const Node& root, const fem::Law& law) {
-  const auto& nodes = root.array("parameter");
-  if (nodes.empty())
-    root.fail("parameter", "the project identifies nothing", "no [[parameter]]", "one [[parameter]] per coefficient");
+std::vector<ident::Parameter> build_parameters(const IdentificationSpec& spec, const fem::Law& law) {
+  if (spec.parameter.empty())
+    spec.origin.fail("parameter", "the project identifies nothing", "no [[parameter]]", "one [[parameter]] per coefficient");
   const std::vector<std::string> names = law.coefficient_names();
   const Eigen::VectorXd c = law.coefficients();
   std::vector<ident::Parameter> out;
-  for (const Node& p : nodes) {
-    const std::string& name = p.string("name");
+  for (const ParameterSpec& p : spec.parameter) {
+    const std::string& name = p.name;
     const auto it = std::find(names.begin(), names.end(), name);
     if (it == names.end()) {
       const std::string hint = io::closest_name(name, names);
       std::string all;
       for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
-      p.fail("name",
-             fmt::format("not a coefficient of the {} law in [law]{}", law.name(),
-                         hint.empty() ? "" : "; did you mean '" + hint + "'?"),
-             "\"" + name + "\"", all);
+      p.origin.fail("name",
+                    fmt::format("not a coefficient of the {} law in [law]{}", law.name(),
+                                hint.empty() ? "" : "; did you mean '" + hint + "'?"),
+                    "\"" + name + "\"", all);
     }
     for (const auto& q : out)
-      if (q.name == name) p.fail("name", "this coefficient is identified twice", "\"" + name + "\"", "unique names");
+      if (q.name == name) p.origin.fail("name", "this coefficient is identified twice", "\"" + name + "\"", "unique names");
     ident::Parameter x;
     x.name = name;
-    x.start = p.given("start") ? p.real("start") : c(it - names.begin());
-    x.scale = p.real("scale");
+    x.start = p.start ? *p.start : c(it - names.begin());
+    x.scale = p.scale;
+    // A start taken from [law] was checked with the law (its constructor); a given one is checked here.
+    if (p.start) check_key(p.origin, parameter_section(), "start", *p.start);
+    check_key(p.origin, parameter_section(), "scale", p.scale);
     if (x.start == 0 && x.scale == 0)
-      p.fail("scale",
-             fmt::format("parameter {} starts at 0 and has no scale: LM's steps are relative to the start", name),
-             "0.0", "> 0, the size of a typical change of " + name);
-    const io::Reals& b = p.reals("bounds");
+      p.origin.fail("scale",
+                    fmt::format("parameter {} starts at 0 and has no scale: LM's steps are relative to the start", name),
+                    "0.0", "> 0, the size of a typical change of " + name);
+    const io::Reals& b = p.bounds;
+    check_key(p.origin, parameter_section(), "bounds", b);
     if (!b.empty()) {
-      if (b.size() != 2) p.fail("bounds", "two values: [lower, upper]", io::to_toml(b), "[] or [lower, upper]");
-      if (!(b[0] < b[1])) p.fail("bounds", "lower must be below upper", io::to_toml(b), "lower < upper");
+      if (b.size() != 2) p.origin.fail("bounds", "two values: [lower, upper]", io::to_toml(b), "[] or [lower, upper]");
+      if (!(b[0] < b[1])) p.origin.fail("bounds", "lower must be below upper", io::to_toml(b), "lower < upper");
       if (x.start < b[0] || x.start > b[1])
-        p.fail(p.given("start") ? "start" : "bounds", fmt::format("the start of {} is outside its bounds", name),
-               io::to_toml(x.start), io::to_toml(b));
+        p.origin.fail(p.start ? "start" : "bounds", fmt::format("the start of {} is outside its bounds", name),
+                      io::to_toml(x.start), io::to_toml(b));
       x.lower = b[0];
       x.upper = b[1];
     }
@@ -168,6 +163,46 @@ std::vector<ident::Parameter> build_parameters(const Node& root, const fem::Law&
   return out;
 }
 
+// The model of a project without its data: the one check of a spec (validate()) and the first half
+// of build_project, so that a build checks each value once.
+struct Model {
+  std::unique_ptr<fem::Law> law;
+  fem::SolveOptions solver;
+  std::vector<fem::TestModel> models;
+  std::vector<std::string> names;
+  std::vector<ident::Parameter> parameters;
+  ident::IdentifyOptions options;
+  ident::FieldKind field_kind = ident::FieldKind::cumulative;
+  ident::StrainDomain practical;
+};
+
+Model check_model(const IdentificationSpec& spec) {
+  Model m;
+  spec.check_tests();
+  m.law = spec.law.law();
+  m.solver = spec.solver.options();
+  for (const auto& t : spec.test) {
+    if (t.test_kind() == TestKind::simple_shear)
+      t.origin.fail("kind", "identify needs FE tests", "\"simple_shear\"", "uniaxial, biaxial, homogeneous or rig");
+    m.models.push_back(t.model(spec.mesh, spec.rig));
+    m.names.push_back(t.name);
+  }
+  m.parameters = build_parameters(spec, *m.law);
+  m.options = spec.identify.options();
+  const ProjectExperimentSpec& ex = spec.experiment;
+  m.field_kind = ex.kind();
+  const SectionSpec experiment = experiment_section(), data = data_section();
+  check_key(ex.origin, experiment, "sigma_edge_displacement", ex.sigma_edge_displacement);
+  check_key(ex.origin, experiment, "sigma_edge_force", ex.sigma_edge_force);
+  check_key(ex.origin, experiment, "sigma_field", ex.sigma_field);
+  const DataSpec& d = spec.data;
+  check_key(d.origin, data, "edge_displacement", d.edge_displacement);
+  check_key(d.origin, data, "edge_force", d.edge_force);
+  check_key(d.origin, data, "field", d.field);
+  check_key(d.origin, data, "field_sigma", d.field_sigma);
+  m.practical = spec.eq9.practical();
+  return m;
+}
 
 }  // namespace
 
@@ -265,19 +300,10 @@ io::SectionSpec identify_schema() {
 
 namespace {
 
-// [eq9]: the practical domain, checked against the experimental points of the data (a domain that
-// holds none of a surface's points is an error located at its key, naming the data's strain range).
-void read_eq9(const Node& n, Project& P) {
-  for (const char* k : {"practical_course", "practical_wale"}) {
-    const io::Reals& r = n.reals(k);
-    if (r.size() != 2 || r[0] > r[1])
-      n.fail(k, "not a strain interval", fmt::format("{} values", r.size()), "[min, max] with min <= max");
-  }
-  P.eq9_practical.eC_min = n.reals("practical_course")[0], P.eq9_practical.eC_max = n.reals("practical_course")[1];
-  P.eq9_practical.eW_min = n.reals("practical_wale")[0], P.eq9_practical.eW_max = n.reals("practical_wale")[1];
-  P.eq9_nearest = static_cast<int>(n.integer("nearest"));
-  // A domain the user gave must meet the data; the default one may not (then "practical" is null).
-  if (!n.given("practical_course") && !n.given("practical_wale")) return;
+// [eq9]: a practical domain the user gave must meet the data; the default one may not (then
+// "practical" is null): an error located at its key, naming the data's strain range.
+void check_eq9(const Eq9Spec& eq9, const Project& P) {
+  if (!eq9.practical_course && !eq9.practical_wale) return;
   const auto points = eq9_points(*P.objective, P.eq9_nearest);
   for (int f = 0; f < 2; ++f) {
     if (points[f].empty()) continue;
@@ -286,8 +312,8 @@ void read_eq9(const Node& n, Project& P) {
     } catch (const InputError& e) {
       if (e.where().key != "eq9.practical") throw;
       const std::string what = std::string(e.what()).substr(e.where().key.size() + 2);
-      n.fail(f == 0 ? "practical_course" : "practical_wale",
-             std::string(f == 0 ? "course" : "wale") + " surface: " + what);
+      eq9.origin.fail(f == 0 ? "practical_course" : "practical_wale",
+                      std::string(f == 0 ? "course" : "wale") + " surface: " + what);
     }
   }
 }
@@ -307,79 +333,157 @@ std::array<std::vector<ident::SurfacePoint>, 2> eq9_points(const ident::Objectiv
   return out;
 }
 
-Project build_project(const io::Node& root, const fs::path& base) {
-  Project P;
-  const CaseSpec spec = CaseSpec::from_config(root);
-  spec.check_tests();
-  P.law = spec.law.law();
-  P.solver = spec.solver.options();
-  std::vector<std::string> names;
-  for (const auto& t : spec.test) {
-    if (t.test_kind() == TestKind::simple_shear)
-      t.origin.fail("kind", "identify needs FE tests", "\"simple_shear\"", "uniaxial, biaxial, homogeneous or rig");
-    P.models.push_back(t.model(spec.mesh, spec.rig));
-    names.push_back(t.name);
+ProjectExperimentSpec ProjectExperimentSpec::from_config(const io::Node& n) {
+  ProjectExperimentSpec e;
+  e.dir = n.string("dir");
+  e.field_kind = n.string("field_kind");
+  e.sigma_edge_displacement = n.real("sigma_edge_displacement");
+  e.sigma_edge_force = n.real("sigma_edge_force");
+  e.sigma_field = n.real("sigma_field");
+  e.sigma_from_truth = n.boolean("sigma_from_truth");
+  e.origin = Origin(n);
+  return e;
+}
+
+ident::FieldKind ProjectExperimentSpec::kind() const {
+  check_key(origin, experiment_section(), "field_kind", field_kind);
+  return field_kind == "incremental" ? ident::FieldKind::incremental : ident::FieldKind::cumulative;
+}
+
+ParameterSpec ParameterSpec::from_config(const io::Node& n) {
+  ParameterSpec p;
+  p.name = n.string("name");
+  if (n.given("start")) p.start = n.real("start");
+  p.scale = n.real("scale");
+  p.bounds = n.reals("bounds");
+  p.origin = Origin(n);
+  return p;
+}
+
+DataSpec DataSpec::from_config(const io::Node& n) {
+  DataSpec d;
+  d.edge_displacement = n.real("edge_displacement");
+  d.edge_force = n.real("edge_force");
+  d.field = n.real("field");
+  d.field_uv = n.boolean("field_uv");
+  d.field_sigma = n.string("field_sigma");
+  d.origin = Origin(n);
+  return d;
+}
+
+Eq9Spec Eq9Spec::from_config(const io::Node& n) {
+  Eq9Spec e;
+  if (n.given("practical_course")) e.practical_course = n.reals("practical_course");
+  if (n.given("practical_wale")) e.practical_wale = n.reals("practical_wale");
+  e.nearest = static_cast<int>(n.integer("nearest"));
+  e.origin = Origin(n);
+  return e;
+}
+
+ident::StrainDomain Eq9Spec::practical() const {
+  ident::StrainDomain d;
+  for (const char* k : {"practical_course", "practical_wale"}) {
+    const auto& given = std::string(k) == "practical_course" ? practical_course : practical_wale;
+    if (!given) continue;
+    const io::Reals& r = *given;
+    if (r.size() != 2 || r[0] > r[1])
+      origin.fail(k, "not a strain interval", fmt::format("{} values", r.size()), "[min, max] with min <= max");
   }
-  std::vector<ident::Parameter> parameters = build_parameters(root, *P.law);
-  P.options = IdentifyTable::from_config(root.section("identify")).options();
+  if (practical_course) d.eC_min = (*practical_course)[0], d.eC_max = (*practical_course)[1];
+  if (practical_wale) d.eW_min = (*practical_wale)[0], d.eW_max = (*practical_wale)[1];
+  const SectionSpec table = eq9_section();
+  if (practical_course) check_key(origin, table, "practical_course", *practical_course);
+  if (practical_wale) check_key(origin, table, "practical_wale", *practical_wale);
+  check_key(origin, table, "nearest", std::int64_t{nearest});
+  return d;
+}
+
+IdentificationSpec read_identification_spec(const io::Node& root) {
+  IdentificationSpec s;
+  static_cast<CaseSpec&>(s) = CaseSpec::from_config(root);
+  s.experiment = ProjectExperimentSpec::from_config(root.section("experiment"));
+  for (const Node& p : root.array("parameter")) s.parameter.push_back(ParameterSpec::from_config(p));
+  s.data = DataSpec::from_config(root.section("data"));
+  s.identify = IdentifyTable::from_config(root.section("identify"));
+  s.eq9 = Eq9Spec::from_config(root.section("eq9"));
+  s.identifiability.pinned_relative_error = root.section("identifiability").real("pinned_relative_error");
+  s.identifiability.origin = Origin(root.section("identifiability"));
+  s.file = root.file();
+  return s;
+}
+
+void IdentificationSpec::validate() const { (void)check_model(*this); }
+
+Project build_project(const io::Node& root, const fs::path& base) {
+  return build_project(read_identification_spec(root), base);
+}
+
+Project build_project(const IdentificationSpec& spec, const fs::path& base) {
+  Model m = check_model(spec);
+  Project P;
+  P.law = std::move(m.law);
+  P.solver = m.solver;
+  P.models = std::move(m.models);
+  P.options = m.options;
+  P.eq9_practical = m.practical;
+  P.eq9_nearest = spec.eq9.nearest;
 
   // The experiment.
-  const Node& ex = root.section("experiment");
-  const fs::path dir = base / ex.string("dir");
+  const ProjectExperimentSpec& ex = spec.experiment;
+  const fs::path dir = base / ex.dir;
   if (!fs::is_directory(dir))
-    throw FileError(ex.where("dir"), "experiment folder not found", "\"" + dir.string() + "\"",
+    throw FileError(ex.origin.where("dir"), "experiment folder not found", "\"" + dir.string() + "\"",
                     "a folder written by tricot synth, relative to the project file");
-  const auto kind = ex.string("field_kind") == "incremental" ? ident::FieldKind::incremental
-                                                             : ident::FieldKind::cumulative;
-  ident::Experiment experiment = read_experiment(dir, names, kind);
+  const auto kind = m.field_kind;
+  ident::Experiment experiment = read_experiment(dir, m.names, kind);
   P.truth = read_truth(dir);
   const bool has_field = std::any_of(experiment.tests.begin(), experiment.tests.end(),
                                      [](const ident::TestData& d) { return d.has_field(); });
   if (P.truth && has_field && P.truth->field_kind != kind)
-    ex.fail("field_kind", fmt::format("{}/truth.json says the field data are {}", dir.string(),
-                                      ident::to_string(P.truth->field_kind)),
-            "\"" + ex.string("field_kind") + "\"", ident::to_string(P.truth->field_kind));
+    ex.origin.fail("field_kind", fmt::format("{}/truth.json says the field data are {}", dir.string(),
+                                             ident::to_string(P.truth->field_kind)),
+                   "\"" + ex.field_kind + "\"", ident::to_string(P.truth->field_kind));
   for (auto& d : experiment.tests) {
-    if (ex.boolean("sigma_from_truth")) {
+    if (ex.sigma_from_truth) {
       if (!P.truth)
-        throw FileError(ex.where("sigma_from_truth"), "the experiment has no truth.json to take σ from",
+        throw FileError(ex.origin.where("sigma_from_truth"), "the experiment has no truth.json to take σ from",
                         (dir / kTruthFile).string());
       const Truth::Test* t = P.truth->find(d.name);
-      if (!t) ex.fail("sigma_from_truth", "truth.json has no test '" + d.name + "'");
+      if (!t) ex.origin.fail("sigma_from_truth", "truth.json has no test '" + d.name + "'");
       d.sigma = t->sigma;
     } else {
-      d.sigma = {ex.real("sigma_edge_displacement"), ex.real("sigma_edge_force"), ex.real("sigma_field")};
+      d.sigma = {ex.sigma_edge_displacement, ex.sigma_edge_force, ex.sigma_field};
     }
   }
 
-  const Node& dn = root.section("data");
+  const DataSpec& dn = spec.data;
   for (auto& d : experiment.tests)
-    if (dn.string("field_sigma") != "per_point") {
+    if (dn.field_sigma != "per_point") {
       d.sigma_u.resize(0, 0), d.sigma_v.resize(0, 0);
     } else if (d.has_field() && d.sigma_u.size() == 0) {
-      dn.fail("field_sigma", "field.csv of test '" + d.name + "' has no sigma_u, sigma_v columns", "\"per_point\"",
-              "a field.csv written by tricot experiment");
+      dn.origin.fail("field_sigma", "field.csv of test '" + d.name + "' has no sigma_u, sigma_v columns", "\"per_point\"",
+                     "a field.csv written by tricot experiment");
     }
   ident::ObjectiveOptions oo;
-  oo.weights.edge_displacement = dn.real("edge_displacement");
-  oo.weights.edge_force = dn.real("edge_force");
-  oo.weights.field = dn.real("field");
-  oo.weights.field_uv = dn.boolean("field_uv");
+  oo.weights.edge_displacement = dn.edge_displacement;
+  oo.weights.edge_force = dn.edge_force;
+  oo.weights.field = dn.field;
+  oo.weights.field_uv = dn.field_uv;
   oo.solver = P.solver;
   oo.threads = P.options.threads;
   try {
-    P.objective = std::make_unique<ident::Objective>(P.models, experiment, *P.law, parameters, oo);
+    P.objective = std::make_unique<ident::Objective>(P.models, experiment, *P.law, m.parameters, oo);
   } catch (const InputError& e) {
     if (!e.where().file.empty()) throw;
     const std::string& k = e.where().key;
-    if (k == "data") relocate(e, dn, "");
-    throw InputError({root.file(), 0, k}, std::string(e.what()).substr(k.empty() ? 0 : k.size() + 2));
+    if (k == "data") throw InputError(dn.origin.where(""), problem_of(e));
+    throw InputError({spec.file.string(), 0, k}, std::string(e.what()).substr(k.empty() ? 0 : k.size() + 2));
   }
-  read_eq9(root.section("eq9"), P);
-  P.identifiability.pinned_relative_error = root.section("identifiability").real("pinned_relative_error");
+  P.identifiability.pinned_relative_error = spec.identifiability.pinned_relative_error;
   if (!(P.identifiability.pinned_relative_error > 0))
-    root.section("identifiability").fail("pinned_relative_error", "must be positive",
-                                         fmt::format("{}", P.identifiability.pinned_relative_error), "> 0");
+    spec.identifiability.origin.fail("pinned_relative_error", "must be positive",
+                                     fmt::format("{}", P.identifiability.pinned_relative_error), "> 0");
+  check_eq9(spec.eq9, P);
   return P;
 }
 

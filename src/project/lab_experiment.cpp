@@ -24,34 +24,64 @@ namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 using io::key;
 
-io::SectionSpec lab_schema() {
-  io::SectionSpec root{"", "tricot experiment: a lab's raw files → an experiment folder for `tricot identify`.", false, {}, {}};
-  root.sections.push_back(io::SectionSpec{
+namespace {
+
+io::SectionSpec experiment_section() {
+  const ExperimentSpec d;
+  return io::SectionSpec{
       "experiment",
       "What the experiment folder holds.",
       false,
-      {key("field_kind", std::string("cumulative"),
+      {key("field_kind", d.field_kind,
            "field.csv: cumulative (material points tracked from image 0) or incremental (fixed points, "
            "displacement since the previous image; THEORY §7).",
            -1e300, 1e300, {"cumulative", "incremental"}),
-       key("control", std::string("displacement"),
+       key("control", d.control,
            "The FE load of each step in forces.csv: displacement (load = grip displacement of the quarter, mm) "
            "or force (load = the full specimen's force, N).",
            -1e300, 1e300, {"displacement", "force"}),
-       key("grip", std::string("auto"),
+       key("grip", d.grip,
            "The grip displacement: crosshead (half the synchronised cross-head travel), field (from the DIC "
            "field, lab::grip_from_field) or auto (crosshead when the log has one).",
            -1e300, 1e300, {"auto", "crosshead", "field"}),
-       key("plot", true, "Write DIR/sync.png (gnuplot)."),
-       key("sigma_edge_displacement", 0.0,
+       key("plot", d.plot, "Write DIR/sync.png (gnuplot)."),
+       key("sigma_edge_displacement", d.sigma_edge_displacement,
            "Written to project.toml's [experiment] when > 0: the grip's σ, mm (half the cross-head's), so that\n"
            "every group has a measurement σ and the covariance is a real one (THEORY §8).",
            0, 1e6),
-       key("project_template", std::string(""),
+       key("project_template", d.project_template.string(),
            "A TOML file with the project's [mesh], [law], [[parameter]], [data], [identify] (no [[test]], no\n"
            "[experiment]): DIR/project.toml is it plus one [[test]] per test (loads from forces.csv) and\n"
            "[experiment]. \"\" = a skeleton to edit.")},
-      {}});
+      {}};
+}
+
+}  // namespace
+
+ExperimentSpec ExperimentSpec::from_config(const io::Node& n) {
+  ExperimentSpec e;
+  e.field_kind = n.string("field_kind");
+  e.control = n.string("control");
+  e.grip = n.string("grip");
+  e.plot = n.boolean("plot");
+  e.sigma_edge_displacement = n.real("sigma_edge_displacement");
+  const fs::path t = n.string("project_template");
+  e.project_template = t.empty() || t.is_absolute() ? t : fs::path(n.file()).parent_path() / t;
+  e.origin = Origin(n);
+  return e;
+}
+
+void ExperimentSpec::validate() const {
+  const io::SectionSpec table = experiment_section();
+  check_key(origin, table, "field_kind", field_kind);
+  check_key(origin, table, "control", control);
+  check_key(origin, table, "grip", grip);
+  check_key(origin, table, "sigma_edge_displacement", sigma_edge_displacement);
+}
+
+io::SectionSpec lab_schema() {
+  io::SectionSpec root{"", "tricot experiment: a lab's raw files → an experiment folder for `tricot identify`.", false, {}, {}};
+  root.sections.push_back(experiment_section());
   root.sections.push_back(io::SectionSpec{
       "sync",
       "Load-cell synchronisation (lab::SyncOptions). Per test, clock_offset_s and tare_N override the estimates.",
@@ -287,11 +317,11 @@ void plot_sync(const fs::path& out, const std::vector<LabTestResult>& tests, con
   if (!io::run_gnuplot(script, &why)) log.print("  (no sync.png: " + why + ")");
 }
 
-std::string project_skeleton(const io::Node& root, const std::vector<LabTestResult>& tests, const fs::path& out) {
-  const io::Node& e = root.section("experiment");
+std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, const std::vector<LabTestResult>& tests,
+                             const fs::path& out) {
   std::string s = fmt::format("# Written by `tricot experiment` from {}; then\n#   tricot identify {} -o OUT\n\n", root.file(),
                               (out / "project.toml").string());
-  const fs::path tpl = resolve(e, "project_template");
+  const fs::path& tpl = e.project_template;
   if (!tpl.empty()) {
     s += io::read_text(tpl) + "\n";
   } else {
@@ -303,7 +333,7 @@ std::string project_skeleton(const io::Node& root, const std::vector<LabTestResu
          "values = [0.05, -0.01, 0.005]   # the start point\n\n";
     s += fmt::format("[[parameter]]\nname = \"C10\"\n[[parameter]]\nname = \"C20\"\n[[parameter]]\nname = \"C21\"\n\n"
                      "[data]\n{} = 1.0\nfield = 1.0\nfield_sigma = \"per_point\"   # the DIC's σ of every value (field.csv)\n\n",
-                     e.string("control") == "force" ? "edge_displacement" : "edge_force");
+                     e.force_control() ? "edge_displacement" : "edge_force");
   }
   for (std::size_t i = 0; i < tests.size(); ++i) {
     const io::Node& t = root.array("test")[i];
@@ -311,14 +341,14 @@ std::string project_skeleton(const io::Node& root, const std::vector<LabTestResu
     for (std::size_t k = 0; k < tests[i].loads.size(); ++k) loads += (k ? ", " : "") + num(tests[i].loads[k]);
     s += fmt::format("[[test]]   # {} direction{}\nname = \"{}\"\n{}\ncontrol = \"{}\"\nloads = [{}]   # forces.csv\n\n",
                      t.string("direction"), t.real("guide_mm") > 0 ? fmt::format(", guide {} mm", num(t.real("guide_mm"))) : "",
-                     tests[i].name, t.string("model"), e.string("control"), loads);
+                     tests[i].name, t.string("model"), e.control, loads);
   }
-  s += fmt::format("[experiment]\ndir = \".\"\nfield_kind = \"{}\"\n", e.string("field_kind"));
+  s += fmt::format("[experiment]\ndir = \".\"\nfield_kind = \"{}\"\n", e.field_kind);
   double noise = 0;
   for (const auto& t : tests) noise = std::max(noise, t.force_noise_N);
-  if (e.string("control") == "displacement" && noise > 0)
+  if (!e.force_control() && noise > 0)
     s += "sigma_edge_force = " + num(noise) + "   # N: the logs' largest spread at rest (sync.json force_noise_N)\n";
-  if (e.real("sigma_edge_displacement") > 0) s += "sigma_edge_displacement = " + num(e.real("sigma_edge_displacement")) + "\n";
+  if (e.sigma_edge_displacement > 0) s += "sigma_edge_displacement = " + num(e.sigma_edge_displacement) + "\n";
   return s;
 }
 
@@ -412,11 +442,12 @@ dic::SequenceResult read_dic_folder(const fs::path& dir, std::vector<std::string
 }
 
 LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out, const Log& log) {
-  const io::Node& e = root.section("experiment");
+  const ExperimentSpec e = ExperimentSpec::from_config(root.section("experiment"));
+  e.validate();
   const io::Node& so = root.section("sync");
   const auto& tests = root.array("test");
   if (tests.empty()) root.fail("test", "no [[test]] table", "", "one [[test]] per test");
-  const lab::FieldKind kind = e.string("field_kind") == "incremental" ? lab::FieldKind::incremental : lab::FieldKind::cumulative;
+  const lab::FieldKind kind = e.kind();
   LabExperimentResult result;
   json sync_json = json::object();
   const auto t_start = std::chrono::steady_clock::now();
@@ -499,20 +530,20 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
       if (n > 1) noise = std::sqrt(std::max(0.0, (s2 - s1 * s1 / n) / (n - 1)));
     }
     std::vector<double> grip = images.grip;
-    const std::string grip_source = e.string("grip");
+    const std::string& grip_source = e.grip;
     if (grip_source == "crosshead" && !load.has_crosshead())
-      e.fail("grip", "grip = \"crosshead\" but the test's log has no cross-head column", name, "crosshead_column set");
+      e.origin.fail("grip", "grip = \"crosshead\" but the test's log has no cross-head column", name, "crosshead_column set");
     if (grip_source != "field" && load.has_crosshead())
       for (std::size_t k = 0; k < grip.size(); ++k) grip[k] = 0.5 * sync.crosshead[k];
     const auto steps = lab::force_steps(images, sync, grip, geometry.width_mm);
-    write_forces(tdir / kForcesFile, steps, e.string("control") == "force");
+    write_forces(tdir / kForcesFile, steps, e.force_control());
 
     const lab::QuarterField field = kind == lab::FieldKind::cumulative ? cumulative : lab::fold_sequence(seq, frame, geometry, kind);
     write_field(tdir / kFieldFile, field);
     write_sync_data(tdir, load, sync);
 
     LabTestResult r{name, sync, static_cast<int>(steps.size()), static_cast<int>(field.point_ids.size()), field.outside, field.incomplete, {}, noise};
-    for (const auto& f : steps) r.loads.push_back(e.string("control") == "force" ? f.force_N : f.grip_mm);
+    for (const auto& f : steps) r.loads.push_back(e.force_control() ? f.force_N : f.grip_mm);
     sync_json[name] = {{"clock_offset_s", sync.clock_offset_s},
                        {"method", lab::to_string(sync.method)},
                        {"tare_N", sync.tare_N},
@@ -526,7 +557,7 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
                        {"points_outside", field.outside},
                        {"points_incomplete", field.incomplete}};
     log.print(fmt::format("{}: {}", name, sync.brief_report()));
-    log.print(fmt::format("{}: {} steps, field {}: {}", name, steps.size(), e.string("field_kind"), field.report));
+    log.print(fmt::format("{}: {} steps, field {}: {}", name, steps.size(), e.field_kind, field.report));
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     log.reporter().report({"experiment", ti + 1, tests.size(),
                            fmt::format("test {} done, ETA {}", name,
@@ -534,10 +565,10 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     result.tests.push_back(std::move(r));
   }
   io::write_atomic(out / "sync.json", sync_json.dump(2) + "\n");
-  if (e.boolean("plot")) plot_sync(out, result.tests, log);
-  io::write_atomic(out / "project.toml", project_skeleton(root, result.tests, out));
+  if (e.plot) plot_sync(out, result.tests, log);
+  io::write_atomic(out / "project.toml", project_skeleton(root, e, result.tests, out));
   log.print(fmt::format("wrote {}: {} test(s), sync.json, {}project.toml", out.string(), result.tests.size(),
-                        e.boolean("plot") ? "sync.png, " : ""));
+                        e.plot ? "sync.png, " : ""));
   return result;
 }
 

@@ -12,6 +12,7 @@
 
 #include "json.hpp"
 #include "tricot/core/error.hpp"
+#include "tricot/io/base64.hpp"
 #include "tricot/io/files.hpp"
 
 namespace tricot::project::report {
@@ -187,7 +188,7 @@ void render(std::string& h, const Block& b, const fs::path& dir, Counters& n) {
     }
     h += fmt::format("<figure><img src=\"data:image/png;base64,{}\" width=\"{}\" height=\"{}\" alt=\"{}\">"
                      "<figcaption>{}</figcaption></figure>\n",
-                     base64(bytes), size->first, size->second, escape_html(f->caption),
+                     io::base64(bytes), size->first, size->second, escape_html(f->caption),
                      caption_html("Figure", n.figure, f->caption));
   } else if (const auto* m = std::get_if<HeatMap>(&b)) {
     h += "<div class=\"block\"><table class=\"heat\">";
@@ -453,28 +454,6 @@ std::string escape_html(std::string_view text) {
       case '\'': out += "&#39;"; break;
       default: out += c;
     }
-  }
-  return out;
-}
-
-std::string base64(std::string_view bytes) {
-  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const std::uint32_t v = std::uint32_t(std::uint8_t(bytes[i])) << 16 | std::uint32_t(std::uint8_t(bytes[i + 1])) << 8 |
-                            std::uint8_t(bytes[i + 2]);
-    for (int s = 18; s >= 0; s -= 6) out += kAlphabet[(v >> s) & 63];
-  }
-  const std::size_t rest = bytes.size() - i;
-  if (rest > 0) {
-    std::uint32_t v = std::uint32_t(std::uint8_t(bytes[i])) << 16;
-    if (rest == 2) v |= std::uint32_t(std::uint8_t(bytes[i + 1])) << 8;
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += rest == 2 ? kAlphabet[(v >> 6) & 63] : '=';
-    out += '=';
   }
   return out;
 }

@@ -36,12 +36,20 @@ void remove_stale_steps(const fs::path& dir, std::size_t kept) {
   io::remove_numbered_files(dir, "step_", ".vtu", static_cast<long>(kept) + 1);
 }
 
+// Step k's VTU (1-based) when k is a multiple of `every` or the last step; an earlier run's file of a
+// step not written now is removed, so the folder and steps.pvd agree.
 void write_vtus(const fs::path& dir, const fem::TestModel& test, const fem::Law& law,
-                const std::vector<Eigen::VectorXd>& u, const std::vector<double>& time) {
+                const std::vector<Eigen::VectorXd>& u, const std::vector<double>& time, const SimulationRequest& args) {
   std::vector<io::PvdEntry> series;
   for (std::size_t k = 0; k < u.size(); ++k) {
-    io::write_vtu(dir / step_file(k + 1), fem_vtu_grid(test.mesh, u[k], law, test.material_angle));
-    series.push_back({time[k], step_file(k + 1)});
+    const std::size_t step = k + 1;
+    if (step % args.vtu_every != 0 && step != u.size()) {
+      std::error_code ec;
+      fs::remove(dir / step_file(step), ec);
+      continue;
+    }
+    io::write_vtu(dir / step_file(step), fem_vtu_grid(test.mesh, u[k], law, test.material_angle), args.vtu_format);
+    series.push_back({time[k], step_file(step)});
   }
   io::write_pvd(dir / "steps.pvd", series);
 }
@@ -82,7 +90,7 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
     time.push_back(s.load);
   }
   make_dir(dir);
-  if (args.vtu) write_vtus(dir, test, law, u, time);
+  if (args.vtu) write_vtus(dir, test, law, u, time, args);
   remove_stale_steps(dir, !args.vtu ? 0 : u.size());
   io::write_atomic(dir / "steps.csv", io::to_csv(t));
   io::write_atomic(dir / "newton.csv", io::to_csv(newton));
@@ -149,7 +157,7 @@ TestOutcome run_simple_shear(const fem::TestModel& test, const fem::Law& law, co
   if (args.vtu) {
     std::vector<double> time;
     for (const auto& row : t.rows) time.push_back(row[0]);
-    write_vtus(dir, test, law, u, time);
+    write_vtus(dir, test, law, u, time, args);
   }
   remove_stale_steps(dir, !args.vtu ? 0 : u.size());
   io::write_atomic(dir / "steps.csv", io::to_csv(t));

@@ -33,44 +33,85 @@ io::SectionSpec synth_images_section() {
                     "Y up, the keys of `tricot dic`'s [physical]) and each frame's step. The speckle pattern and\n"
                     "the noise are seeded from [synth] seed.",
                     false, {}, {}};
+  const SynthImagesSpec d;
   s.keys = {
-      key("enabled", false, "Write the images (about 1 s of CPU per 600 × 600 px frame with 4 × 4 subsamples)."),
-      key("pixel_size", 0.1, "Pixel size on the specimen, mm/px, > 0.", 1e-6, 1e4),
-      key("width", std::int64_t{600}, "Image width, px.", 8, 20000),
-      key("height", std::int64_t{600}, "Image height, px.", 8, 20000),
-      key("speckle_size", 5.0, "Speckle size in px of the reference image (twice the mean blob radius).", 0.2, 2000),
-      key("coverage", 0.6, "Speckle density: blobs per unit area × π r² (0.6: bright blobs cover about 45 % of the area).", 0.01, 99),
-      key("subsamples", std::int64_t{4}, "Samples per pixel and direction that integrate each pixel's area.", 1, 16),
-      key("background", 0.5, "Flat gray beside the specimen and beyond the grips, fraction of full scale.", 0, 1),
-      key("noise", 0.0, "σ of Gaussian camera noise in gray levels of the output (8 bit: of 255), ≥ 0.", 0, 1e5),
-      key("bits", std::int64_t{8}, "Bit depth of the PNG files: 8 or 16.", 8, 16),
-      key("every_n_steps", std::int64_t{1}, "A frame every n steps (frame j shows step j · n).", 1, 100000),
+      key("enabled", d.enabled, "Write the images (about 1 s of CPU per 600 × 600 px frame with 4 × 4 subsamples)."),
+      key("pixel_size", d.pixel_size, "Pixel size on the specimen, mm/px, > 0.", 1e-6, 1e4),
+      key("width", std::int64_t{d.width}, "Image width, px.", 8, 20000),
+      key("height", std::int64_t{d.height}, "Image height, px.", 8, 20000),
+      key("texture", d.texture,
+          "What the camera sees: \"speckle\" (a painted speckle of round blobs) or \"knit\" (the knit's\n"
+          "natural tracers, as the paper: stitches in wales along the material's wale axis, each a V of two\n"
+          "legs, pitch 2 speckle_size across the wales and 1.6 speckle_size along them, with yarn fuzz).",
+          -1e300, 1e300, {"speckle", "knit"}),
+      key("speckle_size", d.speckle_size, "Speckle size in px of the reference image (twice the mean blob radius).", 0.2, 2000),
+      key("coverage", d.coverage, "Speckle density: blobs per unit area × π r² (0.6: bright blobs cover about 45 % of the area).", 0.01, 99),
+      key("subsamples", std::int64_t{d.subsamples}, "Samples per pixel and direction that integrate each pixel's area.", 1, 16),
+      key("background", d.background, "Flat gray beside the specimen and beyond the grips, fraction of full scale.", 0, 1),
+      key("noise", d.noise, "σ of Gaussian camera noise in gray levels of the output (8 bit: of 255), ≥ 0.", 0, 1e5),
+      key("bits", std::int64_t{d.bits}, "Bit depth of the PNG files: 8 or 16.", 8, 16),
+      key("every_n_steps", std::int64_t{d.every_n_steps}, "A frame every n steps (frame j shows step j · n).", 1, 100000),
   };
   return s;
 }
 
-synth::SpecimenImageOptions build_image_options(const io::Node& s, std::uint64_t seed) {
-  synth::SpecimenImageOptions o;
-  o.camera.mm_per_px = s.real("pixel_size");
-  o.camera.width = static_cast<int>(s.integer("width"));
-  o.camera.height = static_cast<int>(s.integer("height"));
-  o.speckle.radius = 0.5 * s.real("speckle_size");
-  o.speckle.coverage = s.real("coverage");
-  o.speckle.subsamples = static_cast<int>(s.integer("subsamples"));
-  o.speckle.seed = seed;
-  o.background = s.real("background");
-  o.noise = s.real("noise");
-  o.bits = static_cast<int>(s.integer("bits"));
-  if (o.bits != 8 && o.bits != 16) s.fail("bits", "PNG files are 8 or 16 bit", std::to_string(o.bits), "8 or 16");
-  o.validate();  // everything else is in the schema's ranges
-  return o;
+SynthImagesSpec SynthImagesSpec::from_config(const io::Node& s) {
+  SynthImagesSpec m;
+  m.enabled = s.boolean("enabled");
+  m.pixel_size = s.real("pixel_size");
+  m.width = static_cast<int>(s.integer("width"));
+  m.height = static_cast<int>(s.integer("height"));
+  m.texture = s.string("texture");
+  m.speckle_size = s.real("speckle_size");
+  m.coverage = s.real("coverage");
+  m.subsamples = static_cast<int>(s.integer("subsamples"));
+  m.background = s.real("background");
+  m.noise = s.real("noise");
+  m.bits = static_cast<int>(s.integer("bits"));
+  m.every_n_steps = static_cast<int>(s.integer("every_n_steps"));
+  m.origin = Origin(s);
+  return m;
 }
 
-int write_images(const io::Node& s, const fem::TestModel& model, const fem::SimulationResult& sim, std::uint64_t seed,
-                 const fs::path& test_dir, const Log& log) {
-  const synth::SpecimenImageOptions o = build_image_options(s, seed);
+void SynthImagesSpec::validate() const {
+  const io::SectionSpec table = synth_images_section();
+  check_key(origin, table, "pixel_size", pixel_size);
+  check_key(origin, table, "width", std::int64_t{width});
+  check_key(origin, table, "height", std::int64_t{height});
+  if (!synth::texture_from_string(texture))
+    origin.fail("texture", "not a texture", texture, "\"speckle\" or \"knit\"");
+  check_key(origin, table, "speckle_size", speckle_size);
+  check_key(origin, table, "coverage", coverage);
+  check_key(origin, table, "subsamples", std::int64_t{subsamples});
+  check_key(origin, table, "background", background);
+  check_key(origin, table, "noise", noise);
+  check_key(origin, table, "bits", std::int64_t{bits});
+  check_key(origin, table, "every_n_steps", std::int64_t{every_n_steps});
+  if (bits != 8 && bits != 16) origin.fail("bits", "PNG files are 8 or 16 bit", std::to_string(bits), "8 or 16");
+}
+
+synth::SpecimenImageOptions SynthImagesSpec::options(std::uint64_t seed) const {
+  synth::SpecimenImageOptions o;
+  o.camera.mm_per_px = pixel_size;
+  o.camera.width = width;
+  o.camera.height = height;
+  o.speckle.texture = synth::texture_from_string(texture).value_or(synth::Texture::speckle);
+  o.speckle.radius = 0.5 * speckle_size;
+  o.speckle.coverage = coverage;
+  o.speckle.subsamples = subsamples;
+  o.speckle.seed = seed;
+  o.background = background;
+  o.noise = noise;
+  o.bits = bits;
+  return o;  // in the engine's ranges: validate() checked the keys (the renderer checks them again)
+}
+
+int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fem::SimulationResult& sim,
+                 std::uint64_t seed, const fs::path& test_dir, const Log& log) {
+  synth::SpecimenImageOptions o = s.options(seed);
+  o.speckle.wale_angle_deg = -model.material_angle;  // the wales along the material's axis 1; pixel y is down
   const synth::SpecimenRenderer renderer(model.mesh, o);
-  const int every = static_cast<int>(s.integer("every_n_steps"));
+  const int every = s.every_n_steps;
   const int steps = static_cast<int>(sim.steps.size());
   const int frames = 1 + steps / every;
   const fs::path dir = test_dir / kImagesFolder;
@@ -102,6 +143,7 @@ int write_images(const io::Node& s, const fem::TestModel& model, const fem::Simu
       {"width", c.width},
       {"height", c.height},
       {"bits", o.bits},
+      {"texture", synth::to_string(o.speckle.texture)},
       {"speckle_size_px", 2 * o.speckle.radius},
       {"noise", o.noise},
       {"seed", seed},

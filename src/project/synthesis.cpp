@@ -138,9 +138,9 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
         s.fail(k, "give either absolute σ or noise_relative, not both", io::to_toml(s.real(k)), "0 with noise_relative");
   const auto kind = s.string("field_kind") == "incremental" ? ident::FieldKind::incremental
                                                             : ident::FieldKind::cumulative;
-  const io::Node& images = s.section("images");
-  const bool with_images = images.boolean("enabled");
-  if (with_images) build_image_options(images, 0);  // a bad [synth.images] stops before any work
+  const SynthImagesSpec images = SynthImagesSpec::from_config(s.section("images"));
+  const bool with_images = images.enabled;
+  if (with_images) images.validate();  // a bad [synth.images] stops before any work
 
   // Build every test first: a config error stops before any work.
   std::vector<fem::TestModel> models;

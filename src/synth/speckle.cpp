@@ -23,28 +23,95 @@ void SpeckleOptions::validate() const {
   if (subsamples < 1 || subsamples > 16) bad("speckle.subsamples", subsamples, "1 to 16");
 }
 
+const char* to_string(Texture t) { return t == Texture::knit ? "knit" : "speckle"; }
+
+std::optional<Texture> texture_from_string(std::string_view word) {
+  if (word == "speckle") return Texture::speckle;
+  if (word == "knit") return Texture::knit;
+  return std::nullopt;
+}
+
+namespace {
+
+// Knit stitches in units of the radius r: pitch across the wales 4 r, along them 3.2 r; each leg an
+// ellipse of semi-axes 1.6 r × 0.6 r tilted ±30° from the wale, centred ±r from the stitch's axis.
+constexpr double kAcross = 4.0, kAlong = 3.2, kLegLong = 1.6, kLegShort = 0.6, kLegOffset = 1.0, kLegTiltDeg = 30;
+constexpr double kJitter = 0.25;     // × r: stitch position scatter (yarn tension varies)
+constexpr double kFuzzPerStitch = 0.6, kFuzzRadius = 0.45;  // loose fibres: small round blobs
+
+}  // namespace
+
 SpecklePattern::SpecklePattern(const SpeckleOptions& o, double x_min, double y_min, double x_max, double y_max)
     : options_(o) {
   o.validate();
-  const double r_max = o.radius * (1 + o.radius_spread);
+  const double r_max = o.radius * (1 + o.radius_spread) * (o.texture == Texture::knit ? kLegLong : 1.0);
   const double margin = 3 * r_max;
-  cell_ = 3 * r_max;  // a blob further than 3 r contributes < e⁻⁹ and is skipped
+  cell_ = 3 * r_max;  // a blob further than 3 semi-axes contributes < e⁻⁹ and is skipped
   x0_ = x_min - margin;
   y0_ = y_min - margin;
   nx_ = std::max(1, static_cast<int>(std::ceil((x_max - x_min + 2 * margin) / cell_)));
   ny_ = std::max(1, static_cast<int>(std::ceil((y_max - y_min + 2 * margin) / cell_)));
   cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
   const double area = nx_ * cell_ * ny_ * cell_;
-  const auto count = static_cast<std::size_t>(std::llround(o.coverage * area / (std::numbers::pi * o.radius * o.radius)));
-  std::mt19937_64 rng(o.seed);
-  std::uniform_real_distribution<double> ux(x0_, x0_ + nx_ * cell_), uy(y0_, y0_ + ny_ * cell_),
-      ur(o.radius * (1 - o.radius_spread), o.radius * (1 + o.radius_spread));
-  for (std::size_t k = 0; k < count; ++k) {
-    const double x = ux(rng), y = uy(rng), r = ur(rng);
-    const int i = std::min(nx_ - 1, static_cast<int>((x - x0_) / cell_));
-    const int j = std::min(ny_ - 1, static_cast<int>((y - y0_) / cell_));
-    cells_[std::size_t(j) * nx_ + i].push_back({float(x), float(y), float(1 / (r * r))});
+  if (o.texture == Texture::speckle) {
+    scatter_round(static_cast<std::uint64_t>(std::llround(o.coverage * area / (std::numbers::pi * o.radius * o.radius))),
+                  1.0, 1.0, o.seed);
+  } else {
+    knit_stitches();
+    const double stitches = area / (kAcross * kAlong * o.radius * o.radius);
+    scatter_round(static_cast<std::uint64_t>(std::llround(kFuzzPerStitch * stitches)), kFuzzRadius, 0.4, o.seed + 1);
   }
+}
+
+void SpecklePattern::add(const Blob& blob) {
+  const int i = static_cast<int>(std::floor((blob.x - x0_) / cell_));
+  const int j = static_cast<int>(std::floor((blob.y - y0_) / cell_));
+  if (i < 0 || j < 0 || i >= nx_ || j >= ny_) return;
+  cells_[std::size_t(j) * nx_ + i].push_back(blob);
+}
+
+void SpecklePattern::scatter_round(std::uint64_t count, double radius_scale, double weight_min, std::uint64_t seed) {
+  const SpeckleOptions& o = options_;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> ux(x0_, x0_ + nx_ * cell_), uy(y0_, y0_ + ny_ * cell_),
+      ur(radius_scale * o.radius * (1 - o.radius_spread), radius_scale * o.radius * (1 + o.radius_spread)),
+      uw(weight_min, 1.0);
+  for (std::uint64_t k = 0; k < count; ++k) {
+    const double x = ux(rng), y = uy(rng), r = ur(rng);
+    const float inv = float(1 / (r * r));
+    add({float(x), float(y), inv, 0.0f, inv, float(weight_min < 1 ? uw(rng) : 1.0)});
+  }
+}
+
+void SpecklePattern::knit_stitches() {
+  const SpeckleOptions& o = options_;
+  const double r = o.radius, th = o.wale_angle_deg * std::numbers::pi / 180;
+  const Vec2 w(std::cos(th), std::sin(th)), c(-w(1), w(0));  // along and across the wales
+  std::mt19937_64 rng(o.seed);
+  std::normal_distribution<double> jitter(0, kJitter * r);
+  std::uniform_real_distribution<double> size(1 - o.radius_spread, 1 + o.radius_spread), weight(0.55, 1.0);
+  // The lattice covers the pattern's rectangle in any orientation: index range from its corners.
+  const double X0 = x0_, Y0 = y0_, X1 = x0_ + nx_ * cell_, Y1 = y0_ + ny_ * cell_;
+  double a_min = 1e300, a_max = -1e300, b_min = 1e300, b_max = -1e300;
+  for (const Vec2& p : {Vec2(X0, Y0), Vec2(X1, Y0), Vec2(X0, Y1), Vec2(X1, Y1)}) {
+    a_min = std::min(a_min, p.dot(c)), a_max = std::max(a_max, p.dot(c));
+    b_min = std::min(b_min, p.dot(w)), b_max = std::max(b_max, p.dot(w));
+  }
+  const double across = kAcross * r, along = kAlong * r;
+  for (long i = std::lround(std::floor(a_min / across)); i <= std::lround(std::ceil(a_max / across)); ++i)
+    for (long j = std::lround(std::floor(b_min / along)); j <= std::lround(std::ceil(b_max / along)); ++j) {
+      const Vec2 stitch = (i * across + jitter(rng)) * c + (j * along + jitter(rng)) * w;
+      const double scale = size(rng);
+      for (int side : {-1, 1}) {
+        // A leg: long axis tilted from the wale toward the stitch's axis (the V opens along +w).
+        const double tilt = side * kLegTiltDeg * std::numbers::pi / 180;
+        const Vec2 e1 = std::cos(tilt) * w - std::sin(tilt) * c, e2(-e1(1), e1(0));
+        const double l = kLegLong * r * scale, t = kLegShort * r * scale;
+        const Mat2 M = e1 * e1.transpose() / (l * l) + e2 * e2.transpose() / (t * t);
+        const Vec2 x = stitch + side * kLegOffset * r * c;
+        add({float(x(0)), float(x(1)), float(M(0, 0)), float(M(0, 1)), float(M(1, 1)), float(weight(rng))});
+      }
+    }
 }
 
 double SpecklePattern::intensity(const Vec2& X) const {
@@ -57,8 +124,8 @@ double SpecklePattern::intensity(const Vec2& X) const {
     for (int ii = std::max(0, i - 1); ii <= std::min(nx_ - 1, i + 1); ++ii)
       for (const Blob& b : cells_[std::size_t(jj) * nx_ + ii]) {
         const float dx = static_cast<float>(X(0) - b.x), dy = static_cast<float>(X(1) - b.y);
-        const float q = (dx * dx + dy * dy) * b.inv_r2;
-        if (q < 9.0f) S += std::exp(-q);
+        const float q = b.a * dx * dx + 2 * b.b * dx * dy + b.c * dy * dy;
+        if (q < 9.0f) S += b.weight * std::exp(-q);
       }
   return options_.background + options_.contrast * (1 - std::exp(-S));
 }

@@ -38,5 +38,79 @@ TEST(Demo, ItsFilesAreValidForTheirVerbs) {
   EXPECT_EQ(r.array("parameter").size(), 4u);
 }
 
+// What demo runs (the spec built in code) is what its project.toml says: the file read back gives
+// the same values, defaults included, for every key the identification reads.
+TEST(Demo, ItsProjectFileReadsBackAsTheSpecItRuns) {
+  DemoProject p;
+  p.start = {0.1, -0.02, 0.003, 0.004};
+  p.field = 0;
+  p.sigma_from_truth = true;
+  const IdentificationSpec code = demo_project_spec(p);
+  const IdentificationSpec file =
+      read_identification_spec(io::parse_config(identify_schema(), demo_project_toml(p), "project.toml"));
+  EXPECT_EQ(code.mesh.width, file.mesh.width);
+  EXPECT_EQ(code.mesh.height, file.mesh.height);
+  EXPECT_EQ(code.mesh.element, file.mesh.element);
+  EXPECT_EQ(code.mesh.nx, file.mesh.nx);
+  EXPECT_EQ(code.mesh.ny, file.mesh.ny);
+  EXPECT_EQ(code.mesh.grading, file.mesh.grading);
+  EXPECT_EQ(code.mesh.grading_x, file.mesh.grading_x);
+  EXPECT_EQ(code.law.type, file.law.type);
+  EXPECT_EQ(code.law.mooney_rivlin.terms, file.law.mooney_rivlin.terms);
+  EXPECT_EQ(code.law.mooney_rivlin.values, file.law.mooney_rivlin.values);
+  EXPECT_EQ(code.solver.tolerance, file.solver.tolerance);
+  EXPECT_EQ(code.solver.max_iterations, file.solver.max_iterations);
+  EXPECT_EQ(code.solver.line_search, file.solver.line_search);
+  EXPECT_EQ(code.solver.max_cutbacks, file.solver.max_cutbacks);
+  ASSERT_EQ(code.test.size(), file.test.size());
+  const TestSpec &a = code.test.front(), &b = file.test.front();
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.kind, b.kind);
+  EXPECT_EQ(a.material_angle, b.material_angle);
+  EXPECT_EQ(a.control, b.control);
+  EXPECT_EQ(a.grip_holds_x, b.grip_holds_x);
+  EXPECT_EQ(a.grip_follows_guide, b.grip_follows_guide);
+  EXPECT_EQ(a.side, b.side);
+  EXPECT_EQ(a.guide, b.guide);
+  EXPECT_EQ(a.loads, b.loads);
+  EXPECT_EQ(a.load_max, b.load_max);
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.mesh.nx, b.mesh.nx);
+  EXPECT_EQ(a.mesh.width, b.mesh.width);
+  EXPECT_EQ(code.experiment.dir, file.experiment.dir);
+  EXPECT_EQ(code.experiment.field_kind, file.experiment.field_kind);
+  EXPECT_EQ(code.experiment.sigma_from_truth, file.experiment.sigma_from_truth);
+  EXPECT_EQ(code.experiment.sigma_field, file.experiment.sigma_field);
+  ASSERT_EQ(code.parameter.size(), file.parameter.size());
+  for (std::size_t k = 0; k < code.parameter.size(); ++k) {
+    EXPECT_EQ(code.parameter[k].name, file.parameter[k].name);
+    EXPECT_EQ(code.parameter[k].start, file.parameter[k].start);
+    EXPECT_EQ(code.parameter[k].scale, file.parameter[k].scale);
+    EXPECT_EQ(code.parameter[k].bounds, file.parameter[k].bounds);
+  }
+  EXPECT_EQ(code.data.edge_displacement, file.data.edge_displacement);
+  EXPECT_EQ(code.data.edge_force, file.data.edge_force);
+  EXPECT_EQ(code.data.field, file.data.field);
+  EXPECT_EQ(code.data.field_uv, file.data.field_uv);
+  EXPECT_EQ(code.data.field_sigma, file.data.field_sigma);
+  const ident::IdentifyOptions oc = code.identify.options(), of = file.identify.options();
+  EXPECT_EQ(oc.epsilon, of.epsilon);
+  EXPECT_EQ(oc.delta, of.delta);
+  EXPECT_EQ(oc.function_tolerance, of.function_tolerance);
+  EXPECT_EQ(oc.gradient_tolerance, of.gradient_tolerance);
+  EXPECT_EQ(oc.max_iterations, of.max_iterations);
+  EXPECT_EQ(oc.stability_test, of.stability_test);
+  EXPECT_EQ(oc.stability_eta, of.stability_eta);
+  EXPECT_EQ(oc.max_restarts, of.max_restarts);
+  EXPECT_EQ(oc.jacobian, of.jacobian);
+  EXPECT_EQ(oc.difference, of.difference);
+  EXPECT_EQ(oc.fd_step, of.fd_step);
+  EXPECT_EQ(oc.threads, of.threads);
+  EXPECT_EQ(oc.initial_trust_region_radius, of.initial_trust_region_radius);
+  EXPECT_EQ(code.eq9.practical_course, file.eq9.practical_course);
+  EXPECT_EQ(code.eq9.practical_wale, file.eq9.practical_wale);
+  EXPECT_EQ(code.eq9.nearest, file.eq9.nearest);
+}
+
 }  // namespace
 }  // namespace tricot::project

@@ -1,5 +1,6 @@
 // `tricot simulate` from outside (DESIGN.md contract): the small examples, the files it writes, and one
 // clear error line with the documented exit code for each kind of bad input.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -154,6 +155,26 @@ TEST(Simulate, OnlyTheChosenTestRuns) {
   // The guide holds the side: it carries a force, and the grip force rises at every step.
   EXPECT_GT(t.rows.back()[5], 0.0);
   for (std::size_t k = 1; k < t.rows.size(); ++k) EXPECT_GT(t.rows[k][3], t.rows[k - 1][3]);
+}
+
+// guide-10 has 20 steps: --vtu-every 6 writes steps 6, 12, 18 and the last, 20; a rerun into the same
+// folder removes the step files the new run does not write, so steps.pvd and the folder agree.
+TEST(Simulate, VtuEveryWritesTheChosenStepsAndTheLast) {
+  const fs::path out = test::scratch_dir("simulate_vtu_every");
+  const std::string run = "simulate " + example("biaxial-mooney") + " -o " + out.string() + " --test guide-10 -q";
+  ASSERT_EQ(run_tricot(run).exit_code, 0);
+  ASSERT_TRUE(fs::exists(out / "guide-10" / "step_0005.vtu"));
+  const auto r = run_tricot(run + " --vtu-every 6");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::vector<int> written;
+  for (int k = 1; k <= 20; ++k)
+    if (fs::exists(out / "guide-10" / fmt::format("step_{:04d}.vtu", k))) written.push_back(k);
+  EXPECT_EQ(written, (std::vector<int>{6, 12, 18, 20}));
+  std::stringstream pvd;
+  pvd << std::ifstream(out / "guide-10" / "steps.pvd").rdbuf();
+  EXPECT_NE(pvd.str().find("step_0018.vtu"), std::string::npos) << pvd.str();
+  EXPECT_EQ(pvd.str().find("step_0005.vtu"), std::string::npos) << pvd.str();
+  EXPECT_EQ(run_tricot(run + " --vtu-every 0").exit_code, 2);
 }
 
 TEST(Simulate, ATestsOwnMeshReplacesOnlyTheKeysItSets) {

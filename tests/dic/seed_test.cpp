@@ -1,6 +1,10 @@
 #include "tricot/dic/seed.hpp"
 
+#include <Eigen/LU>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
 
 #include "tricot/dic/correlate.hpp"
 #include "tricot/dic/grid.hpp"
@@ -73,6 +77,31 @@ TEST(WideSeedGuess, FindsAFortyFivePercentStretchFarBeyondTheSearchRadius) {
   ASSERT_EQ(m.status, PointStatus::ok);
   EXPECT_NEAR(m.p(0), t.forward(X)(0) - X(0), kNoiseFreeTol);
   EXPECT_NEAR(m.p(1), 0.45, 1e-3);
+}
+
+// The free edge of a knit strip turns as it shrinks: a 25° rotation with a 30 % stretch about a point
+// 60 px away, in one step. Neither the local search nor unrotated templates find it.
+TEST(WideSeedGuess, FindsARotationOfTwentyFiveDegreesWithAStretch) {
+  const double th = 25 * std::numbers::pi / 180;
+  Mat2 F;
+  F << 1.3 * std::cos(th), -std::sin(th), 1.3 * std::sin(th), std::cos(th);  // R(θ) · diag(1.3, 1)
+  const Vec2 c(200, 150);
+  const Mat2 Finv = F.inverse();
+  const synth::SpecklePattern P(speckle(), -20, -20, 420, 320);
+  const Frame f = prepare_frame(synth::render(P, 400, 300, synth::no_motion));
+  const Frame g = prepare_frame(synth::render(P, 400, 300, [&](const Vec2& x) { return Vec2(c + Finv * (x - c)); }));
+  const Vec2 X(160, 110);
+  const Vec2 u = F * (X - c) + c - X;
+  EXPECT_NE(icgn(f, g, X, seed_guess(f, g, X, 31, 50).p, IcgnOptions{}).status, PointStatus::ok);
+  const SeedGuess s = wide_seed_guess(f, g, X, 31);
+  ASSERT_TRUE(s.found);
+  EXPECT_NEAR(s.p(0), u(0), 2.0);
+  EXPECT_NEAR(s.p(6), u(1), 2.0);
+  const PointMatch m = icgn(f, g, X, s.p, IcgnOptions{});
+  ASSERT_EQ(m.status, PointStatus::ok);
+  EXPECT_NEAR(m.p(0), u(0), kNoiseFreeTol);
+  EXPECT_NEAR(m.p(6), u(1), kNoiseFreeTol);
+  EXPECT_NEAR(m.p(7), F(1, 0), 1e-3);  // ∂v/∂x = 1.3 sin θ
 }
 
 TEST(WideSeedGuess, ABlankImageFindsNothing) {

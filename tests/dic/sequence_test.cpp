@@ -44,6 +44,38 @@ TEST(Sequence, IncrementalModeTracksAStretchTo120And40PercentInTenFrames) {
   EXPECT_NEAR(e.exy, 0.0, kStrainTol);
 }
 
+// The rig's transverse setting moves the whole field by tens of pixels in the first step, then the
+// pull adds little per step: the previous increment, the incremental mode's guess for the next one,
+// is then wrong at every point. The points must be found again from seeds, not all lost.
+TEST(Sequence, IncrementalModeRecoversWhenEveryVelocityGuessIsWrong) {
+  StretchSequence s;
+  s.final_stretch = Vec2(1.1, 1.0);
+  s.frames = 3;
+  s.shifts = {Vec2::Zero(), Vec2(24, 0), Vec2(24, 0), Vec2(24, 0)};
+  const SequenceResult r = test::track(s, options(SequenceMode::incremental));
+  ASSERT_EQ(r.frames.size(), 4u);
+  EXPECT_EQ(r.termination, SequenceTermination::completed);
+  const auto [rms, ok] = test::rms_error(s, r, s.frames);
+  EXPECT_EQ(ok, static_cast<int>(r.grid.size())) << r.frames[2].message;
+  EXPECT_LT(rms, kTrackingTol);
+}
+
+// A knit's natural tracers repeat every stitch (10 px here): a look-alike subset sits one pitch
+// away. A 24 px first step (2.4 pitches) followed by small ones must still be tracked to the truth,
+// not to a neighbouring stitch.
+TEST(Sequence, IncrementalModeTracksAKnitTextureWithoutSlippingAStitch) {
+  StretchSequence s;
+  s.speckle.texture = synth::Texture::knit;
+  s.final_stretch = Vec2(1.3, 1.1);
+  s.frames = 4;
+  s.shifts = {Vec2::Zero(), Vec2(24, 0), Vec2(24, 0), Vec2(24, 0), Vec2(24, 0)};
+  const SequenceResult r = test::track(s, options(SequenceMode::incremental));
+  EXPECT_EQ(r.termination, SequenceTermination::completed);
+  const auto [rms, ok] = test::rms_error(s, r, s.frames);
+  EXPECT_EQ(ok, static_cast<int>(r.grid.size())) << r.frames.back().message;
+  EXPECT_LT(rms, kTrackingTol);
+}
+
 TEST(Sequence, DriftGrowsNoFasterThanTheSquareRootOfTheNumberOfIncrements) {
   // The same final deformation reached in 5 and in 20 increments: independent errors per increment
   // would make the second 2 = √4 times larger, a bias repeated at every increment 4 times larger.
@@ -187,3 +219,20 @@ TEST(Sequence, PositionSigmaStartsAtZeroAndAccumulatesOverIncrements) {
     }
   }
 }
+
+TEST(Sequence, TheReferenceFramesStrainIsExactlyZero) {
+  StretchSequence s;
+  s.frames = 1;
+  const SequenceResult r = test::track(s, options(SequenceMode::incremental));
+  int valid = 0;
+  for (const StrainPoint& e : r.frames[0].strain) {
+    valid += e.valid;
+    if (!e.valid) continue;
+    EXPECT_EQ(e.exx, 0.0);
+    EXPECT_EQ(e.eyy, 0.0);
+    EXPECT_EQ(e.exy, 0.0);
+    EXPECT_EQ(e.F, Mat2::Identity());
+  }
+  EXPECT_GT(valid, 0);
+}
+

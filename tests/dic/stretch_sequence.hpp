@@ -25,9 +25,14 @@ struct StretchSequence {
     return o;
   }();
 
+  /// Frame k's rigid shift of the whole pattern (px); empty = none. A large first shift followed by
+  /// none is a step that a velocity guess gets wrong (the rig's transverse setting, then the pull).
+  std::vector<Vec2> shifts;
+
   Vec2 stretch(int k) const { return Vec2::Ones() + (final_stretch - Vec2::Ones()) * (double(k) / frames); }
+  Vec2 shift(int k) const { return shifts.empty() ? Vec2::Zero() : shifts[k]; }
   /// Where the material point X of the reference is in frame k.
-  Vec2 truth(const Vec2& X, int k) const { return centre + stretch(k).cwiseProduct(X - centre); }
+  Vec2 truth(const Vec2& X, int k) const { return centre + shift(k) + stretch(k).cwiseProduct(X - centre); }
   dic::Roi roi() const {
     return dic::Roi::rectangle(centre(0) - half_roi(0), centre(1) - half_roi(1), centre(0) + half_roi(0),
                                centre(1) + half_roi(1));
@@ -35,7 +40,8 @@ struct StretchSequence {
   synth::SpecklePattern pattern() const { return synth::SpecklePattern(speckle, -10, -10, width + 10, height + 10); }
   image::Image image(const synth::SpecklePattern& P, int k) const {
     const Vec2 l = stretch(k);
-    return synth::render(P, width, height, [&](const Vec2& x) { return Vec2(centre + (x - centre).cwiseQuotient(l)); });
+    const Vec2 t = shift(k);
+    return synth::render(P, width, height, [&](const Vec2& x) { return Vec2(centre + (x - centre - t).cwiseQuotient(l)); });
   }
 };
 

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "testing/meshio.hpp"
@@ -39,17 +41,21 @@ VtuGrid two_quadratic_quads() {
 using test::have_meshio;
 using test::read_with_meshio;
 
-TEST(Vtu, MeshioReadsQuadraticQuadsWithTheirFields) {
+class VtuFormats : public ::testing::TestWithParam<VtuFormat> {};
+
+TEST_P(VtuFormats, MeshioReadsQuadraticQuadsWithTheirFields) {
   if (!have_meshio()) GTEST_SKIP() << "python3 lacks meshio (apt-get install python3-meshio)";
-  const auto dir = test::scratch_dir("vtu_q8");
-  const VtuGrid g = two_quadratic_quads();
-  write_vtu(dir / "grid.vtu", g);
+  const auto dir = test::scratch_dir(GetParam() == VtuFormat::ascii ? "vtu_q8_ascii" : "vtu_q8_binary");
+  VtuGrid g = two_quadratic_quads();
+  g.cell_data[1].values[0] = std::numeric_limits<double>::quiet_NaN();  // a failed element's value
+  write_vtu(dir / "grid.vtu", g, GetParam());
   const std::string out = read_with_meshio(dir / "grid.vtu", R"(
 print(len(m.points), len(m.cells), m.cells[0].type, len(m.cells[0].data))
 print(" ".join(str(int(i)) for i in m.cells[0].data[1]))
 print(repr(float(m.point_data["displacement"][7][1])), repr(float(m.points[10][0])))
 s = m.cell_data["cauchy_stress"][0]
 print(s.shape[1], repr(float(s[1][0])), repr(float(s[1][4])), repr(float(m.cell_data["element"][0][1])))
+print(str(float(m.cell_data["element"][0][0])))
 )");
   std::istringstream in(out);
   std::size_t points = 0, blocks = 0, cells = 0;
@@ -71,6 +77,39 @@ print(s.shape[1], repr(float(s[1][0])), repr(float(s[1][4])), repr(float(m.cell_
   EXPECT_NEAR(s_xx, 2.5, kRoundTrip);
   EXPECT_NEAR(s_yy, -2.25, kRoundTrip);
   EXPECT_NEAR(element, 2, kRoundTrip);
+  std::string nan;
+  in >> nan;
+  EXPECT_EQ(nan, "nan") << out;
+}
+
+INSTANTIATE_TEST_SUITE_P(BothFormats, VtuFormats, ::testing::Values(VtuFormat::binary, VtuFormat::ascii));
+
+// A 40 × 40 Q8 grid with a smooth displacement and a non-round stress, as the FE writes: the
+// compressed binary file must be much smaller than the text (the point of the format).
+TEST(Vtu, BinaryIsAtMostHalfTheSizeOfTheText) {
+  constexpr int kSide = 81;  // 40 × 40 Q8 on an 81 × 81 node lattice (corners and mid-sides)
+  VtuGrid g;
+  g.cell_type = VtkCell::quadratic_quad;
+  VtuField u{"displacement", 3, {}};
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 0; i < kSide; ++i) {
+      g.points.insert(g.points.end(), {0.1 * i, 0.1 * j, 0.0});
+      u.values.insert(u.values.end(), {std::sin(0.037 * i * j), 0.013 * j * j, 0.0});
+    }
+  VtuField s{"cauchy_stress", 9, {}};
+  const auto at = [](int i, int j) { return j * kSide + i; };
+  for (int ej = 0; ej < 40; ++ej)
+    for (int ei = 0; ei < 40; ++ei) {
+      const int i = 2 * ei, j = 2 * ej;
+      g.connectivity.insert(g.connectivity.end(), {at(i, j), at(i + 2, j), at(i + 2, j + 2), at(i, j + 2),
+                                                   at(i + 1, j), at(i + 2, j + 1), at(i + 1, j + 2), at(i, j + 1)});
+      const double x = std::exp(0.01 * (ei + 40 * ej));
+      s.values.insert(s.values.end(), {x, x / 3, 0, x / 3, x / 7, 0, 0, 0, 0});
+    }
+  g.point_data = {u};
+  g.cell_data = {s};
+  const std::size_t binary = to_vtu(g, VtuFormat::binary).size(), ascii = to_vtu(g, VtuFormat::ascii).size();
+  EXPECT_LT(2 * binary, ascii) << "binary " << binary << " B, ascii " << ascii << " B";
 }
 
 TEST(Vtu, MeshioReadsLinearQuads) {

@@ -154,5 +154,32 @@ TEST(CaseSpec, AnUnstableReferenceFabricNamesItsCoefficient) {
             "knit at rest))");
 }
 
+// The laws' own checks name the keys of their [law.*] table (no renaming on the way, issue 10).
+TEST(CaseSpec, AMooneyRivlinErrorNamesTheKeyOfItsTable) {
+  const io::Node root = io::parse_config(
+      case_schema(), "[law.mooney_rivlin]\nterms = [\"C10\", \"C10\"]\nvalues = [0.1, 0.2]\n", "case.toml");
+  EXPECT_EQ(message_of([&] { CaseSpec::from_config(root).law.law(); }),
+            "case.toml:2: law.mooney_rivlin.terms: coefficient given twice (got C10, expected each C<i><j> once)");
+  LawSpec code;
+  code.mooney_rivlin.values[1] = std::nan("");
+  EXPECT_EQ(message_of([&] { code.law(); }).rfind("law.mooney_rivlin.values: C20 is not a finite number", 0), 0u)
+      << message_of([&] { code.law(); });
+}
+
+TEST(CaseSpec, AResponseSurfaceErrorNamesTheKeyOfItsTable) {
+  const io::Node root = io::parse_config(case_schema(),
+                                         "[law]\ntype = \"response_surface\"\n[law.response_surface]\n"
+                                         "preset = \"general\"\ncourse = [\"C1\", \"C1\"]\n",
+                                         "case.toml");
+  EXPECT_EQ(message_of([&] { CaseSpec::from_config(root).law.law(); }),
+            "case.toml:5: law.response_surface.course: repeated monomial (got course monomial (1, 0), expected each "
+            "(p, q) once per force)");
+  LawSpec code;
+  code.type = "response_surface";
+  code.response_surface.shear_stiffness = 0;
+  EXPECT_EQ(message_of([&] { code.law(); }),
+            "law.response_surface.shear_stiffness: out of range (got 0.000000, expected > 0 N/mm)");
+}
+
 }  // namespace
 }  // namespace tricot::project

@@ -1,4 +1,4 @@
-// The lab report's writer (src/project/report.cpp): escaping, base64, PNG sizes, heat colours,
+// The lab report's writer (src/project/report.cpp): escaping, PNG sizes, heat colours,
 // section order, and report.json holding every number the page shows.
 #include "tricot/project/report.hpp"
 
@@ -10,6 +10,7 @@
 
 #include "testing/paths.hpp"
 #include "tricot/core/error.hpp"
+#include "tricot/io/base64.hpp"
 #include "tricot/io/files.hpp"
 
 namespace tricot::project::report {
@@ -29,17 +30,6 @@ const std::string kOnePixelPng(
 TEST(EscapeHtml, EscapesTheFiveSpecialCharactersAndKeepsTheRest) {
   EXPECT_EQ(escape_html(R"(<a href="x">Tom & Jerry's</a>)"), "&lt;a href=&quot;x&quot;&gt;Tom &amp; Jerry&#39;s&lt;/a&gt;");
   EXPECT_EQ(escape_html("σ̂² = 2f/(N − n)"), "σ̂² = 2f/(N − n)");
-}
-
-TEST(Base64, MatchesTheTestVectorsOfRfc4648) {
-  EXPECT_EQ(base64(""), "");
-  EXPECT_EQ(base64("f"), "Zg==");
-  EXPECT_EQ(base64("fo"), "Zm8=");
-  EXPECT_EQ(base64("foo"), "Zm9v");
-  EXPECT_EQ(base64("foob"), "Zm9vYg==");
-  EXPECT_EQ(base64("fooba"), "Zm9vYmE=");
-  EXPECT_EQ(base64("foobar"), "Zm9vYmFy");
-  EXPECT_EQ(base64(std::string("\xff\xfe\x00", 3)), "//4A");  // high bytes and NUL
 }
 
 TEST(PngSize, ReadsWidthAndHeightFromIhdrAndRejectsOtherBytes) {
@@ -110,7 +100,7 @@ TEST(Html, IsSelfContainedWithTheFigureEmbeddedAndTextEscaped) {
   EXPECT_NE(h.find("<title>Law &lt;A&gt; &amp; B</title>"), std::string::npos);
   EXPECT_NE(h.find("<p>x &lt; y</p>"), std::string::npos);
   EXPECT_NE(h.find("<span class=\"v\">1.5 s</span>"), std::string::npos);
-  EXPECT_NE(h.find("src=\"data:image/png;base64," + base64(kOnePixelPng) + "\" width=\"1\" height=\"1\""),
+  EXPECT_NE(h.find("src=\"data:image/png;base64," + io::base64(kOnePixelPng) + "\" width=\"1\" height=\"1\""),
             std::string::npos);
   EXPECT_NE(h.find("Figure not available: plots/absent.png"), std::string::npos);
   EXPECT_NE(h.find("@page { size: A4"), std::string::npos);

@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "testing/experiment_case.hpp"
 #include "tricot/project/experiment_files.hpp"
 #include "testing/cli.hpp"
@@ -93,6 +95,30 @@ TEST(SynthImages, ABitDepthOtherThan8Or16IsAConfigErrorAtItsLine) {
   EXPECT_FALSE(fs::exists(dir / "exp" / "tension")) << "nothing is written before the table is checked";
 }
 
+TEST(SynthImages, AnUnknownTextureIsAConfigErrorAtItsLine) {
+  const fs::path dir = scratch_dir("synth_images_texture");
+  const auto r = synth(dir, "texture = \"jersey\"\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("synth.images.texture"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("knit"), std::string::npos) << r.err;  // the choices are listed
+}
+
+// The knit texture differs from the speckle of the same seed, and camera.json says which one it is.
+TEST(SynthImages, AKnitTextureIsRenderedAndRecorded) {
+  const fs::path dir = scratch_dir("synth_images_knit");
+  ASSERT_EQ(synth(dir / "knit", "texture = \"knit\"\n").exit_code, 0);
+  ASSERT_EQ(synth(dir / "speckle", "").exit_code, 0);
+  const auto frame = [&](const char* which) {
+    return image::load_image(dir / which / "exp" / "tension" / kImagesFolder / "frame_0000.png").image;
+  };
+  const image::Image knit = frame("knit"), speckle = frame("speckle");
+  double diff = 0;
+  for (std::size_t i = 0; i < knit.pixels.size(); ++i) diff += std::abs(knit.pixels[i] - speckle.pixels[i]);
+  EXPECT_GT(diff / knit.pixels.size(), 0.02) << "mean absolute difference, fraction of full scale";
+  const std::string camera = io::read_text(dir / "knit" / "exp" / "tension" / kImagesFolder / kCameraFile);
+  EXPECT_NE(camera.find("\"texture\": \"knit\""), std::string::npos) << camera;
+}
+
 TEST(SynthImages, NoImagesUnlessEnabled) {
   const fs::path dir = scratch_dir("synth_images_off");
   write_file(dir / "experiment.toml", small_experiment());
@@ -101,6 +127,55 @@ TEST(SynthImages, NoImagesUnlessEnabled) {
             0);
   EXPECT_TRUE(fs::exists(dir / "exp" / "tension" / kForcesFile));
   EXPECT_FALSE(fs::exists(dir / "exp" / "tension" / kImagesFolder));
+}
+
+std::string message_of(const SynthImagesSpec& s) {
+  try {
+    s.validate();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(SynthImagesSpec, TheSchemasDefaultsAreTheSpecsDefaults) {
+  const SynthImagesSpec read =
+      SynthImagesSpec::from_config(io::default_config(io::SectionSpec{"", "", false, {}, {synth_images_section()}}).section("images"));
+  const SynthImagesSpec code;
+  EXPECT_EQ(read.enabled, code.enabled);
+  EXPECT_EQ(read.pixel_size, code.pixel_size);
+  EXPECT_EQ(read.width, code.width);
+  EXPECT_EQ(read.height, code.height);
+  EXPECT_EQ(read.speckle_size, code.speckle_size);
+  EXPECT_EQ(read.coverage, code.coverage);
+  EXPECT_EQ(read.subsamples, code.subsamples);
+  EXPECT_EQ(read.background, code.background);
+  EXPECT_EQ(read.noise, code.noise);
+  EXPECT_EQ(read.bits, code.bits);
+  EXPECT_EQ(read.every_n_steps, code.every_n_steps);
+  EXPECT_EQ(message_of(code), "no error");
+}
+
+TEST(SynthImagesSpec, ABadValueBuiltInCodeNamesItsKeyValueAndRange) {
+  SynthImagesSpec s;
+  s.width = 4;
+  EXPECT_EQ(message_of(s), "synth.images.width: out of range (got 4, expected 8 to 20000)");
+  s = {};
+  s.background = 1.5;
+  EXPECT_EQ(message_of(s), "synth.images.background: out of range (got 1.5, expected 0 to 1)");
+  s = {};
+  s.bits = 12;
+  EXPECT_EQ(message_of(s), "synth.images.bits: PNG files are 8 or 16 bit (got 12, expected 8 or 16)");
+}
+
+TEST(SynthImagesSpec, ItsOptionsAreTheRenderersInItsUnits) {
+  SynthImagesSpec s;
+  s.speckle_size = 6;
+  s.pixel_size = 0.25;
+  const synth::SpecimenImageOptions o = s.options(7);
+  EXPECT_EQ(o.speckle.radius, 3.0);  // speckle_size is twice the blob radius
+  EXPECT_EQ(o.camera.mm_per_px, 0.25);
+  EXPECT_EQ(o.speckle.seed, 7u);
 }
 
 }  // namespace

@@ -113,3 +113,40 @@ TEST(AddNoise, HasTheRequestedStandardDeviationAndZeroMean) {
   EXPECT_NEAR(std::sqrt(sum2 / n), 0.02, 0.02 * 0.015);
   EXPECT_EQ(add_noise(flat, 0.02, 7).pixels, noisy.pixels);  // the seed fixes the noise
 }
+
+// A knit (wales along y) repeats every stitch: 4 r across the wales, 3.2 r along them. The mean
+// autocorrelation of the image over the rows (columns) peaks at that lag, well above half of it.
+TEST(KnitTexture, RepeatsAtTheStitchPitchAcrossAndAlongTheWales) {
+  SpeckleOptions o = one_sample();
+  o.texture = Texture::knit;
+  o.radius = 5;
+  const int n = 240;
+  const SpecklePattern P(o, 0, 0, n, n);
+  const image::Image img = render(P, n, n, no_motion);
+  // Normalised autocorrelation at an integer lag along x (dx = 1) or y.
+  const auto autocorrelation = [&](int lag, bool along_x) {
+    double mean = 0;
+    for (float v : img.pixels) mean += v;
+    mean /= img.pixels.size();
+    double num = 0, den = 0;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const double a = img.at(x, y) - mean;
+        den += a * a;
+        const int xs = along_x ? x + lag : x, ys = along_x ? y : y + lag;
+        if (xs < n && ys < n) num += a * (img.at(xs, ys) - mean);
+      }
+    return num / den;
+  };
+  const int across = 20, along = 16;  // 4 r and 3.2 r
+  EXPECT_GT(autocorrelation(across, true), autocorrelation(across * 3 / 4, true) + 0.1);
+  EXPECT_GT(autocorrelation(along, false), autocorrelation(along / 2, false) + 0.1);
+  EXPECT_GT(autocorrelation(across, true), 0.2);
+  EXPECT_GT(autocorrelation(along, false), 0.2);
+}
+
+TEST(KnitTexture, TheConfigWordsNameTheTextures) {
+  EXPECT_EQ(texture_from_string("knit"), Texture::knit);
+  EXPECT_EQ(texture_from_string(to_string(Texture::speckle)), Texture::speckle);
+  EXPECT_FALSE(texture_from_string("Knit").has_value());
+}

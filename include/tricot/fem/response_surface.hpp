@@ -55,9 +55,10 @@ class ResponseSurface : public Law {
   static constexpr double kDefaultShearStiffness = 0.01;
 
   /// General form; coefficients named "C_p_q" then "W_p_q", all 0 unless `c` (same order) is given.
-  /// Throws InputError (key `material.monomials`, `material.G_s`, `material.coefficients`) for a
-  /// monomial with p < 0, q < 0 or p + q = 0, a repeated monomial in one force, G_s ≤ 0 or not finite,
-  /// or a `c` of the wrong size or with non-finite values.
+  /// Throws InputError for a monomial with p < 0, q < 0 or p + q = 0 or a repeated monomial in one
+  /// force (key `material.course` / `material.wale`), G_s ≤ 0 or not finite (`material.shear_stiffness`),
+  /// or a `c` of the wrong size or with non-finite values (`material.coefficients`): the keys of
+  /// `[law.response_surface]`.
   ResponseSurface(std::vector<Monomial> course, std::vector<Monomial> wale, double G_s = kDefaultShearStiffness,
                   const Eigen::VectorXd& c = {});
   /// The separable form of THEORY §5 with orders (nC, mC, nW, mW) ≥ 0, coefficients a, b, c, d = 0.

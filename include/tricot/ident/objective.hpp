@@ -43,9 +43,10 @@ struct ObjectiveOptions {
 class Objective : public Problem {
  public:
   /// Checks everything before any work (InputError): the experiment; one model per test, same name
-  /// and loads (to 1e-9 of the largest); the parameters (names among the law's coefficients, NaN
-  /// start = the law's value); every field point inside its reference mesh (else one error saying
-  /// how many are outside and naming the first: test, id, x, y); at least one data group.
+  /// and loads (to 1e-9 of the largest); the parameters' names among the law's coefficients (NaN
+  /// start = the law's value; their values are trusted: ident::validate() is the caller's check,
+  /// repeated here in debug builds only); every field point inside its reference mesh (else one error
+  /// saying how many are outside and naming the first: test, id, x, y); at least one data group.
   Objective(std::vector<fem::TestModel> models, Experiment experiment, const fem::Law& law,
             std::vector<Parameter> parameters, ObjectiveOptions options = {});
 

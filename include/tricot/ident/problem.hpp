@@ -26,7 +26,9 @@ struct Parameter {
 };
 /// Throws InputError naming `parameters.<name>.<field>` for: an empty or repeated name, a
 /// non-finite start, lower ≥ upper, a start outside the bounds, a negative or non-finite scale, or
-/// a zero start without a scale.
+/// a zero start without a scale. identify() calls it; Objective trusts its parameters (checked by
+/// its caller: project::IdentificationSpec::validate() makes these checks at the config's keys) and
+/// calls it in debug builds only.
 void validate(const std::vector<Parameter>& parameters);
 
 /// r(J) and, when asked, ∂r/∂J.

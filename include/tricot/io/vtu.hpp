@@ -1,4 +1,4 @@
-// VTK XML UnstructuredGrid files (.vtu, ASCII) that ParaView and meshio open, and the ParaView
+// VTK XML UnstructuredGrid files (.vtu) that ParaView and meshio open, and the ParaView
 // collection (.pvd) that makes a time series of them. The writer takes plain arrays so that io does
 // not depend on fem: the caller turns its mesh and fields into a VtuGrid.
 #pragma once
@@ -40,10 +40,17 @@ struct VtuGrid {
   void check() const;
 };
 
-/// The .vtu file's text. Non-finite field values are written as NaN (readers accept it).
-std::string to_vtu(const VtuGrid& grid);
+/// How the arrays are stored.
+enum class VtuFormat {
+  binary,  ///< little-endian arrays, zlib-compressed (vtkZLibDataCompressor, one block), base64: the default
+  ascii,   ///< decimal text, shortest round-trip digits: for reading by eye or diffing
+};
+
+/// The .vtu file's text. Non-finite field values are written as NaN (readers accept it). Both formats
+/// give a reader the same doubles back.
+std::string to_vtu(const VtuGrid& grid, VtuFormat format = VtuFormat::binary);
 /// Writes the grid atomically (io::write_atomic). Throws FileError when it cannot be written.
-void write_vtu(const std::filesystem::path& path, const VtuGrid& grid);
+void write_vtu(const std::filesystem::path& path, const VtuGrid& grid, VtuFormat format = VtuFormat::binary);
 
 /// One entry of a ParaView collection: a data set file (relative to the .pvd) at a time value.
 struct PvdEntry {

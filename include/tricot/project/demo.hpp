@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 
+#include "tricot/project/identification_spec.hpp"
 #include "tricot/project/log.hpp"
 
 namespace tricot::project {
@@ -27,6 +28,9 @@ struct DemoProject {
   bool sigma_from_truth = false;
   double epsilon = 1e-12;
 };
+/// The project of one identification, built in code (what demo runs).
+IdentificationSpec demo_project_spec(const DemoProject& p);
+/// The project file of demo_project_spec(p), for the user to read and run by hand.
 std::string demo_project_toml(const DemoProject& p);
 
 /// How to run the demo.

@@ -17,37 +17,10 @@
 #include "tricot/ident/objective.hpp"
 #include "tricot/ident/surface_error.hpp"
 #include "tricot/io/config.hpp"
+#include "tricot/project/identification_spec.hpp"
 #include "tricot/project/spec.hpp"
 
 namespace tricot::project {
-
-/// The project file: the case sections ([mesh], [law], [solver], [[test]]) with [experiment],
-/// [[parameter]], [data] and [identify].
-io::SectionSpec identify_schema();
-
-/// [identify]: Levenberg–Marquardt and its stopping criteria, the keys of ident::IdentifyOptions
-/// (defaults and ranges there: IdentifyOptions::validate() names these keys).
-struct IdentifyTable {
-  double epsilon = ident::IdentifyOptions{}.epsilon;
-  double delta = ident::IdentifyOptions{}.delta;
-  double function_tolerance = ident::IdentifyOptions{}.function_tolerance;
-  double gradient_tolerance = ident::IdentifyOptions{}.gradient_tolerance;
-  int max_iterations = ident::IdentifyOptions{}.max_iterations;
-  bool stability_test = ident::IdentifyOptions{}.stability_test;
-  double stability_eta = ident::IdentifyOptions{}.stability_eta;
-  int max_restarts = ident::IdentifyOptions{}.max_restarts;
-  std::string jacobian = "exact";      ///< exact or finite_difference
-  std::string difference = "forward";  ///< forward or central
-  double fd_step = ident::IdentifyOptions{}.fd_step;
-  int threads = ident::IdentifyOptions{}.threads;
-  double initial_trust_region_radius = ident::IdentifyOptions{}.initial_trust_region_radius;
-  Origin origin{"identify"};
-
-  /// From the [identify] table of a file read with identify_schema().
-  static IdentifyTable from_config(const io::Node& table);
-  /// The engine's options, validated: an error names its key at its origin.
-  ident::IdentifyOptions options() const;
-};
 
 /// A project's model of its experiment, ready for ident::identify.
 struct Project {
@@ -65,8 +38,10 @@ struct Project {
 /// Eq. 9's experimental points of an objective's data (THEORY §9 [choice]): [0] course (tests with
 /// material_angle 90), [1] wale (angle 0), one per step, from ident::test_surface_points.
 std::array<std::vector<ident::SurfacePoint>, 2> eq9_points(const ident::Objective& objective, int nearest);
-/// Reads the experiment of a validated project (relative to `base`) and builds its objective.
-/// Throws InputError located in the project file (FileError for a missing file or folder).
+/// Checks the spec (its validate()), reads its experiment (relative to `base`) and builds its
+/// objective. Throws InputError located at the spec's keys (FileError for a missing file or folder).
+Project build_project(const IdentificationSpec& spec, const std::filesystem::path& base);
+/// build_project of a project file validated by identify_schema().
 Project build_project(const io::Node& root, const std::filesystem::path& base);
 
 /// How to run one identification.
@@ -99,6 +74,8 @@ struct IdentifyOutcome {
 /// error (and the truth's error when the experiment has one), the least identifiable direction.
 void print_summary(const IdentifyOutcome& o, const std::filesystem::path& out, const Log& log);
 
+IdentifyOutcome run_identification(const IdentificationSpec& spec, const IdentifyRequest& request, const Log& log);
+/// run_identification of a project file validated by identify_schema().
 IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& request, const Log& log);
 
 }  // namespace tricot::project

@@ -22,13 +22,36 @@
 
 #include "tricot/dic/sequence.hpp"
 #include "tricot/io/config.hpp"
+#include "tricot/lab/specimen.hpp"
 #include "tricot/lab/sync.hpp"
 #include "tricot/project/log.hpp"
+#include "tricot/project/spec.hpp"
 
 namespace tricot::project {
 
 /// The lab file: [experiment], [camera], [sync], [[test]] and the `tricot dic` tables ([dic], [strain]).
 io::SectionSpec lab_schema();
+
+/// `[experiment]` of the lab file: what the experiment folder holds. The field names are the TOML keys
+/// (help and ranges in lab_schema()).
+struct ExperimentSpec {
+  std::string field_kind = "cumulative";  ///< field.csv: cumulative or incremental
+  std::string control = "displacement";   ///< forces.csv's load: displacement or force
+  std::string grip = "auto";              ///< the grip displacement: auto, crosshead or field
+  bool plot = true;                       ///< DIR/sync.png
+  double sigma_edge_displacement = 0;     ///< mm, ≥ 0: written to project.toml when > 0
+  /// The project template, relative to the lab file's folder as written in the file ("" = a skeleton);
+  /// from_config resolves it against that folder.
+  std::filesystem::path project_template;
+  Origin origin{"experiment"};
+
+  static ExperimentSpec from_config(const io::Node& table);
+  /// The one check: each word one of its choices, σ in its range. Throws InputError naming the key,
+  /// the value and the range.
+  void validate() const;
+  lab::FieldKind kind() const { return field_kind == "incremental" ? lab::FieldKind::incremental : lab::FieldKind::cumulative; }
+  bool force_control() const { return control == "force"; }
+};
 
 /// What one test produced.
 struct LabTestResult {

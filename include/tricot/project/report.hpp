@@ -146,8 +146,6 @@ bool add_eq9(Document& doc, const std::filesystem::path& result_json);
 // Building blocks, public for their tests.
 /// HTML text: & < > " ' escaped.
 std::string escape_html(std::string_view text);
-/// Standard base64 (RFC 4648, with '=' padding).
-std::string base64(std::string_view bytes);
 /// Width and height of a PNG from its IHDR chunk; nullopt when `bytes` is not a PNG.
 std::optional<std::pair<std::uint32_t, std::uint32_t>> png_size(std::string_view bytes);
 /// A number as the report shows it: `digits` significant digits, "—" for NaN, "∞"/"−∞" for inf.

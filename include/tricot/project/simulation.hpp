@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tricot/io/config.hpp"
+#include "tricot/io/vtu.hpp"
 #include "tricot/project/case_spec.hpp"
 #include "tricot/project/log.hpp"
 
@@ -18,6 +19,8 @@ struct SimulationRequest {
   std::filesystem::path out;  ///< DIR: one sub-folder per test, DIR/forces.png for several FE tests
   std::string only_test;      ///< run only the test of this name ("" = every test)
   bool vtu = true;            ///< write step_NNNN.vtu and steps.pvd
+  int vtu_every = 1;          ///< write every vtu_every-th step's VTU, and the last step's; ≥ 1
+  io::VtuFormat vtu_format = io::VtuFormat::binary;
   std::string case_file;      ///< the case file, named by an error about `only_test`
 };
 

@@ -43,6 +43,12 @@ class Origin {
   std::map<std::string, Location, std::less<>> flags_;
 };
 
+/// Checks `value`, set in code, against key `key` of the schema table `table` as io checks a file's
+/// value (numbers finite and in [min, max], each element of a list too; a word one of the choices):
+/// throws InputError at `origin`'s key naming the value and the range, in io's words. The one check of
+/// a spec's keys whose range the schema holds, for a spec built in code (a file's were checked when read).
+void check_key(const Origin& origin, const io::SectionSpec& table, std::string_view key, const io::Value& value);
+
 /// The message of `e` after its key (`e.what()` is "KEY: problem (got …, expected …)" when `e` names
 /// no file), to throw the same problem at another place.
 std::string problem_of(const InputError& e);

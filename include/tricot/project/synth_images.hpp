@@ -19,6 +19,7 @@
 #include "tricot/fem/model.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/io/config.hpp"
+#include "tricot/project/spec.hpp"
 #include "tricot/synth/specimen.hpp"
 
 namespace tricot::project {
@@ -27,17 +28,38 @@ inline constexpr const char* kImagesFolder = "images";
 inline constexpr const char* kCameraFile = "camera.json";
 
 /// `[synth.images]`: enabled, pixel_size, width, height, speckle_size, coverage, subsamples,
-/// background, noise, bits, every_n_steps.
+/// background, noise, bits, every_n_steps (defaults: SynthImagesSpec's).
 io::SectionSpec synth_images_section();
 
-/// The renderer's options from a validated `[synth.images]` table; `seed` fixes the speckle.
-/// Throws InputError located at the key for what the schema cannot check (bits 8 or 16).
-synth::SpecimenImageOptions build_image_options(const io::Node& images, std::uint64_t seed);
+/// `[synth.images]` as a typed spec: the field names are the TOML keys (ranges in synth_images_section()).
+struct SynthImagesSpec {
+  bool enabled = false;
+  double pixel_size = 0.1;    ///< mm/px on the specimen
+  int width = 600;            ///< px
+  int height = 600;           ///< px
+  std::string texture = "speckle";  ///< "speckle" (painted) or "knit" (the knit's own stitches)
+  double speckle_size = 5;    ///< px: twice the mean blob radius
+  double coverage = 0.6;      ///< blobs per unit area × π r²
+  int subsamples = 4;         ///< per pixel and direction
+  double background = 0.5;    ///< gray beside the specimen, fraction of full scale
+  double noise = 0;           ///< σ of the camera noise, gray levels of the output
+  int bits = 8;               ///< 8 or 16
+  int every_n_steps = 1;      ///< frame j shows step j · every_n_steps
+  Origin origin{"synth.images"};
+
+  static SynthImagesSpec from_config(const io::Node& images);
+  /// The one check: every key in its range (as a file's are), bits 8 or 16. Throws InputError naming
+  /// the key, the value and the range.
+  void validate() const;
+  /// The renderer's options (validate() first); `seed` fixes the speckle.
+  synth::SpecimenImageOptions options(std::uint64_t seed) const;
+};
 
 /// Renders frame 0 (unloaded) and every `every_n_steps`-th step of `sim` and writes them, and
 /// camera.json, atomically to `test_dir`/images (older frames beyond the new count are removed).
-/// Noise of frame j is drawn from `seed` and j. Returns the number of frames written.
-int write_images(const io::Node& images, const fem::TestModel& model, const fem::SimulationResult& sim,
+/// Noise of frame j is drawn from `seed` and j. Returns the number of frames written. `images` is
+/// validated (SynthImagesSpec::validate()).
+int write_images(const SynthImagesSpec& images, const fem::TestModel& model, const fem::SimulationResult& sim,
                  std::uint64_t seed, const std::filesystem::path& test_dir, const Log& log);
 
 /// What camera.json holds.

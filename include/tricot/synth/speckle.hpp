@@ -1,6 +1,7 @@
 // Synthetic speckle images with an analytic motion, for validating DIC (THEORY.md §10).
 // The pattern is a continuous function of reference coordinates X, a sum of Gaussian blobs
-//     S(X) = Σ_k exp(−|X − X_k|² / r_k²),   I(X) = background + contrast · (1 − exp(−S(X))),
+//     S(X) = Σ_k w_k exp(−(X − X_k)ᵀ M_k (X − X_k)),   I(X) = background + contrast · (1 − exp(−S(X))),
+// round (M_k = I / r_k², w_k = 1) for a painted speckle, elliptical for a knit's stitches,
 // so that a deformed image is rendered exactly: pixel x gets the area average of I(φ⁻¹(x')) over the
 // pixel (sub-samples × sub-samples points), where φ⁻¹ maps current to reference coordinates. No
 // bitmap is ever warped, so the only errors a DIC code sees are its own.
@@ -8,6 +9,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include "tricot/core/types.hpp"
@@ -15,8 +18,19 @@
 
 namespace tricot::synth {
 
+/// What the surface looks like.
+enum class Texture {
+  speckle,  ///< random round blobs: a painted speckle
+  knit,     ///< a knit's natural tracers (the paper's, §3.2): a lattice of stitches, each two inclined
+            ///< elliptical legs (a V) with jittered position, size and brightness, and random yarn fuzz
+};
+/// The config word of a texture ("speckle", "knit"), and back (nullopt for an unknown word).
+const char* to_string(Texture t);
+std::optional<Texture> texture_from_string(std::string_view word);
+
 /// How the speckle looks. Gray levels are fractions of full scale (images have full_scale = 1).
 struct SpeckleOptions {
+  Texture texture = Texture::speckle;
   double radius = 2.5;        ///< mean blob radius r in px, > 0 (speckle "size" ≈ 2r)
   double radius_spread = 0.3; ///< relative spread of r, uniform in r·[1 − s, 1 + s], 0–0.9
   double coverage = 0.6;      ///< blobs per unit area × π r², > 0 (how dense the pattern is)
@@ -24,6 +38,9 @@ struct SpeckleOptions {
   double contrast = 0.8;      ///< gray-level span of a saturated blob, 0–1
   std::uint64_t seed = 1;     ///< random seed of blob positions and sizes
   int subsamples = 4;         ///< per pixel and direction for area integration, 1–16
+  /// knit: the stitch pitch across the wales is 4·radius px (2 speckle sizes), along them 3.2·radius;
+  /// the wales (columns of stitches) run at this angle from the image's x axis, degrees.
+  double wale_angle_deg = 90;
 
   /// Throws InputError naming the key (`speckle.radius`, ...) when a field is out of range.
   void validate() const;
@@ -39,9 +56,13 @@ class SpecklePattern {
   const SpeckleOptions& options() const { return options_; }
 
  private:
+  /// exp(−(a dx² + 2 b dx dy + c dy²)) · weight: round blobs have a = c = 1/r², b = 0.
   struct Blob {
-    float x, y, inv_r2;
+    float x, y, a, b, c, weight;
   };
+  void add(const Blob& blob);
+  void scatter_round(std::uint64_t count, double radius_scale, double weight_min, std::uint64_t seed);
+  void knit_stitches();
   SpeckleOptions options_;
   double x0_, y0_, cell_;
   int nx_, ny_;

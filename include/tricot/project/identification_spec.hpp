@@ -1,0 +1,127 @@
+// The project file of `tricot identify` as a typed spec: the case ([mesh], [law], [solver], [rig],
+// [[test]]) with [experiment], [[parameter]], [data], [identify] and [eq9]; each field is named by its
+// TOML key. read_identification_spec() reads it from a file validated by identify_schema();
+// `tricot demo` builds it in code. IdentificationSpec::validate() is its one check; the checks that
+// need the measurements (the experiment folder, truth.json, field.csv's columns, eq. 9's domain
+// against the data) are made by build_project() (identification.hpp), which reads them.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tricot/ident/experiment.hpp"
+#include "tricot/ident/identify.hpp"
+#include "tricot/ident/objective.hpp"
+#include "tricot/ident/surface_error.hpp"
+#include "tricot/io/config.hpp"
+#include "tricot/project/case_spec.hpp"
+#include "tricot/project/spec.hpp"
+
+namespace tricot::project {
+
+/// The project file: the case sections ([mesh], [law], [solver], [[test]]) with [experiment],
+/// [[parameter]], [data], [identify] and [eq9].
+io::SectionSpec identify_schema();
+
+/// [identify]: Levenberg–Marquardt and its stopping criteria, the keys of ident::IdentifyOptions
+/// (defaults and ranges there: IdentifyOptions::validate() names these keys).
+struct IdentifyTable {
+  double epsilon = ident::IdentifyOptions{}.epsilon;
+  double delta = ident::IdentifyOptions{}.delta;
+  double function_tolerance = ident::IdentifyOptions{}.function_tolerance;
+  double gradient_tolerance = ident::IdentifyOptions{}.gradient_tolerance;
+  int max_iterations = ident::IdentifyOptions{}.max_iterations;
+  bool stability_test = ident::IdentifyOptions{}.stability_test;
+  double stability_eta = ident::IdentifyOptions{}.stability_eta;
+  int max_restarts = ident::IdentifyOptions{}.max_restarts;
+  std::string jacobian = "exact";      ///< exact or finite_difference
+  std::string difference = "forward";  ///< forward or central
+  double fd_step = ident::IdentifyOptions{}.fd_step;
+  int threads = ident::IdentifyOptions{}.threads;
+  double initial_trust_region_radius = ident::IdentifyOptions{}.initial_trust_region_radius;
+  Origin origin{"identify"};
+
+  /// From the [identify] table of a file read with identify_schema().
+  static IdentifyTable from_config(const io::Node& table);
+  /// The engine's options, validated: an error names its key at its origin.
+  ident::IdentifyOptions options() const;
+};
+
+/// [experiment] of a project file: the measurements' folder and their σ.
+struct ProjectExperimentSpec {
+  std::string dir = "experiment";         ///< relative to the project file's folder
+  std::string field_kind = "cumulative";  ///< cumulative or incremental
+  double sigma_edge_displacement = 0;     ///< mm, ≥ 0; 0 = unknown
+  double sigma_edge_force = 0;            ///< N, ≥ 0; 0 = unknown
+  double sigma_field = 0;                 ///< mm, ≥ 0; 0 = unknown
+  bool sigma_from_truth = false;          ///< σ of every test from DIR/truth.json
+  Origin origin{"experiment"};
+
+  static ProjectExperimentSpec from_config(const io::Node& table);
+  ident::FieldKind kind() const;  ///< field_kind (validated)
+};
+
+/// [[parameter]]: one identified coefficient of [law].
+struct ParameterSpec {
+  std::string name = "C10";
+  std::optional<double> start;  ///< unset: the coefficient's [law] value
+  double scale = 0;             ///< ≥ 0; 0 = |start|
+  io::Reals bounds;             ///< [] or [lower, upper]
+  Origin origin{"parameter"};
+
+  static ParameterSpec from_config(const io::Node& table);
+};
+
+/// [data]: the weights of the data groups (ident::DataWeights) and the field's σ.
+struct DataSpec {
+  double edge_displacement = ident::DataWeights{}.edge_displacement;
+  double edge_force = ident::DataWeights{}.edge_force;
+  double field = ident::DataWeights{}.field;
+  bool field_uv = ident::DataWeights{}.field_uv;
+  std::string field_sigma = "group";  ///< group or per_point
+  Origin origin{"data"};
+
+  static DataSpec from_config(const io::Node& table);
+};
+
+/// [eq9]: the practical domain and the centre-strain fit of eq. 9 (THEORY §9).
+struct Eq9Spec {
+  /// [min, max] εC and εW; unset: ident::StrainDomain's default (which may miss the data: then
+  /// result.json's "practical" is null), set: it must hold some of the data's points.
+  std::optional<io::Reals> practical_course, practical_wale;
+  int nearest = 6;  ///< ≥ 3
+  Origin origin{"eq9"};
+
+  static Eq9Spec from_config(const io::Node& table);
+  ident::StrainDomain practical() const;  ///< the domain (validated)
+};
+
+/// [identifiability]: result.json's identifiability report (ident/identifiability.hpp).
+struct IdentifiabilitySpec {
+  double pinned_relative_error = 0.1;  ///< a coefficient is pinned below this relative standard error, > 0
+  Origin origin{"identifiability"};
+};
+
+/// The whole project file. The case's tables are the base's fields (mesh, law, solver, rig, test).
+struct IdentificationSpec : CaseSpec {
+  ProjectExperimentSpec experiment;
+  std::vector<ParameterSpec> parameter;
+  DataSpec data;
+  IdentifyTable identify;
+  Eq9Spec eq9;
+  IdentifiabilitySpec identifiability;
+  /// The project file ("" when built in code): errors of the objective name it; the report shows it.
+  std::filesystem::path file;
+
+  /// The one check of the spec (the case's tests and models, the law and its coefficients, the
+  /// parameters against the law, [identify], and the words and ranges of [experiment], [data] and
+  /// [eq9]). Throws InputError naming the key (FILE:LINE: KEY for a spec read from a file).
+  void validate() const;
+};
+
+/// The spec of a project file validated by identify_schema() (types and ranges checked there).
+IdentificationSpec read_identification_spec(const io::Node& root);
+
+}  // namespace tricot::project
