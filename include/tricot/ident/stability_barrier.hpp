@@ -25,7 +25,7 @@ struct StabilityBarrierOptions {
   double eC_min = -0.4, eC_max = 1.3, eW_min = -0.4, eW_max = 1.4;
   double step = 0.05;  ///< grid spacing, > 0
   /// m_d [(N/mm)²], > 0: below it det A is penalised. The reference knit's smallest det A over the
-  /// grid is 5.0e-3 (at rest: k_C k_W − k_P²), so 2e-3 leaves the truth unpenalised.
+  /// grid is 5.2e-3 (at rest: k_C k_W − k_P²), so 2e-3 leaves the truth unpenalised.
   double det_margin = 2e-3;
   /// m_s [N/mm], > 0: below it an own-direction slope is penalised (the knit's smallest: k_W = 0.06).
   double slope_margin = 1e-2;
