@@ -52,7 +52,9 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
                             parameters.size(), law->name(), outcome.residuals, outcome.data, outcome.dofs,
                             ident::to_string(options.jacobian),
                             req.resume ? fmt::format(", resumed at iteration {}", options.resume_from->iterations) : ""));
-  outcome.result = ident::identify(*objective, options, log.reporter());
+  if (P.stability) log.print(fmt::format("identify: with the stability barrier ({} rows)", P.stability->barrier_rows()));
+  outcome.result = P.stability ? ident::identify(*P.stability, options, log.reporter())
+                               : ident::identify(*objective, options, log.reporter());
 
   // Outputs.
   json result = result_json(outcome, *objective, req.resume);

@@ -9,6 +9,7 @@
 #include "schema.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/ident/identifiability.hpp"
+#include "tricot/ident/stability_barrier.hpp"
 #include "tricot/ident/objective.hpp"
 #include "tricot/ident/surface_error.hpp"
 #include "tricot/project/case_spec.hpp"
@@ -283,6 +284,20 @@ SectionSpec identifiability_section() {
   return s;
 }
 
+SectionSpec stability_section() {
+  const ident::StabilityBarrierOptions o;
+  SectionSpec s{"stability",
+                "A material-stability barrier for a response surface (docs/theory/fabric.md §3.2): rows that\n"
+                "penalise det ∂(F_C, F_W)/∂(εC, εW) < det_margin and own slopes < slope_margin over the strains the\n"
+                "rig's fields reach, so LM's trial laws stay away from the instability where the FE inverts.",
+                false, {}, {}};
+  s.keys = {key("enabled", false, "Append the barrier to the objective (response surfaces only)."),
+            key("det_margin", o.det_margin, "(N/mm)², > 0.", 0, 1e6),
+            key("slope_margin", o.slope_margin, "N/mm, > 0.", 0, 1e6),
+            key("weight", o.weight, "w ≥ 0 of each barrier row.", 0, 1e6)};
+  return s;
+}
+
 io::SectionSpec identify_schema() {
   io::SectionSpec root = case_schema();
   root.help =
@@ -295,6 +310,7 @@ io::SectionSpec identify_schema() {
   root.sections.push_back(identify_section());
   root.sections.push_back(eq9_section());
   root.sections.push_back(identifiability_section());
+  root.sections.push_back(stability_section());
   return root;
 }
 
@@ -408,6 +424,13 @@ IdentificationSpec read_identification_spec(const io::Node& root) {
   s.eq9 = Eq9Spec::from_config(root.section("eq9"));
   s.identifiability.pinned_relative_error = root.section("identifiability").real("pinned_relative_error");
   s.identifiability.origin = Origin(root.section("identifiability"));
+  if (root.section("stability").boolean("enabled")) {
+    ident::StabilityBarrierOptions b;
+    b.det_margin = root.section("stability").real("det_margin");
+    b.slope_margin = root.section("stability").real("slope_margin");
+    b.weight = root.section("stability").real("weight");
+    s.stability = b;
+  }
   s.file = root.file();
   return s;
 }
@@ -484,6 +507,13 @@ Project build_project(const IdentificationSpec& spec, const fs::path& base) {
     spec.identifiability.origin.fail("pinned_relative_error", "must be positive",
                                      fmt::format("{}", P.identifiability.pinned_relative_error), "> 0");
   check_eq9(spec.eq9, P);
+  if (spec.stability) {
+    try {
+      P.stability = std::make_unique<ident::StabilizedObjective>(*P.objective, *spec.stability);
+    } catch (const InputError& e) {
+      throw InputError({spec.file.string(), 0, e.where().key}, problem_of(e));
+    }
+  }
   return P;
 }
 

@@ -285,5 +285,12 @@ TEST_F(Identify, ACoefficientListOfTheWrongLengthForAPresetNamesTheKeyAndTheTerm
   EXPECT_NE(r.err.find("14 (a1, a2"), std::string::npos) << r.err;
 }
 
+TEST_F(Identify, AStabilityBarrierOnALawThatIsNotAResponseSurfaceNamesTheLawType) {
+  const auto r = identify("stability_mr", small_project("../exp", "[stability]\nenabled = true\n"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("law.type"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("needs a response surface"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace tricot::project

@@ -14,6 +14,7 @@
 #include "tricot/ident/experiment.hpp"
 #include "tricot/ident/identify.hpp"
 #include "tricot/ident/objective.hpp"
+#include "tricot/ident/stability_barrier.hpp"
 #include "tricot/ident/surface_error.hpp"
 #include "tricot/io/config.hpp"
 #include "tricot/project/case_spec.hpp"
@@ -112,6 +113,8 @@ struct IdentificationSpec : CaseSpec {
   IdentifyTable identify;
   Eq9Spec eq9;
   IdentifiabilitySpec identifiability;
+  /// [stability] enabled: the material-stability barrier's options (ident/stability_barrier.hpp).
+  std::optional<ident::StabilityBarrierOptions> stability;
   /// The project file ("" when built in code): errors of the objective name it; the report shows it.
   std::filesystem::path file;
 
