@@ -108,14 +108,19 @@ Evaluation StabilizedObjective::evaluate(const Eigen::VectorXd& J, bool jacobian
   if (!e.ok) return e;
   Eigen::MatrixXd Jb;
   const Eigen::VectorXd rb = barrier(J, jacobian ? &Jb : nullptr);
-  const Eigen::Index m = e.r.size();
-  e.r.conservativeResize(m + rb.size());
-  e.r.tail(rb.size()) = rb;
-  e.y.conservativeResize(m + rb.size());
-  e.y.tail(rb.size()) = rb;
+  const Eigen::Index m = e.r.size(), rows = m + rb.size();
+  Eigen::VectorXd r(rows), y(rows);
+  r << e.r, rb;
+  y.head(std::min(m, e.y.size())) = e.y.head(std::min(m, e.y.size()));
+  y.tail(rows - std::min(m, e.y.size())).setZero();
+  y.tail(rb.size()) = rb;
+  e.r = std::move(r);
+  e.y = std::move(y);
   if (jacobian && e.jacobian.size() > 0) {
-    e.jacobian.conservativeResize(m + Jb.rows(), Eigen::NoChange);
-    e.jacobian.bottomRows(Jb.rows()) = Jb;
+    Eigen::MatrixXd full(rows, e.jacobian.cols());
+    full.topRows(m) = e.jacobian;
+    full.bottomRows(rb.size()) = Jb;
+    e.jacobian = std::move(full);
   }
   return e;
 }
