@@ -356,9 +356,8 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   Run run;
   run.objective = std::make_unique<ident::Objective>(models, data, law, p);
   ident::IdentifyOptions o;
-  // The material-stability barrier (ident/stability_barrier.hpp) with TRICOT_CAMPAIGN_BARRIER=1 only:
-  // its runs end in a segfault in the final covariance (open, docs/validation.md issue 12).
-  if (!std::getenv("TRICOT_CAMPAIGN_BARRIER")) {
+  // The material-stability barrier (ident/stability_barrier.hpp) unless TRICOT_CAMPAIGN_NO_BARRIER.
+  if (std::getenv("TRICOT_CAMPAIGN_NO_BARRIER")) {
     run.result = ident::identify(*run.objective, o);
   } else {
     run.stabilized = std::make_unique<ident::StabilizedObjective>(*run.objective);
