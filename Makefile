@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS  ?= 2
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test test-fast bench demo clean
+.PHONY: all deps configure build test test-fast bench demo sanitize fuzz clean
 
 all: build
 
@@ -32,6 +32,14 @@ bench: configure
 
 demo: build
 	$(BUILD)/tricot demo -o out/demo
+
+# AddressSanitizer + UBSan: unit tests and examples in build-sanitize/ (scripts/sanitize.sh; not in CI).
+sanitize:
+	JOBS=$(JOBS) scripts/sanitize.sh
+
+# libFuzzer harnesses of fuzz/ with clang in build-fuzz/, FUZZ_SECONDS each (scripts/fuzz.sh; not in CI).
+fuzz: configure
+	JOBS=$(JOBS) BUILD=build-fuzz PREBUILT=$(BUILD) scripts/fuzz.sh
 
 clean:
 	rm -rf $(BUILD)

@@ -54,6 +54,7 @@ Exit codes: 0 ok, 4 a Table 1 run did not converge.
       ->check(CLI::IsMember({"experiment", "project"}));
   return [args]() {
     if (args->print_example.empty()) {
+      check_out_dir(args->out_dir);
       Console console(args->verbose, args->quiet);
       project::DemoRequest req;
       req.out = args->out_dir;

@@ -113,6 +113,7 @@ Runner add_dic(CLI::App& app) {
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
   add_print_config(cmd, project::dic_schema);
   return [args]() {
+    check_out_dir(args->out_dir);
     if (args->subset_given->count()) args->flags.subset = args->subset;
     if (args->step_given->count()) args->flags.step = args->step;
     return run_dic(*args);

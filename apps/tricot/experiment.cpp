@@ -65,6 +65,7 @@ Runner add_experiment(CLI::App& app) {
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
   add_print_config(cmd, project::lab_schema);
   return [args]() {
+    check_out_dir(args->out_dir);
     const io::Node root = io::read_config(project::lab_schema(), args->file);
     Console console(args->verbose, args->quiet);
     project::run_lab_experiment(root, args->out_dir, console.log());

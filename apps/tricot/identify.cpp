@@ -16,7 +16,8 @@ namespace fs = std::filesystem;
 struct IdentifyArgs {
   std::string project, out_dir;
   bool resume = false, verbose = false, quiet = false, no_plots = false;
-  int kill_after = 0;
+  int kill_after = 0, kill_after_evaluations = 0;
+  bool kill_before_publish = false;
 };
 
 constexpr const char* kFooter = R"(
@@ -68,7 +69,8 @@ restarts, truth and relative_error for a synthetic experiment), history.csv (ite
 one column per coefficient), fit_<test>.csv, plots/history.png, plots/fit_<test>.png,
 report.html (the lab report: one self-contained page, figures embedded, prints to A4 PDF) with
 report.json (every number in it), and checkpoint.json, rewritten after every accepted LM step: `--resume` continues a killed run from it
-and reaches the same answer.
+and reaches the same answer (on a finished run it does nothing). A run writes in DIR/.tricot-identify/
+and moves its files into DIR at the end, replacing the earlier run's.
 
 Examples:
   tricot identify examples/uniaxial-mooney/project.toml -o out/identify
@@ -92,8 +94,12 @@ Runner add_identify(CLI::App& app) {
   cmd->add_flag("-v,--verbose", args->verbose, "Log lines of the engines");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
   cmd->add_option("--kill-after", args->kill_after, "Testing aid: kill the run after N checkpoints")->group("");
+  cmd->add_option("--kill-after-evaluations", args->kill_after_evaluations,
+                  "Testing aid: kill the run as it starts evaluation N")->group("");
+  cmd->add_flag("--kill-before-publish", args->kill_before_publish, "Testing aid: kill the run before publishing")->group("");
   add_print_config(cmd, project::identify_schema);
   return [args]() {
+    check_out_dir(args->out_dir);
     const project::IdentificationSpec spec =
         project::read_identification_spec(io::read_config(project::identify_schema(), args->project));
     Console console(args->verbose, args->quiet);
@@ -103,6 +109,8 @@ Runner add_identify(CLI::App& app) {
     req.resume = args->resume;
     req.plots = !args->no_plots;
     req.kill_after = args->kill_after;
+    req.kill_after_evaluations = args->kill_after_evaluations;
+    req.kill_before_publish = args->kill_before_publish;
     const project::IdentifyOutcome o = project::run_identification(spec, req, console.log());
     return o.result.converged() ? ExitCode::ok : ExitCode::not_converged;
   };

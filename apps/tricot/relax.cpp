@@ -52,6 +52,7 @@ Runner add_relax(CLI::App& app) {
   cmd->add_option("--tolerance", a->spec.options.quasi_static_tolerance, "Largest viscous excess of a quasi-static test; default 0.05");
   cmd->add_flag("-q,--quiet", a->quiet, "No summary");
   return [a]() {
+    check_out_dir(a->out_dir);
     if (a->tare_given->count()) a->spec.options.tare_N = a->tare;
     if (a->duration_given->count()) a->spec.duration_s = a->duration;
     Console console(false, a->quiet);

@@ -2,6 +2,7 @@
 // (THEORY §4–§6) and writes, per test, DIR/<test>/steps.csv, step_NNNN.vtu (+ steps.pvd) and force.png.
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include "console.hpp"
 #include "tricot/project/case_spec.hpp"
@@ -81,6 +82,7 @@ Runner add_simulate(CLI::App& app) {
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
   add_print_config(cmd, project::case_schema);
   return [args]() {
+    check_out_dir(args->out_dir);
     const io::Node root = io::read_config(project::case_schema(), args->case_file);
     Console console(args->verbose, args->quiet);
     const project::SimulationOutcome o =
@@ -88,7 +90,9 @@ Runner add_simulate(CLI::App& app) {
                                 {args->out_dir, args->only_test, !args->no_vtu, args->vtu_every,
                                  args->vtu_ascii ? io::VtuFormat::ascii : io::VtuFormat::binary, args->case_file},
                                 console.log());
-    for (const auto& f : o.failures) std::fprintf(stderr, "tricot: error: %s: %s\n", args->case_file.c_str(), f.c_str());
+    if (!o.failures.empty())  // one line (DESIGN.md): the first failure, and how many more
+      std::fprintf(stderr, "tricot: error: %s: %s%s\n", args->case_file.c_str(), o.failures.front().c_str(),
+                   o.failures.size() > 1 ? (" (and " + std::to_string(o.failures.size() - 1) + " more tests)").c_str() : "");
     return o.failures.empty() ? ExitCode::ok : ExitCode::not_converged;
   };
 }

@@ -77,6 +77,7 @@ Runner add_synth(CLI::App& app) {
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
   add_print_config(cmd, project::synth_schema);
   return [args]() {
+    check_out_dir(args->out_dir);
     const io::Node root = io::read_config(project::synth_schema(), args->file);
     Console console(args->verbose, args->quiet);
     project::synthesize(root, args->out_dir, console.log());

@@ -22,7 +22,14 @@ Runner add_demo(CLI::App& app);
 Runner add_experiment(CLI::App& app);
 Runner add_relax(CLI::App& app);
 
+/// Refuses an output folder before any work: empty (InputError) or a file, or under a file (FileError).
+void check_out_dir(const std::string& dir);
+
 /// Adds `--print-config` to a verb: prints the verb's fully commented default config and exits 0.
 void add_print_config(CLI::App* verb, std::function<io::SectionSpec()> schema);
 
 }  // namespace tricot::cli
+
+/// The whole program (main.cpp): parses argv, runs the verb, and turns every error into one line on
+/// stderr and a documented exit code. entry.cpp's main() calls it; the bad-input suite calls it in-process.
+int tricot_cli_main(int argc, char** argv);

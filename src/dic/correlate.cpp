@@ -147,7 +147,7 @@ PairResult correlate_pair(const Frame& ref, const Frame& cur, const std::vector<
   const int n = static_cast<int>(centres.size());
   PairResult r;
   r.points.assign(n, PointMatch{});
-  if (o.threads > 0) omp_set_num_threads(o.threads);
+  if (o.threads > 0) omp_set_num_threads(std::min(o.threads, omp_get_num_procs()));  // more than the cores never helps
   Propagation prop(ref, cur, centres, neighbours, o, r);
   std::string message;
 

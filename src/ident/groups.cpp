@@ -39,6 +39,9 @@ const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, i
   g.scale = sigma > 0 ? sigma : std::sqrt(y_exp.squaredNorm() / g.size);  // THEORY §2 [choice]: RMS
   if (!(g.scale > 0))
     throw InputError(where, "all data are zero, so the group has no scale: give its sigma");
+  if (!std::isfinite(g.scale))  // the sum of squares overflowed: the group would silently weigh 0
+    throw InputError(where, "the group's RMS overflows", "largest |value| " + format_number(y_exp.cwiseAbs().maxCoeff()),
+                     "values whose squares sum to a finite number");
   const Eigen::Index n0 = measured_.size();
   measured_.conservativeResize(n0 + g.size);
   measured_.tail(g.size) = y_exp;

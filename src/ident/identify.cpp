@@ -32,6 +32,21 @@ const char* to_string(Termination t) {
   return "?";
 }
 
+const char* to_string(Phase p) {
+  switch (p) {
+    case Phase::lm: return "lm";
+    case Phase::stability: return "stability";
+    case Phase::done: return "done";
+  }
+  return "?";
+}
+
+std::optional<Phase> phase_from_string(const std::string& s) {
+  for (Phase p : {Phase::lm, Phase::stability, Phase::done})
+    if (s == to_string(p)) return p;
+  return std::nullopt;
+}
+
 bool IdentifyResult::converged() const {
   return termination == Termination::objective_below_epsilon || termination == Termination::step_below_delta ||
          termination == Termination::objective_stalled || termination == Termination::gradient_below_tolerance;
@@ -163,7 +178,28 @@ class LmCost final : public ceres::CostFunction {
   mutable Evaluation cache_, accepted_;
 };
 
-/// After every LM iteration: history, checkpoint, progress, and the paper's ε (eq. 2) and δ (eq. 3).
+/// Ceres's message for its parameter tolerance, for the test a resumed run makes itself (Monitor).
+std::string step_test_message(double step_norm, double x_norm, double delta) {
+  char m[128];
+  std::snprintf(m, sizeof m, "Parameter tolerance reached. Relative step_norm: %e <= %e.", step_norm / (x_norm + delta),
+                delta);
+  return m;
+}
+
+/// Hands the state to on_checkpoint (wall time: the resumed runs' and this one's).
+void save_checkpoint(const IdentifyOptions& options, const std::vector<std::string>& names,
+                     const Eigen::VectorXd& scales, const State& state, std::chrono::steady_clock::time_point t0) {
+  if (!options.on_checkpoint) return;
+  Checkpoint c;
+  static_cast<LmProgress&>(c) = state;
+  c.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  c.names = names;
+  c.scales = scales;
+  c.parameters = scales.cwiseProduct(state.x);
+  options.on_checkpoint(c);
+}
+
+/// After every LM iteration: the paper's ε (eq. 2) and δ (eq. 3), history, checkpoint, progress.
 class Monitor final : public ceres::IterationCallback {
  public:
   Monitor(const IdentifyOptions& options, const Reporter& reporter, const std::vector<std::string>& names,
@@ -175,53 +211,76 @@ class Monitor final : public ceres::IterationCallback {
   std::optional<Termination> reason;
   std::string message;
 
+  /// A resumed run continues LM inside a fresh Ceres solve, and Ceres makes its step test (parameter
+  /// tolerance, ‖Δx‖ ≤ δ(‖x‖ + δ)) only after a first accepted step of a solve (before it, its ‖x‖ is
+  /// unset) unless the problem has bounds. The run that was killed made it on every trial step, so
+  /// the resumed one makes it here until its first accepted step: it stops where the killed run would
+  /// have, at the same iteration.
+  void continue_step_test(double delta) {
+    step_test_norm_ = x_.norm();
+    step_test_delta_ = delta;
+  }
+  bool stopped_by_step_test = false;
+
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     const int iteration = base_iterations_ + s.iteration;
-    if (s.iteration == 0 || s.step_is_successful) {
+    if (step_test_norm_ >= 0 && s.iteration > 0 && s.step_norm > 0 &&
+        s.step_norm <= step_test_delta_ * (step_test_norm_ + step_test_delta_)) {
+      // As Ceres would have stopped before this trial: the state stays at the last accepted point.
+      reason = Termination::step_below_delta;
+      message = step_test_message(s.step_norm, step_test_norm_, step_test_delta_);
+      stopped_by_step_test = true;
+      state_.iterations = iteration - 1;
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    const bool accepted = s.iteration == 0 || s.step_is_successful;
+    if (s.iteration > 0 && s.step_is_successful) step_test_norm_ = -1;  // Ceres's own test from here on
+    if (accepted) {
       state_.failed_since_accepted = 0;
       state_.x = x_;
       state_.objective = s.cost;
       state_.trust_region_radius = s.trust_region_radius;
       state_.iterations = iteration;
+      verdict(s);
+      if (reason) {  // LM stops here: the checkpoint says so, a resumed run must not go on
+        state_.phase = options_.stability_test ? Phase::stability : Phase::done;
+        state_.termination = *reason;
+        state_.message = message;
+      }
       if (s.iteration > 0 || record_start_) {
         state_.history.push_back({iteration, s.cost, scales_.cwiseProduct(x_), state_.restarts});
         checkpoint();
       }
     }
     report(iteration, s);
-    if (!(s.iteration == 0 || s.step_is_successful)) return ceres::SOLVER_CONTINUE;
-    if (s.cost < options_.epsilon) {
-      reason = Termination::objective_below_epsilon;
-      message = "f = " + format_number(s.cost) + " < epsilon = " + format_number(options_.epsilon) + " (eq. 2)";
-      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
-    }
-    if (s.iteration > 0) {
-      // Eq. (3): the paper's t_i = ΔJ / J_i, element-wise.
-      double t = 0;
-      for (Eigen::Index k = 0; k < x_.size(); ++k) {
-        const double dx = std::abs(x_(k) - x_prev_(k));
-        t = std::max(t, x_prev_(k) != 0 ? dx / std::abs(x_prev_(k)) : dx);
-      }
-      if (t < options_.delta) {
-        reason = Termination::step_below_delta;
-        message = "relative step max|t| = " + format_number(t) + " < delta = " + format_number(options_.delta) + " (eq. 3)";
-        return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
-      }
-    }
+    if (!accepted) return ceres::SOLVER_CONTINUE;
+    if (reason) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     x_prev_ = x_;
     return ceres::SOLVER_CONTINUE;
   }
 
+  /// Writes the state (progress and phase) through on_checkpoint.
+  void checkpoint() const { save_checkpoint(options_, names_, scales_, state_, t0_); }
+
  private:
-  void checkpoint() const {
-    if (!options_.on_checkpoint) return;
-    Checkpoint c;
-    static_cast<LmProgress&>(c) = state_;
-    c.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-    c.names = names_;
-    c.scales = scales_;
-    c.parameters = scales_.cwiseProduct(state_.x);
-    options_.on_checkpoint(c);
+  /// The paper's ε (eq. 2) and δ (eq. 3) at an accepted point: sets `reason` and `message` when LM stops.
+  void verdict(const ceres::IterationSummary& s) {
+    if (s.cost < options_.epsilon) {
+      reason = Termination::objective_below_epsilon;
+      message = "f = " + format_number(s.cost) + " < epsilon = " + format_number(options_.epsilon) + " (eq. 2)";
+      return;
+    }
+    if (s.iteration == 0) return;
+    // Eq. (3): the paper's t_i = ΔJ / J_i, element-wise.
+    double t = 0;
+    for (Eigen::Index k = 0; k < x_.size(); ++k) {
+      const double dx = std::abs(x_(k) - x_prev_(k));
+      t = std::max(t, x_prev_(k) != 0 ? dx / std::abs(x_prev_(k)) : dx);
+    }
+    if (t < options_.delta) {
+      reason = Termination::step_below_delta;
+      message = "relative step max|t| = " + format_number(t) + " < delta = " + format_number(options_.delta) + " (eq. 3)";
+    }
   }
 
   void report(int iteration, const ceres::IterationSummary& s) const {
@@ -238,6 +297,7 @@ class Monitor final : public ceres::IterationCallback {
   const Eigen::VectorXd& x_;
   State& state_;
   bool record_start_;
+  double step_test_norm_ = -1, step_test_delta_ = 0;  // continue_step_test; -1 = Ceres's test
   int base_iterations_;
   std::chrono::steady_clock::time_point t0_;
   Eigen::VectorXd x_prev_ = x_;
@@ -277,7 +337,8 @@ std::optional<Eigen::VectorXd> stability_trial(const Problem& problem, const Ide
     }
   const int m = static_cast<int>(trials.size());
   std::vector<Evaluation> e(m);
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  // More threads than cores never speeds this up, and a team of 1024 can fail to start (libgomp aborts).
+  const int threads = options.threads > 0 ? std::min(options.threads, omp_get_num_procs()) : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int i = 0; i < m; ++i) e[i] = problem.evaluate(trials[i], false);
   state.evaluations += m;
@@ -326,94 +387,138 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
     state.x.resize(n);
     for (int k = 0; k < n; ++k) state.x(k) = params[k].start / scales(k);
   }
+  const auto checkpoint = [&] { save_checkpoint(options, names, scales, state, t0); };
+  // Ends the run: `termination` and `message` are the run's; the checkpoint says it is over.
+  const auto finish = [&](Termination t, std::string message) {
+    state.termination = t;
+    state.message = std::move(message);
+    state.phase = Phase::done;
+    checkpoint();
+  };
 
   IdentifyResult result;
   result.names = names;
   result.jacobian = options.jacobian;
-  result.start = scales.cwiseProduct(state.x);
   LmCost cost(problem, options.jacobian_options(), scales, state);
-  // A start where the model fails ends here (Ceres would log its own failure otherwise).
-  const bool start_ok = cost.at(state.x, options.jacobian == JacobianMode::exact) != nullptr;
-  if (!start_ok) result.message = "at the start point: " + cost.last_failure;
+  // A start where the model fails ends here (Ceres would log its own failure otherwise). A finished
+  // run (phase done) needs no evaluation before its final one.
+  if (state.phase != Phase::done && !cost.at(state.x, options.jacobian == JacobianMode::exact))
+    finish(Termination::fe_failure, "at the start point: " + cost.last_failure);
 
-  for (bool first = true; start_ok; first = false) {
-    Eigen::VectorXd x = state.x;  // Ceres' parameter block
-    ceres::Problem::Options po;
-    po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    ceres::Problem lm(po);
-    lm.AddResidualBlock(&cost, nullptr, x.data());
-    for (int k = 0; k < n; ++k) {
-      if (std::isfinite(params[k].lower)) lm.SetParameterLowerBound(x.data(), k, params[k].lower / scales(k));
-      if (std::isfinite(params[k].upper)) lm.SetParameterUpperBound(x.data(), k, params[k].upper / scales(k));
-    }
-    Monitor monitor(options, reporter, names, scales, x, state, !(first && resumed), t0);
-    ceres::Solver::Options so;
-    so.minimizer_type = ceres::TRUST_REGION;
-    so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-    so.linear_solver_type = ceres::DENSE_QR;
-    so.jacobi_scaling = false;  // x is already relative; and the state then fits in a checkpoint
-    so.max_num_iterations = std::max(0, options.max_iterations - state.iterations);
-    so.function_tolerance = options.function_tolerance;
-    so.gradient_tolerance = options.gradient_tolerance;
-    so.parameter_tolerance = options.delta;
-    so.initial_trust_region_radius = state.trust_region_radius;
-    so.logging_type = ceres::SILENT;
-    so.minimizer_progress_to_stdout = false;
-    so.update_state_every_iteration = true;
-    so.num_threads = 1;
-    so.callbacks.push_back(&monitor);
-    ceres::Solver::Summary summary;
-    const int base = state.iterations;
-    ceres::Solve(so, &lm, &summary);
-
-    if (!summary.iterations.empty()) state.iterations = base + summary.iterations.back().iteration;
-    if (monitor.reason) {
-      result.termination = *monitor.reason;
-      result.message = monitor.message;
-    } else {
-      result.termination = from_ceres(summary, so, x, cost.last_trial);
-      result.message = summary.message;
-      // The trust region collapsed because the model failed at every step LM tried from the last
-      // accepted point: that point is not a minimum, LM was walled in (e.g. a force the trial
-      // law cannot carry). Not a convergence.
-      if (result.termination == Termination::step_below_delta && state.failed_since_accepted > 0) {
-        result.termination = Termination::fe_failure;
-        result.message = "LM was stopped by model failures: the last " +
-                         std::to_string(state.failed_since_accepted) + " trial steps failed (" + cost.last_failure +
-                         ")";
+  // A run resumed in phase lm goes on from its checkpoint's point, whose history entry and
+  // checkpoint exist; every later LM run (a stability restart) records its start.
+  bool record_start = !(resumed && state.phase == Phase::lm);
+  while (state.phase != Phase::done) {
+    if (state.phase == Phase::lm) {
+      Eigen::VectorXd x = state.x;  // Ceres' parameter block
+      ceres::Problem::Options po;
+      po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      ceres::Problem lm(po);
+      lm.AddResidualBlock(&cost, nullptr, x.data());
+      for (int k = 0; k < n; ++k) {
+        if (std::isfinite(params[k].lower)) lm.SetParameterLowerBound(x.data(), k, params[k].lower / scales(k));
+        if (std::isfinite(params[k].upper)) lm.SetParameterUpperBound(x.data(), k, params[k].upper / scales(k));
       }
-      if (result.termination == Termination::fe_failure && !cost.last_failure.empty())
-        result.message = cost.last_failure;
+      Monitor monitor(options, reporter, names, scales, x, state, record_start, t0);
+      bool bounded = false;
+      for (const auto& p : params) bounded = bounded || std::isfinite(p.lower) || std::isfinite(p.upper);
+      const bool continues_a_solve = !record_start && !bounded;
+      if (continues_a_solve) monitor.continue_step_test(options.delta);
+      record_start = true;
+      ceres::Solver::Options so;
+      so.minimizer_type = ceres::TRUST_REGION;
+      so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+      so.linear_solver_type = ceres::DENSE_QR;
+      so.jacobi_scaling = false;  // x is already relative; and the state then fits in a checkpoint
+      so.max_num_iterations = std::max(0, options.max_iterations - state.iterations);
+      so.function_tolerance = options.function_tolerance;
+      so.gradient_tolerance = options.gradient_tolerance;
+      so.parameter_tolerance = options.delta;
+      so.initial_trust_region_radius = state.trust_region_radius;
+      so.logging_type = ceres::SILENT;
+      so.minimizer_progress_to_stdout = false;
+      so.update_state_every_iteration = true;
+      so.num_threads = 1;
+      so.callbacks.push_back(&monitor);
+      ceres::Solver::Summary summary;
+      const int base = state.iterations;
+      ceres::Solve(so, &lm, &summary);
+
+      if (!summary.iterations.empty() && !monitor.stopped_by_step_test)
+        state.iterations = base + summary.iterations.back().iteration;
+      if (monitor.stopped_by_step_test) x = state.x;  // Ceres may have moved on to the trial
+      Termination termination;
+      std::string message;
+      if (monitor.reason) {
+        termination = *monitor.reason;
+        message = monitor.message;
+      } else {
+        termination = from_ceres(summary, so, x, cost.last_trial);
+        message = summary.message;
+        // Ceres stopped (e.g. on its function tolerance) on a trial before any accepted step of a
+        // resumed solve: the killed run made the step test first (Monitor::continue_step_test).
+        if (continues_a_solve && termination == Termination::step_below_delta && summary.num_successful_steps <= 1 &&
+            cost.last_trial.size() == x.size())
+          message = step_test_message((x - cost.last_trial).norm(), x.norm(), options.delta);
+        // The trust region collapsed because the model failed at every step LM tried from the last
+        // accepted point: that point is not a minimum, LM was walled in (e.g. a force the trial
+        // law cannot carry). Not a convergence.
+        if (termination == Termination::step_below_delta && state.failed_since_accepted > 0) {
+          termination = Termination::fe_failure;
+          message = "LM was stopped by model failures: the last " + std::to_string(state.failed_since_accepted) +
+                    " trial steps failed (" + cost.last_failure + ")";
+        }
+        if (termination == Termination::fe_failure && !cost.last_failure.empty()) message = cost.last_failure;
+      }
+      if (termination == Termination::fe_failure || summary.iterations.empty()) {
+        if (message.empty()) message = summary.message;
+        finish(Termination::fe_failure, message);
+        break;
+      }
+      // The best point Ceres found: the last accepted one, whose objective the monitor recorded (a
+      // resumed run reads the same values from the checkpoint).
+      state.x = x;
+      state.termination = termination;
+      state.message = message;
+      const bool converged = termination != Termination::max_iterations;
+      if (!converged || !options.stability_test) {
+        finish(termination, message);
+        break;
+      }
+      state.phase = Phase::stability;
+      checkpoint();
     }
-    if (result.termination == Termination::fe_failure || summary.iterations.empty()) {
-      if (result.message.empty()) result.message = summary.message;
-      if (summary.iterations.empty()) result.termination = Termination::fe_failure;
-      break;
-    }
-    state.x = x;  // the best point Ceres found
-    state.objective = summary.final_cost;
-    if (!result.converged() || !options.stability_test) break;
+    // Phase stability: the paper's test at LM's answer, then a restart or the end.
     const auto better = stability_trial(problem, options, scales, state);
     if (!better) {
-      result.stability_passed = true;
+      state.stability_passed = true;
+      finish(state.termination, state.message);
       break;
     }
     if (state.restarts >= options.max_restarts) {
-      result.termination = Termination::unstable;
-      result.message = "the stability test still lowers f after " + std::to_string(state.restarts) + " restarts";
+      finish(Termination::unstable, "the stability test still lowers f after " + std::to_string(state.restarts) + " restarts");
       break;
     }
+    if (state.iterations >= options.max_iterations) {
+      ++state.restarts;
+      state.x = *better;
+      finish(Termination::max_iterations, "max_iterations reached during the stability restarts");
+      break;
+    }
+    // The restart's first LM iteration writes its checkpoint (phase lm); a run killed before that
+    // repeats this test, which gives the same point.
     ++state.restarts;
     state.x = *better;
     state.trust_region_radius = options.initial_trust_region_radius;
-    if (state.iterations >= options.max_iterations) {
-      result.termination = Termination::max_iterations;
-      result.message = "max_iterations reached during the stability restarts";
-      break;
-    }
+    state.phase = Phase::lm;
   }
 
+  result.termination = state.termination;
+  result.message = state.message;
+  result.stability_passed = state.stability_passed;
   result.parameters = scales.cwiseProduct(state.x);
+  // J at the start of the whole run (a resumed run's history begins there too).
+  result.start = state.history.empty() ? result.parameters : state.history.front().parameters;
   result.objective = state.objective;
   if (result.termination != Termination::fe_failure) {
     if (const Evaluation* e = cost.at(state.x, true)) {

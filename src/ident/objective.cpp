@@ -148,7 +148,8 @@ Evaluation Objective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
   std::vector<detail::Prediction> pred(T);
   std::vector<std::string> message(T);
   std::vector<char> ok(T, 0);
-  const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+  // More threads than cores never speeds this up, and a team of 1024 can fail to start (libgomp aborts).
+  const int threads = options_.threads > 0 ? std::min(options_.threads, omp_get_num_procs()) : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int t = 0; t < T; ++t) {
     try {

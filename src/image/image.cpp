@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -28,6 +30,20 @@ LoadedImage load_image(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw file_error(path, "image not found");
   if (std::filesystem::is_directory(path, ec)) throw file_error(path, "is a folder, not an image");
+  {
+    // A truncated PNG makes libpng print its own "libpng error" on stderr before OpenCV gives up: find
+    // it here instead, from the signature and the closing IEND chunk (issue 14: one error line).
+    std::ifstream in(path, std::ios::binary);
+    char head[8] = {};
+    in.read(head, 8);
+    if (in.gcount() == 8 && std::memcmp(head, "\x89PNG\r\n\x1a\n", 8) == 0) {
+      char tail[8] = {};
+      in.seekg(-8, std::ios::end);
+      in.read(tail, 8);
+      if (!in || std::memcmp(tail, "IEND\xae\x42\x60\x82", 8) != 0)
+        throw file_error(path, "truncated or corrupt PNG (no IEND chunk at its end)", {}, "a complete PNG file");
+    }
+  }
   cv::Mat m;
   try {
     m = cv::imread(path.string(), cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);

@@ -9,6 +9,8 @@
 #include <sstream>
 #include <toml++/toml.h>
 
+#include "tricot/io/files.hpp"
+
 namespace tricot::io {
 
 namespace {
@@ -296,11 +298,7 @@ Node parse_config(const SectionSpec& schema, std::string_view text, const std::s
 }
 
 Node read_config(const SectionSpec& schema, const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw FileError({file, 0, ""}, "cannot open the config file");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return parse_config(schema, buf.str(), file);
+  return parse_config(schema, read_text(file), file);
 }
 
 Node default_config(const SectionSpec& schema) { return NodeBuilder("<defaults>").build(schema, nullptr, "", 0); }

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <random>
 #include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "tricot/core/error.hpp"
 
@@ -59,11 +61,21 @@ void write_atomic(const fs::path& path, const std::string& content) {
 }
 
 std::string read_text(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (!fs::exists(st)) throw FileError({path.string(), 0, ""}, "file not found");
+  if (fs::is_directory(st)) throw FileError({path.string(), 0, ""}, "is a folder, not a file", "", "a regular file");
+  if (!fs::is_regular_file(st))
+    throw FileError({path.string(), 0, ""}, "not a regular file (a device, pipe or socket)", "", "a regular file");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError({path.string(), 0, ""}, "cannot open the file");
+  if (!in) throw FileError({path.string(), 0, ""}, std::string("cannot open the file: ") + std::strerror(errno));
   std::stringstream buf;
   buf << in.rdbuf();
-  return buf.str();
+  if (in.bad()) throw FileError({path.string(), 0, ""}, "read failed");
+  std::string text = buf.str();
+  // A UTF-8 byte-order mark (Excel and Windows editors write one) is not part of the first cell or key.
+  if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
+  return text;
 }
 
 std::size_t Table::column(const std::string& name, const std::string& file) const {
@@ -149,18 +161,49 @@ std::string gnuplot_quote(const fs::path& p) {
 }
 
 bool run_gnuplot(const std::string& script, std::string* why) {
-  FILE* p = popen("gnuplot 2>&1", "w");
-  if (!p) {
-    if (why) *why = "cannot start gnuplot";
+  // gnuplot's messages go to a temporary file, never to our stdout: on failure the first line that
+  // names the problem becomes `why`.
+  // The script goes through a file too, not a pipe: a gnuplot that is missing or stops early would
+  // leave our write to a closed pipe, and SIGPIPE would end the run.
+  char log_name[] = "/tmp/tricot-gnuplot-XXXXXX";
+  char script_name[] = "/tmp/tricot-gnuplot-XXXXXX";
+  const int fd = mkstemp(log_name);
+  const int sd = fd < 0 ? -1 : mkstemp(script_name);
+  if (fd < 0 || sd < 0) {
+    if (fd >= 0) close(fd), std::remove(log_name);
+    if (why) *why = std::string("cannot make a temporary file for gnuplot: ") + std::strerror(errno);
     return false;
   }
-  fwrite(script.data(), 1, script.size(), p);
-  const int rc = pclose(p);
-  if (rc != 0) {
-    if (why) *why = "gnuplot failed (is gnuplot-nox installed?)";
-    return false;
+  close(fd);
+  const bool written = ::write(sd, script.data(), script.size()) == static_cast<ssize_t>(script.size());
+  close(sd);
+  const int rc = written ? std::system(fmt::format("gnuplot '{}' >'{}' 2>&1 </dev/null", script_name, log_name).c_str()) : -1;
+  std::remove(script_name);
+  std::string output;
+  {
+    std::ifstream in(log_name);
+    std::stringstream buf;
+    buf << in.rdbuf();
+    output = buf.str();
   }
-  return true;
+  std::remove(log_name);
+  if (rc == 0) return true;
+  if (why) {
+    if (WIFEXITED(rc) && WEXITSTATUS(rc) == 127) {
+      *why = "gnuplot is not installed (apt install gnuplot-nox)";
+    } else {
+      std::string first;
+      std::istringstream in(output);
+      for (std::string line; std::getline(in, line);) {
+        const auto b = line.find_first_not_of(" \t^");
+        if (b == std::string::npos) continue;
+        first = line.substr(b);
+        if (line.find("rror") != std::string::npos || line.find("line ") != std::string::npos) break;
+      }
+      *why = "gnuplot failed" + (first.empty() ? std::string() : ": " + first);
+    }
+  }
+  return false;
 }
 
 }  // namespace tricot::io

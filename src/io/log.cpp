@@ -178,6 +178,9 @@ LogTable parse_log(std::string_view text, const std::string& file, const LogForm
       }
       if (run > best) best = run, header = rows[r];
     }
+    if (header == lines.size() && !rows.empty() && std::none_of(shape.begin(), shape.end(), [](const auto& x) { return x.first; }))
+      throw InputError({file, lines[rows.back()].number, ""}, "no data rows: every line is text (a header alone?)", "",
+                       "rows of numbers below the header");
     if (header == lines.size())
       throw InputError({file, 0, ""}, "no header row found",
                        "", std::string("a row of column names followed by rows of numbers separated by ") +

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <optional>
+
 #include "json.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/io/files.hpp"
@@ -25,6 +27,14 @@ struct Fingerprint {
   void add(const std::string& s) { add(s.data(), s.size()); }
   std::string hex() const { return fmt::format("{:016x}", h); }
 };
+
+std::optional<ident::Termination> termination_from_string(const std::string& s) {
+  using T = ident::Termination;
+  for (T t : {T::objective_below_epsilon, T::step_below_delta, T::objective_stalled, T::gradient_below_tolerance,
+              T::max_iterations, T::unstable, T::fe_failure})
+    if (s == ident::to_string(t)) return t;
+  return std::nullopt;
+}
 
 }  // namespace
 
@@ -58,6 +68,10 @@ void write_checkpoint(const fs::path& file, const ident::Checkpoint& c, const st
   j["failed_evaluations"] = c.failed_evaluations;
   j["restarts"] = c.restarts;
   j["wall_seconds"] = c.wall_seconds;
+  j["phase"] = ident::to_string(c.phase);
+  j["termination"] = ident::to_string(c.termination);
+  j["message"] = c.message;
+  j["stability_passed"] = c.stability_passed;
   json h = json::array();
   for (const auto& e : c.history)
     h.push_back({{"iteration", e.iteration}, {"objective", e.objective}, {"parameters", vec_json(e.parameters)},
@@ -89,6 +103,19 @@ ident::Checkpoint read_checkpoint(const fs::path& file, const std::string& finge
     c.failed_evaluations = j.at("failed_evaluations").get<int>();
     c.restarts = j.at("restarts").get<int>();
     c.wall_seconds = j.at("wall_seconds").get<double>();
+    // A checkpoint written before issue 14 has no phase: LM under way.
+    const std::string phase_name = j.value("phase", std::string("lm"));
+    const auto phase = ident::phase_from_string(phase_name);
+    if (!phase) throw InputError({file.string(), 0, "phase"}, "unknown phase", phase_name, "lm, stability or done");
+    c.phase = *phase;
+    const std::string termination_name = j.value("termination", std::string("fe_failure"));
+    const auto termination = termination_from_string(termination_name);
+    if (!termination)
+      throw InputError({file.string(), 0, "termination"}, "unknown termination", termination_name,
+                       "a termination of result.json");
+    c.termination = *termination;
+    c.message = j.value("message", std::string());
+    c.stability_passed = j.value("stability_passed", false);
     for (const json& e : j.at("history"))
       c.history.push_back({e.at("iteration").get<int>(), e.at("objective").get<double>(), json_vec(e.at("parameters")),
                            e.at("restart").get<int>()});

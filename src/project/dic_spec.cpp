@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "schema.hpp"
 #include "tricot/image/image.hpp"
 
@@ -50,7 +52,7 @@ io::SectionSpec dic_schema() {
       key("update_zncc", d0.update_zncc, "auto mode: update the reference when a frame's mean ZNCC drops below this.", 0, 1),
       key("update_loss", d0.update_loss, "auto mode: ... or when more than this fraction of the points fail.", 0, 1),
       key("batch", std::int64_t{d0.batch}, "Points propagated per round (1 = strict highest-ZNCC-first order).", 1, 4096),
-      key("threads", std::int64_t{d0.threads}, "OpenMP threads, 0 = all cores.", 0, 1024),
+      key("threads", std::int64_t{d0.threads}, "OpenMP threads, 0 = all cores; more than the cores run as many as the cores.", 0, 1024),
   };
   SectionSpec st{"strain", "Green–Lagrange strain by a least-squares plane fit over a window of grid points.", false, {}, {}};
   st.keys = {
@@ -165,7 +167,17 @@ DicSettings DicSpec::settings(const image::Image& reference) const {
     const Reals& seeds = dic.seeds;
     if (seeds.size() % 2 != 0)
       d.fail("seeds", "needs pairs of coordinates", std::to_string(seeds.size()) + " numbers", "[x0, y0, x1, y1, ...]");
-    for (std::size_t i = 0; i + 1 < seeds.size(); i += 2) o.seeds.emplace_back(seeds[i], seeds[i + 1]);
+    // Issue 14: a point outside the reference image is an error, never silently dropped or clipped.
+    const double W = reference.width - 1.0, H = reference.height - 1.0;
+    const auto inside = [&](double x, double y) { return x >= 0 && x <= W && y >= 0 && y <= H; };
+    const std::string image_range = fmt::format("within the {}x{} reference image: 0 <= x <= {}, 0 <= y <= {}",
+                                                reference.width, reference.height, W, H);
+    for (std::size_t i = 0; i + 1 < seeds.size(); i += 2) {
+      if (!inside(seeds[i], seeds[i + 1]))
+        d.fail("seeds", fmt::format("seed {} lies outside the image", i / 2 + 1),
+               fmt::format("({}, {})", seeds[i], seeds[i + 1]), image_range);
+      o.seeds.emplace_back(seeds[i], seeds[i + 1]);
+    }
     s.sequence.mode = dic.mode == "reference" ? dic::SequenceMode::reference
                       : dic.mode == "auto"    ? dic::SequenceMode::automatic
                                               : dic::SequenceMode::incremental;
@@ -180,13 +192,23 @@ DicSettings DicSpec::settings(const image::Image& reference) const {
     if (kinds > 1) d.fail("roi", "give only one of roi, roi_polygon and roi_mask");
     if (!rect.empty()) {
       if (rect.size() != 4) d.fail("roi", "needs four numbers", std::to_string(rect.size()) + " numbers", "[x0, y0, x1, y1]");
+      const std::string got = fmt::format("[{}, {}, {}, {}]", rect[0], rect[1], rect[2], rect[3]);
+      if (!(rect[0] < rect[2] && rect[1] < rect[3]))
+        d.fail("roi", "inverted or empty rectangle", got, "x0 < x1 and y0 < y1");
+      if (!inside(rect[0], rect[1]) || !inside(rect[2], rect[3]))
+        d.fail("roi", "the rectangle reaches outside the image", got, image_range);
       s.roi = dic::Roi::rectangle(rect[0], rect[1], rect[2], rect[3]);
     } else if (!poly.empty()) {
       if (poly.size() < 6 || poly.size() % 2 != 0)
         d.fail("roi_polygon", "needs at least 3 vertices", std::to_string(poly.size()) + " numbers",
                "[x0, y0, x1, y1, x2, y2, ...]");
       std::vector<Vec2> v;
-      for (std::size_t i = 0; i + 1 < poly.size(); i += 2) v.emplace_back(poly[i], poly[i + 1]);
+      for (std::size_t i = 0; i + 1 < poly.size(); i += 2) {
+        if (!inside(poly[i], poly[i + 1]))
+          d.fail("roi_polygon", fmt::format("vertex {} lies outside the image", i / 2 + 1),
+                 fmt::format("({}, {})", poly[i], poly[i + 1]), image_range);
+        v.emplace_back(poly[i], poly[i + 1]);
+      }
       s.roi = dic::Roi::from_polygon(std::move(v));
     } else if (!mask.empty()) {
       std::filesystem::path p = mask;

@@ -5,7 +5,10 @@
 
 #include <cmath>
 #include <map>
+#include <type_traits>
 #include <nlohmann/json.hpp>
+
+#include "json.hpp"
 
 #include "tricot/core/error.hpp"
 #include "tricot/io/files.hpp"
@@ -63,6 +66,19 @@ int integer_cell(const Cells& c, std::size_t row, std::size_t col) {
   return static_cast<int>(v);
 }
 
+// Largest |value| accepted in forces.csv and field.csv (mm, N, s, px): far beyond any specimen, and its
+// square sums stay finite, so a group's RMS scale (THEORY §2) cannot overflow to a zero weight.
+constexpr double kLargestDatum = 1e12;
+
+// Every cell of the table within ±kLargestDatum, or InputError at FILE:LINE: COLUMN (issue 14).
+void check_magnitudes(const Cells& c) {
+  for (std::size_t r = 0; r < c.t.rows.size(); ++r)
+    for (std::size_t col = 0; col < c.t.rows[r].size(); ++col)
+      if (!(std::abs(c.t.rows[r][col]) <= kLargestDatum))
+        throw InputError(c.at(r, c.t.columns[col]), "value out of range", num(c.t.rows[r][col]),
+                         "|value| <= " + num(kLargestDatum));
+}
+
 std::optional<std::size_t> find_column(const io::Table& t, const std::string& name) {
   for (std::size_t i = 0; i < t.columns.size(); ++i)
     if (t.columns[i] == name) return i;
@@ -74,6 +90,7 @@ void read_forces(const fs::path& file, ident::TestData& d) {
   const Cells c{t, file.string()};
   const std::size_t step = t.column("step", c.file), load = t.column("load", c.file);
   if (t.rows.empty()) throw InputError({c.file, 0, ""}, "no steps: the file has a header and no rows");
+  check_magnitudes(c);
   const auto disp = find_column(t, "edge_displacement"), force = find_column(t, "edge_force");
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     const int k = integer_cell(c, r, step);
@@ -95,6 +112,7 @@ void read_field(const fs::path& file, ident::TestData& d) {
   const std::size_t step = t.column("step", c.file), id = t.column("id", c.file), x = t.column("x", c.file),
                     y = t.column("y", c.file), u = t.column("u", c.file), v = t.column("v", c.file);
   if (t.rows.empty()) return;  // a header only: no field data
+  check_magnitudes(c);
   const int K = d.steps();
 
   // Points in the order of their first appearance; each (step, id) once; x, y the same at every step.
@@ -157,8 +175,24 @@ T get(const json& j, const std::string& key, const std::string& file, const std:
   try {
     return j.at(key).get<T>();
   } catch (const json::exception&) {
-    throw InputError({file, 0, path + key}, "missing or of the wrong type");
+    throw InputError({file, 0, path + key}, "missing or of the wrong type", j.is_object() && j.contains(key) ? j[key].dump() : "none");
   }
+}
+
+// Reads `j[key]` as T when present (else `fallback`), or throws InputError naming the file and key:
+// nlohmann's own type_error names neither.
+template <class T>
+T get_or(const json& j, const std::string& key, T fallback, const std::string& file, const std::string& path) {
+  if (!j.is_object() || !j.contains(key)) return fallback;
+  const json& v = j[key];
+  bool ok = false;
+  if constexpr (std::is_same_v<T, std::string>) ok = v.is_string();
+  else if constexpr (std::is_floating_point_v<T>) ok = v.is_number();
+  else ok = v.is_number_integer() || v.is_number_unsigned();
+  if (!ok)
+    throw InputError({file, 0, path + key}, "of the wrong type", v.dump(),
+                     std::is_same_v<T, std::string> ? "a string" : std::is_floating_point_v<T> ? "a number" : "an integer");
+  return v.get<T>();
 }
 
 }  // namespace
@@ -246,7 +280,7 @@ std::optional<Truth> read_truth(const fs::path& dir) {
   try {
     j = json::parse(io::read_text(path));
   } catch (const json::parse_error& e) {
-    throw InputError({file, 0, ""}, std::string("not valid JSON: ") + e.what());
+    throw InputError({file, 0, ""}, "not valid JSON: " + json_problem(e));
   }
   Truth t;
   t.law = get<std::string>(j, "law", file, "");
@@ -257,9 +291,9 @@ std::optional<Truth> read_truth(const fs::path& dir) {
     t.names.push_back(name);
     t.values.push_back(value.get<double>());
   }
-  t.noise_relative = j.value("noise_relative", 0.0);
-  t.seed = j.value("seed", std::uint64_t{0});
-  t.field_kind = j.value("field_kind", std::string("cumulative")) == "incremental" ? ident::FieldKind::incremental
+  t.noise_relative = get_or(j, "noise_relative", 0.0, file, "");
+  t.seed = get_or(j, "seed", std::uint64_t{0}, file, "");
+  t.field_kind = get_or(j, "field_kind", std::string("cumulative"), file, "") == "incremental" ? ident::FieldKind::incremental
                                                                                    : ident::FieldKind::cumulative;
   if (j.contains("tests")) {
     if (!j["tests"].is_array()) throw InputError({file, 0, "tests"}, "not an array");
@@ -267,19 +301,19 @@ std::optional<Truth> read_truth(const fs::path& dir) {
       Truth::Test x;
       x.name = get<std::string>(s, "name", file, "tests.");
       const std::string p = "tests." + x.name + ".";
-      x.control = s.value("control", std::string());
-      x.steps = s.value("steps", 0);
-      x.points = s.value("points", 0);
-      x.dropped_points = s.value("dropped_points", 0);
+      x.control = get_or(s, "control", std::string(), file, p);
+      x.steps = get_or(s, "steps", 0, file, p);
+      x.points = get_or(s, "points", 0, file, p);
+      x.dropped_points = get_or(s, "dropped_points", 0, file, p);
       if (s.contains("mesh")) {
         const json& m = s["mesh"];
-        x.mesh.type = m.value("element", std::string("Q8")) == "Q4" ? fem::ElementType::Q4 : fem::ElementType::Q8;
-        x.mesh.width = m.value("width", 2 * x.mesh.width) / 2;
-        x.mesh.height = m.value("height", 2 * x.mesh.height) / 2;
-        x.mesh.nx = m.value("nx", x.mesh.nx);
-        x.mesh.ny = m.value("ny", x.mesh.ny);
-        x.mesh.grading = m.value("grading", 1.0);
-        x.dofs = m.value("dofs", 0);
+        x.mesh.type = get_or(m, "element", std::string("Q8"), file, p + "mesh.") == "Q4" ? fem::ElementType::Q4 : fem::ElementType::Q8;
+        x.mesh.width = get_or(m, "width", 2 * x.mesh.width, file, p + "mesh.") / 2;
+        x.mesh.height = get_or(m, "height", 2 * x.mesh.height, file, p + "mesh.") / 2;
+        x.mesh.nx = get_or(m, "nx", x.mesh.nx, file, p + "mesh.");
+        x.mesh.ny = get_or(m, "ny", x.mesh.ny, file, p + "mesh.");
+        x.mesh.grading = get_or(m, "grading", 1.0, file, p + "mesh.");
+        x.dofs = get_or(m, "dofs", 0, file, p + "mesh.");
       }
       if (s.contains("sigma")) {
         const json& g = s["sigma"];

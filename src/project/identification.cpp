@@ -5,16 +5,62 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <atomic>
 #include <csignal>
+#include <system_error>
 
 #include "identification_outputs.hpp"
 #include "identification_report.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/project/checkpoint.hpp"
+#include "tricot/project/output_dir.hpp"
 
 namespace tricot::project {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// Testing aid (IdentifyRequest::kill_after_evaluations): the objective, killing the process (SIGKILL)
+// as it starts its n-th evaluation, in LM or in the stability test; n = 0 never.
+class KillAfterEvaluations final : public ident::Problem {
+ public:
+  KillAfterEvaluations(const ident::Problem& p, int n) : p_(p), n_(n) {}
+  const std::vector<ident::Parameter>& parameters() const override { return p_.parameters(); }
+  int residuals() const override { return p_.residuals(); }
+  ident::Evaluation evaluate(const Eigen::VectorXd& J, bool jacobian) const override {
+    if (n_ > 0 && ++count_ >= n_) std::raise(SIGKILL);
+    return p_.evaluate(J, jacobian);
+  }
+  bool has_exact_jacobian() const override { return p_.has_exact_jacobian(); }
+  Eigen::VectorXd residual_variance() const override { return p_.residual_variance(); }
+
+ private:
+  const ident::Problem& p_;
+  int n_;
+  mutable std::atomic<int> count_{0};
+};
+
+// `--resume` on a finished run: nothing to do, result.json and the rest stay as they are.
+IdentifyOutcome finished_run(const ident::Checkpoint& c, const fs::path& out, const Log& log, IdentifyOutcome outcome) {
+  ident::IdentifyResult& r = outcome.result;
+  r.termination = c.termination;
+  r.message = c.message;
+  r.names = c.names;
+  r.parameters = c.parameters;
+  r.objective = c.objective;
+  r.iterations = c.iterations;
+  r.evaluations = c.evaluations;
+  r.restarts = c.restarts;
+  r.stability_passed = c.stability_passed;
+  r.history = c.history;
+  outcome.already_finished = true;
+  log.print(fmt::format("identify: nothing to resume: the run in {} finished ({}, {} LM iterations); {} is left as it is",
+                        out.string(), ident::to_string(c.termination), c.iterations, (out / "result.json").string()));
+  return outcome;
+}
+
+}  // namespace
 
 IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& req, const Log& log) {
   return run_identification(read_identification_spec(root), req, log);
@@ -36,25 +82,41 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   for (const auto& g : objective->data().groups())
     outcome.data += fmt::format("{}{} ({})", outcome.data.empty() ? "" : ", ", g.name, g.size);
 
-  // Checkpoints belong to these data and this model; [identify] may change between runs.
+  // Checkpoints belong to these data and this model; [identify] may change between runs. The run
+  // writes in its staging folder (checkpoint.json included) and publishes at the end (issue 14).
   const std::string fingerprint = project::fingerprint(*objective, *law, models);
-  const fs::path checkpoint = req.out / kCheckpointFile;
-  if (req.resume) options.resume_from = read_checkpoint(checkpoint, fingerprint);
-  fs::create_directories(req.out);
+  const fs::path kept = OutputDir::staging_of(req.out, "identify") / kCheckpointFile;
+  const fs::path published = req.out / kCheckpointFile;
+  std::error_code ec;
+  if (req.resume && !fs::exists(kept, ec) && !fs::exists(published, ec))
+    read_checkpoint(kept, fingerprint);  // FileError: nothing to resume
+  OutputDir output(req.out, "identify", /*keep_staging=*/req.resume);  // completes a killed publication
+  if (req.resume) {
+    if (fs::exists(kept, ec)) {
+      options.resume_from = read_checkpoint(kept, fingerprint);
+    } else {  // no run under way: the last published one; finished, it is left as it is
+      options.resume_from = read_checkpoint(published, fingerprint);
+      if (options.resume_from->phase == ident::Phase::done) return finished_run(*options.resume_from, req.out, log, std::move(outcome));
+    }
+  }
+  const fs::path dir = output.staging();
+  const fs::path checkpoint = dir / kCheckpointFile;
   int checkpoints = 0;
   options.on_checkpoint = [&](const ident::Checkpoint& c) {
     write_checkpoint(checkpoint, c, fingerprint);
     if (req.observe) req.observe(c);
     if (req.kill_after > 0 && ++checkpoints >= req.kill_after) std::raise(SIGKILL);  // testing aid
   };
+  // LM minimises the objective, or the objective with the stability barrier ([stability]).
+  const ident::Problem& minimised = P.stability ? static_cast<const ident::Problem&>(*P.stability) : *objective;
+  const KillAfterEvaluations killer(minimised, req.kill_after_evaluations);  // testing aid
 
   log.print(fmt::format("identify: {} coefficients of {} from {} values ({}), {} dofs, {} Jacobian{}",
                             parameters.size(), law->name(), outcome.residuals, outcome.data, outcome.dofs,
                             ident::to_string(options.jacobian),
                             req.resume ? fmt::format(", resumed at iteration {}", options.resume_from->iterations) : ""));
   if (P.stability) log.print(fmt::format("identify: with the stability barrier ({} rows)", P.stability->barrier_rows()));
-  outcome.result = P.stability ? ident::identify(*P.stability, options, log.reporter())
-                               : ident::identify(*objective, options, log.reporter());
+  outcome.result = ident::identify(killer, options, log.reporter());
 
   // Outputs.
   json result = result_json(outcome, *objective, req.resume);
@@ -62,17 +124,19 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
     result["eq9"] = eq9_json(*objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest);
   result["identifiability"] = identifiability_json(*objective, outcome.result, P.identifiability);
-  io::write_atomic(req.out / "result.json", result.dump(2) + "\n");
-  write_history(req.out / "history.csv", outcome.result);
-  if (req.plots) fs::create_directories(req.out / "plots");
+  io::write_atomic(dir / "result.json", result.dump(2) + "\n");
+  write_history(dir / "history.csv", outcome.result);
+  if (req.plots) fs::create_directories(dir / "plots");
   if (outcome.result.termination != ident::Termination::fe_failure)
-    write_fit(req.out, *objective, outcome.result, solver, req.plots, log);
-  if (req.plots) plot_history(req.out, outcome, log);
+    write_fit(dir, *objective, outcome.result, solver, req.plots, log);
+  if (req.plots) plot_history(dir, outcome, log);
   if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
-    write_eq9(req.out, *objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest, req.plots, log);
+    write_eq9(dir, *objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest, req.plots, log);
   if (req.print_summary) print_summary(outcome, req.out, log);
-  write_identification_report(spec, P, outcome, req.out,
+  write_identification_report(spec, P, outcome, dir,
                               std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  if (req.kill_before_publish) std::raise(SIGKILL);  // testing aid
+  output.publish();
   return outcome;
 }
 

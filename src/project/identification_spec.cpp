@@ -110,7 +110,7 @@ SectionSpec identify_section() {
       key("difference", std::string("forward"), "finite_difference only: forward or central.", -kInf, kInf,
           {"forward", "central"}),
       key("fd_step", o.fd_step, "finite_difference only: step h_k = fd_step · scale_k, in (0, 0.1].", 0, 0.1),
-      key("threads", std::int64_t{o.threads}, "Threads for tests and finite-difference columns; 0 = all cores.", 0, 1024),
+      key("threads", std::int64_t{o.threads}, "Threads for tests and finite-difference columns; 0 = all cores; more than the cores run as many as the cores.", 0, 1024),
       key("initial_trust_region_radius", o.initial_trust_region_radius, "LM's first trust-region radius (1/μ₀, LM units), > 0.",
           0, 1e16),
   };
@@ -334,6 +334,41 @@ void check_eq9(const Eq9Spec& eq9, const Project& P) {
   }
 }
 
+// Issue 14: the project and the data must describe the same tests. A [[test]] whose loads differ from
+// its forces.csv, or whose control contradicts the truth.json of a synthetic experiment, is named in
+// the project file, with the first differing value.
+void check_tests_match_data(const CaseSpec& spec, const std::vector<fem::TestModel>& models,
+                            const ident::Experiment& experiment, const std::optional<Truth>& truth,
+                            const fs::path& dir) {
+  for (std::size_t i = 0; i < spec.test.size() && i < models.size(); ++i) {
+    const TestSpec& t = spec.test[i];
+    const ident::TestData* d = experiment.find(t.name);
+    if (!d) continue;
+    const std::string forces = (dir / t.name / kForcesFile).string();
+    if (truth)
+      if (const Truth::Test* tt = truth->find(t.name); tt && !tt->control.empty() && tt->control != t.control)
+        t.origin.fail("control",
+                      fmt::format("contradicts {}, whose data were made under {} control",
+                                  (dir / kTruthFile).string(), tt->control),
+                      "\"" + t.control + "\"", "\"" + tt->control + "\"");
+    const std::vector<double>& m = models[i].loads;
+    const std::vector<double>& L = d->loads;
+    if (m.empty() || L.empty()) continue;
+    const double tol = 1e-9 * std::max(std::abs(L.back()), std::abs(m.back()));
+    std::size_t k = 0;
+    while (k < m.size() && k < L.size() && std::abs(m[k] - L[k]) <= tol) ++k;
+    if (k == m.size() && k == L.size()) continue;
+    const std::string key = !t.loads.empty() ? "loads" : m.size() != L.size() ? "steps" : "load_max";
+    const auto at = [](const std::vector<double>& v, std::size_t j) {
+      return j < v.size() ? format_number(v[j]) : std::string("none");
+    };
+    t.origin.fail(key,
+                  fmt::format("the test's loads differ from {} from step {} on", forces, k + 1),
+                  fmt::format("{} steps, load {} at step {}", m.size(), at(m, k), k + 1),
+                  fmt::format("{} steps, load {} at step {} as in the data", L.size(), at(L, k), k + 1));
+  }
+}
+
 }  // namespace
 
 std::array<std::vector<ident::SurfacePoint>, 2> eq9_points(const ident::Objective& objective, int nearest) {
@@ -460,6 +495,7 @@ Project build_project(const IdentificationSpec& spec, const fs::path& base) {
   const auto kind = m.field_kind;
   ident::Experiment experiment = read_experiment(dir, m.names, kind);
   P.truth = read_truth(dir);
+  check_tests_match_data(spec, P.models, experiment, P.truth, dir);
   const bool has_field = std::any_of(experiment.tests.begin(), experiment.tests.end(),
                                      [](const ident::TestData& d) { return d.has_field(); });
   if (P.truth && has_field && P.truth->field_kind != kind)

@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace tricot::project {
@@ -15,6 +17,14 @@ inline json vec_json(const Eigen::VectorXd& v) { return json(std::vector<double>
 inline Eigen::VectorXd json_vec(const json& j) {
   const auto v = j.get<std::vector<double>>();
   return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
+}
+
+/// nlohmann's message without its "[json.exception.type_error.302] " prefix, for one-line errors that
+/// name the file and key themselves.
+inline std::string json_problem(const std::exception& e) {
+  std::string what = e.what();
+  if (const auto p = what.find("] "); what.rfind("[json.exception", 0) == 0 && p != std::string::npos) what.erase(0, p + 2);
+  return what;
 }
 
 }  // namespace tricot::project

@@ -1,6 +1,8 @@
 // tricot experiment: a lab's raw files → an experiment folder (see lab_experiment.hpp).
 #include "tricot/project/lab_experiment.hpp"
 
+#include "tricot/project/output_dir.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -450,11 +452,13 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
   const lab::FieldKind kind = e.kind();
   LabExperimentResult result;
   json sync_json = json::object();
+  OutputDir output(out, "experiment");  // written in staging, published at the end (issue 14)
+  const fs::path staged = output.staging();
   const auto t_start = std::chrono::steady_clock::now();
   for (std::size_t ti = 0; ti < tests.size(); ++ti) {
     const io::Node& t = tests[ti];
     const std::string name = t.string("name");
-    const fs::path tdir = out / name;
+    const fs::path tdir = staged / name;
     fs::create_directories(tdir);
     lab::SpecimenGeometry geometry{t.real("width_mm"), t.real("free_length_mm"), t.real("tolerance_mm")};
 
@@ -564,9 +568,10 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
                                        format_duration(elapsed / double(ti + 1) * double(tests.size() - ti - 1)))});
     result.tests.push_back(std::move(r));
   }
-  io::write_atomic(out / "sync.json", sync_json.dump(2) + "\n");
-  if (e.plot) plot_sync(out, result.tests, log);
-  io::write_atomic(out / "project.toml", project_skeleton(root, e, result.tests, out));
+  io::write_atomic(staged / "sync.json", sync_json.dump(2) + "\n");
+  if (e.plot) plot_sync(staged, result.tests, log);
+  io::write_atomic(staged / "project.toml", project_skeleton(root, e, result.tests, out));
+  output.publish();
   log.print(fmt::format("wrote {}: {} test(s), sync.json, {}project.toml", out.string(), result.tests.size(),
                         e.plot ? "sync.png, " : ""));
   return result;

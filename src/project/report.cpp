@@ -430,7 +430,7 @@ Document read_json(const fs::path& file) {
       for (const auto& b : s.at("blocks")) sec.blocks.push_back(block_from_json(b));
     }
   } catch (const json::exception& e) {
-    throw InputError({file.string(), 0, {}}, "not a tricot report.json", e.what());
+    throw InputError({file.string(), 0, {}}, "not a tricot report.json", json_problem(e));
   } catch (const std::out_of_range& e) {
     throw InputError({file.string(), 0, "type"}, "not a tricot report.json", e.what());
   }

@@ -12,6 +12,7 @@
 #include "tricot/io/vtu.hpp"
 #include "tricot/project/case_spec.hpp"
 #include "tricot/project/fem_vtu.hpp"
+#include "tricot/project/output_dir.hpp"
 
 namespace tricot::project {
 
@@ -66,8 +67,9 @@ struct TestOutcome {
   std::string message;
 };
 
+// `args.out` is the staging folder (OutputDir); messages name the files where they end up, in `shown`.
 TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const fem::SolveOptions& options,
-                        const SimulationRequest& args, const Log& log) {
+                        const SimulationRequest& args, const fs::path& shown, const Log& log) {
   const fs::path dir = args.out / test.name;
   const fem::SimulationResult r = fem::simulate(test, law, options, log.reporter());
 
@@ -111,7 +113,7 @@ plot {} using "edge_displacement":"force_per_width" with linespoints pt 7 ps 0.6
                               force ? "force-controlled" : "FE"));
   }
 
-  const std::string where = (dir / "").string();
+  const std::string where = (shown / test.name / "").string();
   if (!r.steps.empty()) {
     const auto& last = r.steps.back();
     log.print(fmt::format("{}: {} steps, {} Newton iterations, {} cutbacks, {}; final force {:.5g} N "
@@ -127,7 +129,7 @@ plot {} using "edge_displacement":"force_per_width" with linespoints pt 7 ps 0.6
 // --- simple shear: the law at F = [[1, γ], [0, 1]] (THEORY §4 validation) ------------------------------
 
 TestOutcome run_simple_shear(const fem::TestModel& test, const fem::Law& law, const LawSpec& law_spec,
-                             const SimulationRequest& args, const Log& log) {
+                             const SimulationRequest& args, const fs::path& shown, const Log& log) {
   const auto t0 = std::chrono::steady_clock::now();
   const fs::path dir = args.out / test.name;
   io::Table t;
@@ -208,7 +210,7 @@ plot {2} using "gamma":"s12" with points pt 6 ps 0.8 lc rgb "#1f77b4" title "σ1
     log.print(fmt::format("{}: {} steps (the law at F = [[1, γ], [0, 1]]), {}; at γ = {:.5g}: s12 = {:.6g}, "
                               "s11 = {:.6g} N/mm -> {}",
                               test.name, t.rows.size(), format_duration(seconds), last[0], last[3], last[1],
-                              (dir / "").string()));
+                              (shown / test.name / "").string()));
   }
   return outcome;
 }
@@ -260,15 +262,24 @@ SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& 
                      "\"" + args.only_test + "\"", "one of " + all);
   }
 
+  // Written in a staging folder, published at the end (issue 14); a run of one test (--test)
+  // replaces that test's files only.
+  OutputDir output(args.out, "simulate");
+  SimulationRequest staged = args;
+  staged.out = output.staging();
   std::vector<std::string> failures, fe_tests;
   for (const auto& [test, model] : tests) {
     const bool shear = test->test_kind() == TestKind::simple_shear;
-    const TestOutcome o = shear ? run_simple_shear(model, *law, spec.law, args, log)
-                                : run_fe_test(model, *law, options, args, log);
+    const TestOutcome o = shear ? run_simple_shear(model, *law, spec.law, staged, args.out, log)
+                                : run_fe_test(model, *law, options, staged, args.out, log);
     if (!o.converged) failures.push_back(o.message);
     if (!shear) fe_tests.push_back(model.name);
   }
-  if (fe_tests.size() > 1) plot_all(log, args.out, fe_tests);
+  if (fe_tests.size() > 1) plot_all(log, staged.out, fe_tests);
+  if (args.only_test.empty())
+    output.publish();
+  else
+    output.publish({args.only_test + "/"});
   return {failures};
 }
 

@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json.hpp"
+
 #include "tricot/core/error.hpp"
 #include "tricot/image/image.hpp"
 #include "tricot/io/files.hpp"
@@ -169,7 +171,7 @@ CameraFile read_camera(const fs::path& images_dir) {
       out.frames.push_back({f.at("file").get<std::string>(), f.at("step").get<int>(), f.at("load").get<double>(),
                             f.at("edge_displacement").get<double>()});
   } catch (const json::exception& e) {
-    throw InputError({path.string(), 0, at}, std::string("malformed camera file: ") + e.what());
+    throw InputError({path.string(), 0, at}, "malformed camera file: " + json_problem(e));
   }
   try {
     out.camera.validate();

@@ -4,6 +4,8 @@
 // mesh than the identification's, so that the check is not an inverse crime.
 #include "tricot/project/synthesis.hpp"
 
+#include "tricot/project/output_dir.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -150,6 +152,8 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
     models.push_back(t.model(spec.mesh, spec.rig));
   }
 
+  OutputDir output(dir, "synth");  // written in staging, published at the end (issue 14)
+  const fs::path staged = output.staging();
   Truth truth;
   truth.law = law->name();
   truth.names = law->coefficient_names();
@@ -210,16 +214,17 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
                                       : std::string("no field");
     if (dropped > 0) field += fmt::format(" ({} left the specimen and were left out)", dropped);
     if (with_images) {  // the speckle of test i is seeded with seed + i, like its noise
-      const int frames = write_images(images, model, sim, truth.seed + i, dir / model.name, log);
+      const int frames = write_images(images, model, sim, truth.seed + i, staged / model.name, log);
       field += fmt::format("; {} images in {}", frames, (dir / model.name / kImagesFolder / "").string());
-      if (s.section("lab").boolean("enabled")) write_lab_record(s.section("lab"), sim, dir / model.name, truth.seed + i, log);
+      if (s.section("lab").boolean("enabled")) write_lab_record(s.section("lab"), sim, staged / model.name, truth.seed + i, log);
     }
     log.print(fmt::format("{}: {} steps on {} {} dofs in {}; last step {:.5g} N at {:.5g} mm; {}; {}", model.name,
                               d.steps(), tt.dofs, fem::to_string(tt.mesh.type), format_duration(sim.seconds),
                               last.edge_force, last.edge_displacement, field, noise));
   }
-  for (const auto& d : data) write_test_data(dir, d);
-  write_truth(dir, truth);
+  for (const auto& d : data) write_test_data(staged, d);
+  write_truth(staged, truth);
+  output.publish();
   std::string coefficients;
   for (std::size_t k = 0; k < truth.names.size(); ++k)
     coefficients += fmt::format("{}{} = {:.6g}", k ? ", " : "", truth.names[k], truth.values[k]);

@@ -210,8 +210,8 @@ TEST(CliDic, ARoiOutsideTheImageIsAUsageErrorNamingTheFlag) {
   const auto r = run_tricot("dic -q --roi 500,500,600,600 -o " + q(f.dir / "out") + f.args());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err,
-            "tricot: error: command line: --roi: region of interest lies outside the image (got 500,500,600,600, "
-            "expected within 0,0,159,119)\n");
+            "tricot: error: command line: --roi: the rectangle reaches outside the image (got [500, 500, 600, 600], "
+            "expected within the 160x120 reference image: 0 <= x <= 159, 0 <= y <= 119)\n");
 }
 
 TEST(CliDic, ARoiFlagThatIsNotFourNumbersIsAUsageError) {

@@ -115,11 +115,11 @@ TEST_F(Identify, AResumedRunReachesTheSameAnswerAsAnUninterruptedOne) {
   ASSERT_EQ(identify("whole", small_project("../exp")).exit_code, 0);
   const json whole = result("whole");
 
-  // Killed (SIGKILL) after the third checkpoint: a checkpoint, no result.
+  // Killed (SIGKILL) after the third checkpoint: a checkpoint in the staging folder, no result.
   const auto killed = identify("killed", small_project("../exp"), "--kill-after 3");
   EXPECT_NE(killed.exit_code, 0);
   const fs::path out = root_ / "killed" / "out";
-  ASSERT_TRUE(fs::exists(out / "checkpoint.json"));
+  ASSERT_TRUE(fs::exists(out / ".tricot-identify" / "checkpoint.json"));
   EXPECT_FALSE(fs::exists(out / "result.json"));
 
   const auto resumed = run_tricot("identify " + (root_ / "killed" / "project.toml").string() + " -o " + out.string() +
@@ -132,6 +132,78 @@ TEST_F(Identify, AResumedRunReachesTheSameAnswerAsAnUninterruptedOne) {
   EXPECT_EQ(j["iterations"], whole["iterations"]);
   EXPECT_EQ(j["termination"], whole["termination"]);
   EXPECT_EQ(io::read_csv(out / "history.csv").rows, io::read_csv(root_ / "whole" / "out" / "history.csv").rows);
+}
+
+// Issue 14: a kill at any moment (in LM, after its last accepted step, inside the stability test,
+// before the outputs are published) resumes to the uninterrupted parameters with the same iteration
+// count. The kills are at evaluations spread over the run; the last ones fall in the stability test.
+constexpr double kResumedAnswer = 1e-10;
+
+TEST_F(Identify, ResumesFromKillsAnywhereToTheUninterruptedAnswer) {
+  ASSERT_EQ(identify("whole_kills", small_project("../exp")).exit_code, 0);
+  const json whole = result("whole_kills");
+  const int evaluations = whole["evaluations"].get<int>();
+  const int stability = 2 * static_cast<int>(kNames.size());  // the stability test's trials
+  ASSERT_GT(evaluations, stability + 4);
+  std::vector<std::string> kills;
+  for (int n : {2, evaluations / 3, (2 * evaluations) / 3, evaluations - stability + 1, evaluations - 1, evaluations})
+    kills.push_back("--kill-after-evaluations " + std::to_string(n));
+  kills.push_back("--kill-before-publish");
+  for (const auto& kill : kills) {
+    SCOPED_TRACE(kill);
+    const auto killed = identify("kill", small_project("../exp"), kill);
+    ASSERT_NE(killed.exit_code, 0);
+    const fs::path out = root_ / "kill" / "out";
+    EXPECT_FALSE(fs::exists(out / "result.json"));  // nothing published
+    const auto resumed = run_tricot("identify " + (root_ / "kill" / "project.toml").string() + " -o " + out.string() +
+                                    " -q --no-plots --resume");
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    const json j = result("kill");
+    for (const auto& n : kNames) {
+      const double w = whole["parameters"][n].get<double>();
+      EXPECT_NEAR(j["parameters"][n].get<double>(), w, kResumedAnswer * std::abs(w)) << n;
+    }
+    EXPECT_EQ(j["iterations"], whole["iterations"]);
+    EXPECT_EQ(j["termination"], whole["termination"]);
+    EXPECT_EQ(j["restarts"], whole["restarts"]);
+    EXPECT_FALSE(fs::exists(out / ".tricot-identify"));  // published: no staging left
+  }
+}
+
+TEST_F(Identify, ResumeOnAFinishedRunDoesNothingAndSaysSo) {
+  ASSERT_EQ(identify("finished", small_project("../exp")).exit_code, 0);
+  const fs::path out = root_ / "finished" / "out";
+  const std::string before = io::read_text(out / "result.json");
+  const auto written = fs::last_write_time(out / "result.json");
+  const auto again = run_tricot("identify " + (root_ / "finished" / "project.toml").string() + " -o " + out.string() +
+                                " --no-plots --resume");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.out.find("nothing to resume"), std::string::npos) << again.out;
+  EXPECT_EQ(io::read_text(out / "result.json"), before);
+  EXPECT_EQ(fs::last_write_time(out / "result.json"), written);
+}
+
+TEST_F(Identify, AKilledRerunLeavesTheEarlierRunWholeAndARerunReplacesIt) {
+  // An earlier run with two coefficients, then a rerun with four that is killed mid-way.
+  const std::string two = "[[parameter]]\nname = \"C10\"\n[[parameter]]\nname = \"C20\"\n";
+  ASSERT_EQ(identify("rerun", small_project("../exp", "", two)).exit_code, 0);
+  const fs::path dir = root_ / "rerun", out = dir / "out";
+  const std::string earlier = io::read_text(out / "result.json");
+  const std::string earlier_checkpoint = io::read_text(out / "checkpoint.json");
+  write_file(dir / "project.toml", small_project("../exp"));
+  const auto killed = run_tricot("identify " + (dir / "project.toml").string() + " -o " + out.string() +
+                                 " -q --no-plots --kill-after 3");
+  ASSERT_NE(killed.exit_code, 0);
+  // The folder still holds the earlier run, whole: its result beside its own checkpoint.
+  EXPECT_EQ(io::read_text(out / "result.json"), earlier);
+  EXPECT_EQ(io::read_text(out / "checkpoint.json"), earlier_checkpoint);
+  EXPECT_TRUE(fs::exists(out / ".tricot-identify" / "checkpoint.json"));  // the rerun's, apart
+  // Resumed, the rerun replaces it: four coefficients in result.json and in the checkpoint.
+  const auto resumed = run_tricot("identify " + (dir / "project.toml").string() + " -o " + out.string() +
+                                  " -q --no-plots --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(result("rerun")["parameters"].size(), 4u);
+  EXPECT_EQ(json::parse(io::read_text(out / "checkpoint.json"))["names"].size(), 4u);
 }
 
 TEST_F(Identify, ResumeRefusesACheckpointOfOtherData) {

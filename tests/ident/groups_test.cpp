@@ -73,5 +73,16 @@ TEST(ScaledResiduals, AllZeroDataWithoutSigmaIsAnError) {
   EXPECT_NO_THROW(d.add("z", GroupKind::field_u, 0, Eigen::Vector3d::Zero(), 1, 0.01));
 }
 
+TEST(ScaledResiduals, AGroupWhoseRmsOverflowsIsAnErrorNotAZeroWeight) {
+  ScaledResiduals d;
+  try {
+    d.add("t/edge_displacement", GroupKind::edge_displacement, 0, Eigen::Vector3d(1, 2, 1e200));
+    FAIL() << "1e200² overflows the sum of squares";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "data.t/edge_displacement");
+    EXPECT_NE(std::string(e.what()).find("RMS overflows"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace tricot::ident

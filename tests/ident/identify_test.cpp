@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "analytic.hpp"
@@ -218,6 +219,87 @@ TEST(Identify, ResumedFromACheckpointReachesTheSameAnswer) {
   EXPECT_EQ(rest.history.size(), full.history.size());
   // The resumed run evaluates the checkpoint's point once more (the killed one had it in memory).
   EXPECT_EQ(rest.evaluations, full.evaluations + 1);
+}
+
+// A kill at any moment resumes from the last checkpoint written before it; resuming from every
+// checkpoint of a run is resuming from every kill point: during LM, after its last accepted step
+// (ε/δ already met: phase stability), during or after a stability test and its restart, and after
+// the end (phase done: only the uncertainty is left).
+constexpr double kResumedAnswer = 1e-10;  // issue 14: the uninterrupted answer to round-off
+
+// `same_message`: false for a run to round-off, whose stopping message quotes a gradient of a few ulps
+// (the last bit depends on allocation alignment: ResumedFromACheckpointReachesTheSameAnswer).
+void expect_every_checkpoint_resumes_to(const Problem& p, const IdentifyOptions& base, bool same_message = true) {
+  std::vector<Checkpoint> saved;
+  IdentifyOptions o = base;
+  o.on_checkpoint = [&](const Checkpoint& c) { saved.push_back(c); };
+  const IdentifyResult full = identify(p, o);
+  ASSERT_TRUE(full.converged()) << full.message;
+  ASSERT_EQ(saved.back().phase, Phase::done);
+  for (std::size_t i = 0; i < saved.size(); ++i) {
+    IdentifyOptions resume = base;
+    resume.resume_from = saved[i];
+    const IdentifyResult rest = identify(p, resume);
+    SCOPED_TRACE("resumed from checkpoint " + std::to_string(i) + " (phase " + to_string(saved[i].phase) +
+                 ", iteration " + std::to_string(saved[i].iterations) + ")");
+    EXPECT_EQ(rest.termination, full.termination);
+    if (same_message) {
+      EXPECT_EQ(rest.message, full.message);
+    }
+    EXPECT_EQ(rest.iterations, full.iterations);
+    EXPECT_EQ(rest.restarts, full.restarts);
+    EXPECT_EQ(rest.stability_passed, full.stability_passed);
+    EXPECT_EQ(rest.history.size(), full.history.size());
+    EXPECT_EQ(rest.start, full.start);
+    for (Eigen::Index k = 0; k < full.parameters.size(); ++k)
+      EXPECT_NEAR(rest.parameters(k), full.parameters(k), kResumedAnswer * std::abs(full.parameters(k)));
+  }
+}
+
+TEST(Identify, ResumedFromAnyCheckpointReachesTheUninterruptedAnswerWithTheSameIterations) {
+  const AnalyticProblem p = test::curve_fit(kTruth, Eigen::Vector3d(1.2, 1.4, 0.5));
+  expect_every_checkpoint_resumes_to(p, {});  // stops on ε (eq. 2)
+  IdentifyOptions o;
+  o.epsilon = 0;  // stops on δ: eq. (3) or Ceres's step test on a trial step
+  expect_every_checkpoint_resumes_to(p, o);
+  o.delta = 1e-12;  // to round-off
+  expect_every_checkpoint_resumes_to(p, o, /*same_message=*/false);
+  // With a bound Ceres makes its step test from the first trial of a solve, resumed or not.
+  auto params = test::curve_parameters(Eigen::Vector3d(1.2, 1.4, 0.5));
+  params[0].upper = 1.8;
+  const AnalyticProblem bounded(params, test::curve, test::curve_derivative, test::curve(kTruth));
+  o.delta = 1e-5;
+  expect_every_checkpoint_resumes_to(bounded, o);
+}
+
+TEST(Identify, ResumedInsideTheStabilityTestAndItsRestartReachesTheUninterruptedAnswer) {
+  const AnalyticProblem p = two_minima();
+  IdentifyOptions o;
+  o.stability_eta = 0.1;  // one restart (StabilityTestRestartsFromABetterPerturbation)
+  std::vector<Phase> phases;
+  o.on_checkpoint = [&](const Checkpoint& c) { phases.push_back(c.phase); };
+  ASSERT_GE(identify(p, o).restarts, 1);
+  EXPECT_GE(std::count(phases.begin(), phases.end(), Phase::stability), 2);  // before and after the restart
+  o.on_checkpoint = {};
+  expect_every_checkpoint_resumes_to(p, o);
+}
+
+TEST(Identify, TheCheckpointAfterTheLastAcceptedStepSaysLmHasConverged) {
+  const AnalyticProblem p = test::curve_fit(kTruth, Eigen::Vector3d(1.2, 1.4, 0.5));
+  std::vector<Checkpoint> saved;
+  IdentifyOptions o;
+  o.on_checkpoint = [&](const Checkpoint& c) { saved.push_back(c); };
+  const IdentifyResult full = identify(p, o);
+  ASSERT_EQ(full.termination, Termination::objective_below_epsilon);
+  // The first checkpoint at the final iteration is written after its ε test: phase stability.
+  const auto last_lm = std::find_if(saved.begin(), saved.end(), [&](const Checkpoint& c) {
+    return c.iterations == full.iterations;
+  });
+  ASSERT_NE(last_lm, saved.end());
+  EXPECT_EQ(last_lm->phase, Phase::stability);
+  EXPECT_EQ(last_lm->termination, Termination::objective_below_epsilon);
+  EXPECT_EQ(saved.back().phase, Phase::done);
+  EXPECT_TRUE(saved.back().stability_passed);
 }
 
 TEST(Identify, RefusesACheckpointOfAnotherProblem) {

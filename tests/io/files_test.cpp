@@ -47,3 +47,33 @@ TEST(WriteAtomic, LeavesNoTemporaryBehind) {
   for ([[maybe_unused]] auto& e : std::filesystem::directory_iterator(dir / "sub")) ++n;
   EXPECT_EQ(n, 1);
 }
+
+TEST(Csv, AByteOrderMarkAndCrlfLineEndsAreRead) {
+  const auto dir = test::scratch_dir("csv_bom");
+  std::ofstream(dir / "b.csv", std::ios::binary) << "\xEF\xBB\xBFstep,force\r\n1,2.5\r\n";
+  const Table t = read_csv(dir / "b.csv");
+  EXPECT_EQ(t.columns, (std::vector<std::string>{"step", "force"}));
+  EXPECT_EQ(t.rows.at(0).at(1), 2.5);
+}
+
+TEST(ReadText, AFolderIsAFileErrorNamingIt) {
+  const auto dir = test::scratch_dir("read_folder");
+  try {
+    read_text(dir);
+    FAIL() << "no error";
+  } catch (const FileError& e) {
+    EXPECT_EQ(std::string(e.what()), dir.string() + ": is a folder, not a file (expected a regular file)");
+  }
+}
+
+TEST(Gnuplot, AFailingScriptReturnsGnuplotsMessageAndPrintsNothing) {
+  std::string why;
+  testing::internal::CaptureStdout();
+  const bool ok = run_gnuplot("this_is_not_a_command\n", &why);
+  const std::string printed = testing::internal::GetCapturedStdout();
+  EXPECT_FALSE(ok);
+  EXPECT_TRUE(printed.empty()) << printed;
+  if (why.find("not installed") != std::string::npos) GTEST_SKIP() << why;
+  EXPECT_NE(why.find("gnuplot failed: "), std::string::npos) << why;
+  EXPECT_EQ(why.find("is gnuplot-nox installed"), std::string::npos) << why;
+}

@@ -140,3 +140,12 @@ TEST(FrameTimes, ComeFromTheLastNumberWithAUnitInTheFileName) {
   EXPECT_EQ(time_from_file_name("frame_0007_2,25s.bmp"), 2.25);
   EXPECT_NE(error_of([] { time_from_file_name("img_0003.tif"); }), "");
 }
+
+TEST(Log, AFileWithAByteOrderMarkAndCrlfLineEndsReadsAsWithout) {
+  const auto dir = test::scratch_dir("log_bom_crlf");
+  std::ofstream(dir / "excel.csv", std::ios::binary) << "\xEF\xBB\xBFTime (s),Load (N)\r\n0.0,0.10\r\n0.5,2.5\r\n1.0,4.75\r\n";
+  const LogTable t = read_log(dir / "excel.csv");
+  EXPECT_EQ(t.columns.front(), "Time (s)");
+  EXPECT_EQ(t.numbers("time"), (std::vector<double>{0, 0.5, 1.0}));
+  EXPECT_EQ(t.numbers("load"), (std::vector<double>{0.1, 2.5, 4.75}));
+}

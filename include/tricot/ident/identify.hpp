@@ -15,6 +15,29 @@
 
 namespace tricot::ident {
 
+enum class Termination {
+  objective_below_epsilon,   ///< converged: f < ε (eq. 2)
+  step_below_delta,          ///< converged: an accepted step below δ (eq. 3), Ceres' parameter
+                             ///< tolerance on a trial step, or the trust region collapsed
+  objective_stalled,         ///< converged: a trial step changed f by < function_tolerance · f
+  gradient_below_tolerance,  ///< converged: gradient max-norm ≤ gradient_tolerance
+  max_iterations,            ///< not converged: max_iterations LM iterations used
+  unstable,                  ///< the stability test still found a lower f after max_restarts
+  fe_failure,                ///< the model could not be evaluated at the start or at an accepted
+                             ///< point (the FE did not converge), or LM stopped because every step
+                             ///< it tried from the last accepted point failed; `message` has why
+};
+const char* to_string(Termination t);  ///< the enumerator's name
+
+/// Where a run stands (checkpoint.json's "phase"): what a resumed run does next.
+enum class Phase {
+  lm,         ///< LM is under way: it goes on from the last accepted point
+  stability,  ///< LM converged (termination, message): the stability test comes next
+  done,       ///< finished (termination, message, stability_passed): only the uncertainty is left
+};
+const char* to_string(Phase p);               ///< "lm", "stability", "done"
+std::optional<Phase> phase_from_string(const std::string& s);  ///< the inverse; nullopt when unknown
+
 /// One point of the history: the start, every accepted LM step, and every stability restart.
 struct HistoryEntry {
   int iteration = 0;          ///< LM iterations so far (accepted and rejected, all restarts)
@@ -23,9 +46,11 @@ struct HistoryEntry {
   int restart = 0;            ///< stability restarts before this entry
 };
 
-/// The state after an accepted LM step: enough to continue the run exactly (resume_from). The
-/// library does not write it; on_checkpoint hands it to the caller.
-/// LM's progress at an accepted point: all a resumed run needs to go on along the same path.
+/// LM's progress at an accepted point, after the ε (eq. 2) and δ (eq. 3) tests were made there: all a
+/// resumed run needs to go on along the same path (resume_from). Ceres's Levenberg–Marquardt state at
+/// an accepted point is x and the radius (its radius-decrease factor is then back at 2 and no
+/// diagonal is reused), so the resumed run takes the same steps. The library does not write it;
+/// on_checkpoint hands it to the caller.
 struct LmProgress {
   Eigen::VectorXd x;               ///< LM variables at the accepted point (exact, for the resume)
   double objective = 0;
@@ -33,6 +58,11 @@ struct LmProgress {
   int iterations = 0, evaluations = 0, jacobian_evaluations = 0, failed_evaluations = 0, restarts = 0;
   double wall_seconds = 0;  ///< spent so far, carried on by a resumed run
   std::vector<HistoryEntry> history;
+  Phase phase = Phase::lm;  ///< what comes next
+  /// Phase stability or done: how LM (phase stability) or the run (done) ended, and why.
+  Termination termination = Termination::fe_failure;
+  std::string message;
+  bool stability_passed = false;  ///< phase done: the last stability test found no lower f
 };
 
 struct Checkpoint : LmProgress {
@@ -70,10 +100,13 @@ struct IdentifyOptions {
   /// Mooney–Rivlin test from ×2 the truth, 1e4 (Ceres' default, nearly Gauss–Newton) cost 107
   /// failed FE trials and 5 stability restarts, 10 none, 1 none but more iterations.
   double initial_trust_region_radius = 10;
-  /// Called after every accepted step (and at the start) with the state to save; may be empty.
+  /// Called with the state to save after every accepted step (and at the start), once its ε and δ
+  /// tests are made, when LM stops (phase stability or done) and after each stability test; may be
+  /// empty.
   std::function<void(const Checkpoint&)> on_checkpoint;
-  /// Continue a run from its last checkpoint: LM goes on from the same state, so it reaches the
-  /// same answer. Its names and scales must match the problem's (InputError `resume`).
+  /// Continue a run from its last checkpoint: LM goes on from the same state (or the stability test
+  /// or the end, by its phase), so it reaches the same answer with the same iteration count. Its
+  /// names and scales must match the problem's (InputError `resume`).
   std::optional<Checkpoint> resume_from;
 
   /// Throws InputError naming `identify.<field>`.
@@ -81,19 +114,6 @@ struct IdentifyOptions {
   JacobianOptions jacobian_options() const { return {jacobian, difference, fd_step, threads}; }
 };
 
-enum class Termination {
-  objective_below_epsilon,   ///< converged: f < ε (eq. 2)
-  step_below_delta,          ///< converged: an accepted step below δ (eq. 3), Ceres' parameter
-                             ///< tolerance on a trial step, or the trust region collapsed
-  objective_stalled,         ///< converged: a trial step changed f by < function_tolerance · f
-  gradient_below_tolerance,  ///< converged: gradient max-norm ≤ gradient_tolerance
-  max_iterations,            ///< not converged: max_iterations LM iterations used
-  unstable,                  ///< the stability test still found a lower f after max_restarts
-  fe_failure,                ///< the model could not be evaluated at the start or at an accepted
-                             ///< point (the FE did not converge), or LM stopped because every step
-                             ///< it tried from the last accepted point failed; `message` has why
-};
-const char* to_string(Termination t);  ///< the enumerator's name
 
 struct IdentifyResult {
   Termination termination = Termination::fe_failure;

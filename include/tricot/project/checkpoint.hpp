@@ -1,5 +1,6 @@
 // DIR/checkpoint.json of `tricot identify`: ident::Checkpoint (LM's progress, names and scales) plus a
-// fingerprint of the data and the model, rewritten after every accepted LM step; `--resume` reads it.
+// fingerprint of the data and the model, rewritten after every accepted LM step (with its phase: LM,
+// stability test, done); `--resume` reads it.
 #pragma once
 
 #include <filesystem>

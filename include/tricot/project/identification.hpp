@@ -50,13 +50,22 @@ Project build_project(const io::Node& root, const std::filesystem::path& base);
 /// How to run one identification.
 struct IdentifyRequest {
   std::filesystem::path base;  ///< the folder `experiment.dir` is relative to (the project file's)
-  std::filesystem::path out;   ///< DIR: result.json, history.csv, checkpoint.json, plots/
-  bool resume = false;         ///< continue from DIR/checkpoint.json
+  /// DIR: result.json, history.csv, checkpoint.json, plots/, written in DIR/.tricot-identify/ and
+  /// published at the end (OutputDir).
+  std::filesystem::path out;
+  /// Continue a killed run from its checkpoint (DIR/.tricot-identify/checkpoint.json); a finished
+  /// run (DIR/checkpoint.json in phase done) is left as it is (IdentifyOutcome::already_finished).
+  bool resume = false;
   bool plots = true;           ///< plots/*.png through gnuplot
   bool print_summary = true;   ///< the table of coefficients at the end
   /// Testing aid: after this many checkpoints the process kills itself (SIGKILL), as a run killed
   /// mid-way; 0 = never.
   int kill_after = 0;
+  /// Testing aid: the process kills itself as it starts this evaluation of the objective (LM or the
+  /// stability test); 0 = never.
+  int kill_after_evaluations = 0;
+  /// Testing aid: the process kills itself once every output is staged, before publishing them.
+  bool kill_before_publish = false;
   /// Called after each checkpoint is written (the demo's ε study reads the run from them).
   std::function<void(const ident::Checkpoint&)> observe;
 };
@@ -67,6 +76,8 @@ struct IdentifyOutcome {
   int residuals = 0;           ///< N, the data values in f
   std::string data;            ///< the data groups, e.g. "tension/edge_displacement (35)"
   int dofs = 0;                ///< of the identification mesh (first test)
+  /// `--resume` found the run finished: nothing was run or written; `result` is the checkpoint's.
+  bool already_finished = false;
 };
 
 /// Runs the identification of a validated project: reads the experiment, builds the objective,
