@@ -26,6 +26,8 @@
 #include <vector>
 
 #include "tricot/core/error.hpp"
+#include "tricot/core/kinematics.hpp"
+#include "tricot/fem/element.hpp"
 #include "tricot/fem/reference_fabric.hpp"
 #include "tricot/fem/response_surface.hpp"
 #include "tricot/fem/rig.hpp"
@@ -33,6 +35,7 @@
 #include "tricot/ident/identifiability.hpp"
 #include "tricot/ident/identify.hpp"
 #include "tricot/ident/objective.hpp"
+#include "tricot/ident/stability_barrier.hpp"
 #include "tricot/ident/surface_error.hpp"
 #include "tricot/ident/synthetic.hpp"
 
@@ -205,6 +208,55 @@ Eigen::VectorXd polynomial_start(const fem::ResponseSurface& law, const Campaign
   return solve(1e12);
 }
 
+
+/// Diagnosis (TRICOT_CAMPAIGN_PROBE="J1,…,J14[;s]"): the 110 mm models run with paper14 at
+/// J* + s (J* − J_start), printing each test's status and, step by step, the strains, the tangent
+/// determinant of (F_C, F_W) and det F at the centre of the element that inverts (TRICOT_PROBE_ELEMENT,
+/// default 107) and of its neighbours.
+void probe(const char* spec) {
+  std::vector<double> v;
+  double s = 0;
+  std::string text(spec);
+  const auto semi = text.find(';');
+  if (semi != std::string::npos) s = std::atof(text.c_str() + semi + 1), text = text.substr(0, semi);
+  for (size_t a = 0; a < text.size();) {
+    size_t b = text.find(',', a);
+    if (b == std::string::npos) b = text.size();
+    v.push_back(std::atof(text.substr(a, b - a).c_str()));
+    a = b + 1;
+  }
+  Campaign& c = campaign(110);
+  fem::ResponseSurface law = fem::ResponseSurface::preset("paper14", kShear);
+  const Eigen::VectorXd J_star = Eigen::Map<Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+  const Eigen::VectorXd J0 = polynomial_start(law, c);
+  law.set_coefficients(J_star + s * (J_star - J0));
+  const int watch = std::getenv("TRICOT_PROBE_ELEMENT") ? std::atoi(std::getenv("TRICOT_PROBE_ELEMENT")) : 107;
+  for (const auto& t : c.tests) {
+    const fem::SimulationResult r = fem::simulate(t.model, law);
+    std::printf("# probe s=%g %s: %s %s (%zu steps)\n", s, t.model.name.c_str(), fem::to_string(r.termination), r.message.c_str(), r.steps.size());
+    if (r.usable()) continue;
+    const Eigen::Matrix2d Q = t.pull == fem::PullDirection::wale ? Eigen::Matrix2d::Identity()
+                                                                 : Eigen::Matrix2d(Eigen::Rotation2Dd(M_PI / 2));
+    (void)Q;
+    for (size_t k = 0; k < r.steps.size(); ++k)
+      for (int e : {watch - 12, watch - 1, watch, watch + 12}) {
+        if (e < 0 || e >= t.model.mesh.elements()) continue;
+        const Mat2 F = fem::deformation_gradient(t.model.mesh, e, Vec2::Zero(), r.steps[k].u);
+        Mat2 Qm;
+        Qm << std::cos(M_PI / 180 * t.model.material_angle), -std::sin(M_PI / 180 * t.model.material_angle),
+            std::sin(M_PI / 180 * t.model.material_angle), std::cos(M_PI / 180 * t.model.material_angle);
+        const Mat2 E = Qm.transpose() * green_lagrange(F) * Qm;
+        const double h = 1e-6;
+        Eigen::Matrix2d A;
+        A.col(0) = (law.forces(E(0, 0) + h, E(1, 1)) - law.forces(E(0, 0) - h, E(1, 1))) / (2 * h);
+        A.col(1) = (law.forces(E(0, 0), E(1, 1) + h) - law.forces(E(0, 0), E(1, 1) - h)) / (2 * h);
+        const Vec2 f = law.forces(E(0, 0), E(1, 1));
+        std::printf("#   step %2zu el %3d: eC %7.3f eW %7.3f eCW %7.3f detF %6.3f  F_C %7.4f F_W %7.4f  det dF/de %8.4f\n", k + 1, e,
+                    E(0, 0), E(1, 1), E(0, 1), F.determinant(), f(0), f(1), A.determinant());
+      }
+  }
+}
+
 struct Surfaces {
   ident::Eq9Error course, wale;            // against the experimental points (Table 5)
   ident::Eq9Error course_true, wale_true;  // against the reference knit at the same strains
@@ -263,6 +315,7 @@ int restricted_steps(const CampaignTest& t) {
 struct Run {
   ident::IdentifyResult result;
   std::unique_ptr<ident::Objective> objective;
+  std::unique_ptr<ident::StabilizedObjective> stabilized;  // the objective with the stability barrier
   Surfaces start_errors, errors, truth_errors;
 };
 
@@ -272,6 +325,9 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   const Eigen::VectorXd J0 = std::getenv("TRICOT_CAMPAIGN_SLOPE_START") ? polynomial_start(law, c, 1) : J_fit;
   law.set_coefficients(J_fit);
   const Surfaces fit_errors = errors(c, law);
+  std::printf("# start (%s): coefficients = [", preset.c_str());
+  for (Eigen::Index k = 0; k < J_fit.size(); ++k) std::printf("%s%.6g", k ? ", " : "", J_fit(k));
+  std::printf("]\n");
   law.set_coefficients(J0);
   std::vector<fem::TestModel> models;
   ident::Experiment data;
@@ -300,7 +356,13 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   Run run;
   run.objective = std::make_unique<ident::Objective>(models, data, law, p);
   ident::IdentifyOptions o;
-  run.result = ident::identify(*run.objective, o);
+  // The material-stability barrier (ident/stability_barrier.hpp) unless TRICOT_CAMPAIGN_NO_BARRIER.
+  if (std::getenv("TRICOT_CAMPAIGN_NO_BARRIER")) {
+    run.result = ident::identify(*run.objective, o);
+  } else {
+    run.stabilized = std::make_unique<ident::StabilizedObjective>(*run.objective);
+    run.result = ident::identify(*run.stabilized, o);
+  }
   run.start_errors = fit_errors;
   fem::ResponseSurface found = law;
   found.set_coefficients(run.result.parameters);
@@ -352,6 +414,15 @@ void report(benchmark::State& state, const Campaign& c, const Run& r, const std:
     double at_C = 0, at_W = 0;
     const double worst = smallest_stiffness(law, &at_C, &at_W);
     std::printf("\n#   smallest stiffness eigenvalue %.4g N/mm at (%.2f, %.2f)\n", worst, at_C, at_W);
+    if (r.stabilized) {
+      const auto A = r.stabilized->force_jacobians(res.parameters);
+      size_t g_min = 0;
+      for (size_t g = 0; g < A.size(); ++g)
+        if (A[g].determinant() < A[g_min].determinant()) g_min = g;
+      std::printf("#   smallest det dF/de %.4g (N/mm)^2 at (%.2f, %.2f); barrier part of f %.4g\n", A[g_min].determinant(),
+                  r.stabilized->grid()[g_min](0), r.stabilized->grid()[g_min](1),
+                  0.5 * r.stabilized->barrier(res.parameters).squaredNorm());
+    }
   }
   // Identifiability at J* (only when LM ended at a point the FE solves with sensitivities).
   if (res.termination == ident::Termination::fe_failure) return;
@@ -384,6 +455,11 @@ void report(benchmark::State& state, const Campaign& c, const Run& r, const std:
 }
 
 void BM_Identify(benchmark::State& state, int size, std::string preset, bool restricted) {
+  if (const char* spec = std::getenv("TRICOT_CAMPAIGN_PROBE")) {
+    probe(spec);
+    state.SkipWithError("probe only");
+    return;
+  }
   Campaign& c = campaign(size);
   for (auto _ : state) {
     Run r = identify(c, preset, restricted);

@@ -18,24 +18,34 @@ double ipow(double x, int n) {
   return r;
 }
 
-/// One factor x^n of a monomial and its derivative. With `linear_compression` [choice], a power
-/// n ≥ 2 vanishes for x < 0 (x^n for x ≥ 0, 0 below: C¹ at 0, since its slope there is 0); x^1 and
-/// x^0 are unchanged. The law stays linear in its coefficients.
+/// One factor x^n of a monomial and its derivative, extended to compression [choice]
+/// (docs/theory/fabric.md §3.1): for x < 0 a power n ≥ 2 vanishes (linear and almansi); x^1 stays x
+/// (linear, and always for the other force's strain, `own` false) or, for the force's own strain,
+/// becomes the Euler–Almansi strain x/(1 + 2x) = (1 − λ⁻²)/2 (almansi): slope 1 at 0 (C¹), −∞ as
+/// the fibre's stretch λ → 0. The law stays linear in its coefficients.
 struct Factor {
   double v, d;
 };
-Factor factor(double x, int n, bool linear_compression) {
+Factor factor(double x, int n, ResponseSurface::Compression mode, bool own) {
   if (n == 0) return {1.0, 0.0};
-  if (linear_compression && n >= 2 && x < 0) return {0.0, 0.0};
+  if (x < 0 && mode != ResponseSurface::Compression::polynomial) {
+    if (n >= 2) return {0.0, 0.0};
+    if (own && mode == ResponseSurface::Compression::almansi) {
+      const double s = 1 + 2 * x;  // λ² > 0 whenever det F > 0
+      if (!(s > 0)) return {NAN, NAN};
+      return {x / s, 1 / (s * s)};
+    }
+  }
   return {ipow(x, n), n * ipow(x, n - 1)};
 }
 
-/// εC^p εW^q (each factor extended as in `factor`) and its two partial derivatives.
+/// εC^p εW^q (each factor extended as in `factor`; `force` 0 = course, whose own strain is εC, 1 =
+/// wale) and its two partial derivatives.
 struct MonomialValue {
   double v, d_C, d_W;
 };
-MonomialValue eval(const Monomial& m, double eC, double eW, bool linear_compression) {
-  const Factor C = factor(eC, m.p, linear_compression), W = factor(eW, m.q, linear_compression);
+MonomialValue eval(const Monomial& m, double eC, double eW, ResponseSurface::Compression mode, int force) {
+  const Factor C = factor(eC, m.p, mode, force == 0), W = factor(eW, m.q, mode, force == 1);
   return {C.v * W.v, C.d * W.v, C.v * W.d};
 }
 
@@ -108,8 +118,8 @@ void ResponseSurface::set_coefficients(const Eigen::VectorXd& c) {
 Vec2 ResponseSurface::forces(double eps_C, double eps_W) const {
   Vec2 f = Vec2::Zero();
   const std::size_t nc = course_.size();
-  for (std::size_t k = 0; k < nc; ++k) f(0) += c_(k) * eval(course_[k], eps_C, eps_W, linear_compression()).v;
-  for (std::size_t k = 0; k < wale_.size(); ++k) f(1) += c_(nc + k) * eval(wale_[k], eps_C, eps_W, linear_compression()).v;
+  for (std::size_t k = 0; k < nc; ++k) f(0) += c_(k) * eval(course_[k], eps_C, eps_W, compression_, 0).v;
+  for (std::size_t k = 0; k < wale_.size(); ++k) f(1) += c_(nc + k) * eval(wale_[k], eps_C, eps_W, compression_, 1).v;
   return f;
 }
 
@@ -126,13 +136,13 @@ void ResponseSurface::evaluate(const LawInput& in, const LawRequest& req, LawOut
   detail::FabricForces f;
   const std::size_t nc = course_.size();
   for (std::size_t i = 0; i < nc; ++i) {
-    const MonomialValue m = eval(course_[i], eC, eW, linear_compression());
+    const MonomialValue m = eval(course_[i], eC, eW, compression_, 0);
     f.F_C += c_(i) * m.v;
     f.dFC_deC += c_(i) * m.d_C;
     f.dFC_deW += c_(i) * m.d_W;
   }
   for (std::size_t i = 0; i < wale_.size(); ++i) {
-    const MonomialValue m = eval(wale_[i], eC, eW, linear_compression());
+    const MonomialValue m = eval(wale_[i], eC, eW, compression_, 1);
     f.F_W += c_(nc + i) * m.v;
     f.dFW_deC += c_(nc + i) * m.d_C;
     f.dFW_deW += c_(nc + i) * m.d_W;
@@ -142,9 +152,9 @@ void ResponseSurface::evaluate(const LawInput& in, const LawRequest& req, LawOut
     // Linear: ∂P/∂c_k = R Q T_k Qᵀ with T_k = diag(monomial, 0) (course) or diag(0, monomial) (wale).
     out.dP_dc.resize(c_.size());
     for (std::size_t i = 0; i < nc; ++i)
-      out.dP_dc[i] = detail::fabric_basis(in, k, Vec2(eval(course_[i], eC, eW, linear_compression()).v, 0).asDiagonal());
+      out.dP_dc[i] = detail::fabric_basis(in, k, Vec2(eval(course_[i], eC, eW, compression_, 0).v, 0).asDiagonal());
     for (std::size_t i = 0; i < wale_.size(); ++i)
-      out.dP_dc[nc + i] = detail::fabric_basis(in, k, Vec2(0, eval(wale_[i], eC, eW, linear_compression()).v).asDiagonal());
+      out.dP_dc[nc + i] = detail::fabric_basis(in, k, Vec2(0, eval(wale_[i], eC, eW, compression_, 1).v).asDiagonal());
   } else {
     out.dP_dc.clear();
   }

@@ -2,7 +2,9 @@
 // relative units so that a badly scaled problem does not lose digits in SᵀS.
 #include "tricot/ident/covariance.hpp"
 
+#include <Eigen/QR>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -21,7 +23,26 @@ Uncertainty uncertainty(const Eigen::MatrixXd& S, const Eigen::VectorXd& r, cons
   Eigen::VectorXd D(n);  // relative units: δJ_k = D_k · δz_k
   for (Eigen::Index k = 0; k < n; ++k) D(k) = J(k) != 0 ? std::abs(J(k)) : scale(k);
   const Eigen::MatrixXd S_rel = S * D.asDiagonal();
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(S_rel, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  // Σ and V are those of R in S_rel = Q R; U is needed only for the sandwich (σ given). The SVD of the
+  // n × n R also avoids JacobiSVD's preconditioner on the tall S_rel, which crashed (a write to address
+  // 0) for the 19 215 × 14 Jacobian of the campaign with the stability barrier (issue 12).
+  const bool need_U = variance.size() == N && N > 0;
+  Eigen::MatrixXd R(0, n);
+  if (!need_U && N > n) {
+    // R by QR of blocks of at most kBlock rows, each stacked under the last R (a tall-skinny QR): no
+    // Householder vector longer than kBlock + n, below Eigen's stack-allocation limit of 16 384
+    // doubles; the crash was in the heap branch of a longer one.
+    constexpr Eigen::Index kBlock = 8192;
+    for (Eigen::Index start = 0; start < N; start += kBlock) {
+      const Eigen::Index rows = std::min(kBlock, N - start);
+      Eigen::MatrixXd stacked(R.rows() + rows, n);
+      stacked << R, S_rel.middleRows(start, rows);
+      const Eigen::Index keep = std::min(n, stacked.rows());
+      R = Eigen::HouseholderQR<Eigen::MatrixXd>(stacked).matrixQR().topRows(keep).triangularView<Eigen::Upper>();
+    }
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(!need_U && N > n ? R : S_rel,
+                                              need_U ? Eigen::ComputeThinU | Eigen::ComputeThinV : Eigen::ComputeThinV);
   u.singular_values = svd.singularValues();
   const double smax = n > 0 ? u.singular_values(0) : 0, smin = n > 0 ? u.singular_values(n - 1) : 0;
   u.full_rank = smin > kRankTolerance * smax && smax > 0;
@@ -35,7 +56,6 @@ Uncertainty uncertainty(const Eigen::MatrixXd& S, const Eigen::VectorXd& r, cons
 
   // (S_relᵀ S_rel)⁺ = V Σ⁻² Vᵀ over the non-zero singular values.
   const Eigen::MatrixXd& V = svd.matrixV();
-  const Eigen::MatrixXd& U = svd.matrixU();
   Eigen::VectorXd inv(n);
   for (Eigen::Index k = 0; k < n; ++k)
     inv(k) = u.singular_values(k) > kRankTolerance * smax && smax > 0 ? 1 / u.singular_values(k) : 0;
@@ -44,7 +64,7 @@ Uncertainty uncertainty(const Eigen::MatrixXd& S, const Eigen::VectorXd& r, cons
     // Sandwich: (SᵀS)⁻¹ Sᵀ diag(var) S (SᵀS)⁻¹ = V Σ⁻¹ Uᵀ diag(var) U Σ⁻¹ Vᵀ.
     u.from_sigma = true;
     u.sigma2 = 1;
-    const Eigen::MatrixXd W = V * inv.asDiagonal() * U.transpose();  // n × N
+    const Eigen::MatrixXd W = V * inv.asDiagonal() * svd.matrixU().transpose();  // n × N
     cov_rel = W * variance.asDiagonal() * W.transpose();
     shape = cov_rel;
   } else {

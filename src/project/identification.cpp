@@ -107,12 +107,15 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
     if (req.observe) req.observe(c);
     if (req.kill_after > 0 && ++checkpoints >= req.kill_after) std::raise(SIGKILL);  // testing aid
   };
-  const KillAfterEvaluations killer(*objective, req.kill_after_evaluations);  // testing aid
+  // LM minimises the objective, or the objective with the stability barrier ([stability]).
+  const ident::Problem& minimised = P.stability ? static_cast<const ident::Problem&>(*P.stability) : *objective;
+  const KillAfterEvaluations killer(minimised, req.kill_after_evaluations);  // testing aid
 
   log.print(fmt::format("identify: {} coefficients of {} from {} values ({}), {} dofs, {} Jacobian{}",
                             parameters.size(), law->name(), outcome.residuals, outcome.data, outcome.dofs,
                             ident::to_string(options.jacobian),
                             req.resume ? fmt::format(", resumed at iteration {}", options.resume_from->iterations) : ""));
+  if (P.stability) log.print(fmt::format("identify: with the stability barrier ({} rows)", P.stability->barrier_rows()));
   outcome.result = ident::identify(killer, options, log.reporter());
 
   // Outputs.
@@ -120,6 +123,7 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   const auto eq9_points_found = eq9_points(*objective, P.eq9_nearest);
   if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
     result["eq9"] = eq9_json(*objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest);
+  result["identifiability"] = identifiability_json(*objective, outcome.result, P.identifiability);
   io::write_atomic(dir / "result.json", result.dump(2) + "\n");
   write_history(dir / "history.csv", outcome.result);
   if (req.plots) fs::create_directories(dir / "plots");

@@ -178,6 +178,33 @@ unset multiplot
   }
 }
 
+json identifiability_json(const ident::Objective& objective, const ident::IdentifyResult& r,
+                          ident::IdentifiabilityOptions options) {
+  if (r.termination == ident::Termination::fe_failure) return nullptr;
+  const ident::Evaluation e = objective.evaluate(r.parameters, true);
+  if (!e.ok || e.jacobian.cols() != r.parameters.size()) return nullptr;
+  const auto& tests = objective.experiment().tests;
+  std::vector<std::vector<int>> rows(tests.size());
+  for (const auto& g : objective.data().groups())
+    for (int i = 0; i < g.size; ++i) rows[g.test].push_back(g.offset + i);
+  Eigen::VectorXd scale(r.parameters.size());
+  for (Eigen::Index k = 0; k < scale.size(); ++k) scale(k) = objective.parameters()[k].resolved_scale();
+  if (r.uncertainty.sigma2 > 0 && std::isfinite(r.uncertainty.sigma2)) options.sigma2 = r.uncertainty.sigma2;
+  const ident::IdentifiabilityReport id = ident::identifiability(e.jacobian, r.parameters, scale, rows, options);
+  json pinned = json::object();
+  for (std::size_t k = 0; k < r.names.size(); ++k) pinned[r.names[k]] = bool(id.pinned[k]);
+  json per_test = json::object();
+  for (std::size_t t = 0; t < tests.size(); ++t)
+    per_test[tests[t].name] = {{"trace_share", id.trace_share[t]}, {"weak_direction_share", id.weak_direction_share[t]}};
+  return {{"relative_std_error", named(r.names, id.relative_std_error)},
+          {"pinned", pinned},
+          {"pinned_relative_error", options.pinned_relative_error},
+          {"least_identifiable", named(r.names, id.least_identifiable)},
+          {"smallest_eigenvalue", id.smallest_eigenvalue},
+          {"largest_eigenvalue", id.largest_eigenvalue},
+          {"tests", per_test}};
+}
+
 void write_history(const fs::path& file, const ident::IdentifyResult& r) {
   io::Table t;
   t.columns = {"iteration", "objective"};

@@ -24,6 +24,12 @@ json eq9_json(const ident::Objective& objective, const Eigen::VectorXd& J, const
 /// and the error map with the practical domain outlined (Figs 15–16).
 void write_eq9(const std::filesystem::path& dir, const ident::Objective& objective, const Eigen::VectorXd& J,
                const ident::StrainDomain& practical, int nearest, bool plots, const Log& log);
+/// result.json's "identifiability" (ident::identifiability at the answer, rows grouped by test):
+/// {"relative_std_error": {name: …}, "pinned": {name: bool}, "least_identifiable": {name: …},
+/// "smallest_eigenvalue", "largest_eigenvalue", "tests": {test: {"trace_share", "weak_direction_share"}}};
+/// null when the model cannot give ∂r/∂J there.
+json identifiability_json(const ident::Objective& objective, const ident::IdentifyResult& r,
+                          ident::IdentifiabilityOptions options);
 /// DIR/history.csv: iteration, objective, one column per coefficient.
 void write_history(const std::filesystem::path& file, const ident::IdentifyResult& r);
 /// DIR/plots/history.png: f and every coefficient (over the truth or the identified value) per iteration.

@@ -8,6 +8,8 @@
 
 #include "schema.hpp"
 #include "tricot/fem/solver.hpp"
+#include "tricot/ident/identifiability.hpp"
+#include "tricot/ident/stability_barrier.hpp"
 #include "tricot/ident/objective.hpp"
 #include "tricot/ident/surface_error.hpp"
 #include "tricot/project/case_spec.hpp"
@@ -271,6 +273,31 @@ SectionSpec eq9_section() {
   return s;
 }
 
+SectionSpec identifiability_section() {
+  const ident::IdentifiabilityOptions o;
+  SectionSpec s{"identifiability",
+                "result.json's \"identifiability\" (THEORY §8, beyond the paper): relative standard errors, the\n"
+                "least identifiable direction and each test's share of the information, from ∂r/∂J at the answer.",
+                false, {}, {}};
+  s.keys = {key("pinned_relative_error", o.pinned_relative_error,
+                "A coefficient is pinned down when its relative standard error is below this, > 0.", 0, 1e6)};
+  return s;
+}
+
+SectionSpec stability_section() {
+  const ident::StabilityBarrierOptions o;
+  SectionSpec s{"stability",
+                "A material-stability barrier for a response surface (docs/theory/fabric.md §3.2): rows that\n"
+                "penalise det ∂(F_C, F_W)/∂(εC, εW) < det_margin and own slopes < slope_margin over the strains the\n"
+                "rig's fields reach, so LM's trial laws stay away from the instability where the FE inverts.",
+                false, {}, {}};
+  s.keys = {key("enabled", false, "Append the barrier to the objective (response surfaces only)."),
+            key("det_margin", o.det_margin, "(N/mm)², > 0.", 0, 1e6),
+            key("slope_margin", o.slope_margin, "N/mm, > 0.", 0, 1e6),
+            key("weight", o.weight, "w ≥ 0 of each barrier row.", 0, 1e6)};
+  return s;
+}
+
 io::SectionSpec identify_schema() {
   io::SectionSpec root = case_schema();
   root.help =
@@ -282,6 +309,8 @@ io::SectionSpec identify_schema() {
   root.sections.push_back(data_section());
   root.sections.push_back(identify_section());
   root.sections.push_back(eq9_section());
+  root.sections.push_back(identifiability_section());
+  root.sections.push_back(stability_section());
   return root;
 }
 
@@ -428,6 +457,15 @@ IdentificationSpec read_identification_spec(const io::Node& root) {
   s.data = DataSpec::from_config(root.section("data"));
   s.identify = IdentifyTable::from_config(root.section("identify"));
   s.eq9 = Eq9Spec::from_config(root.section("eq9"));
+  s.identifiability.pinned_relative_error = root.section("identifiability").real("pinned_relative_error");
+  s.identifiability.origin = Origin(root.section("identifiability"));
+  if (root.section("stability").boolean("enabled")) {
+    ident::StabilityBarrierOptions b;
+    b.det_margin = root.section("stability").real("det_margin");
+    b.slope_margin = root.section("stability").real("slope_margin");
+    b.weight = root.section("stability").real("weight");
+    s.stability = b;
+  }
   s.file = root.file();
   return s;
 }
@@ -500,7 +538,18 @@ Project build_project(const IdentificationSpec& spec, const fs::path& base) {
     if (k == "data") throw InputError(dn.origin.where(""), problem_of(e));
     throw InputError({spec.file.string(), 0, k}, std::string(e.what()).substr(k.empty() ? 0 : k.size() + 2));
   }
+  P.identifiability.pinned_relative_error = spec.identifiability.pinned_relative_error;
+  if (!(P.identifiability.pinned_relative_error > 0))
+    spec.identifiability.origin.fail("pinned_relative_error", "must be positive",
+                                     fmt::format("{}", P.identifiability.pinned_relative_error), "> 0");
   check_eq9(spec.eq9, P);
+  if (spec.stability) {
+    try {
+      P.stability = std::make_unique<ident::StabilizedObjective>(*P.objective, *spec.stability);
+    } catch (const InputError& e) {
+      throw InputError({spec.file.string(), 0, e.where().key}, problem_of(e));
+    }
+  }
   return P;
 }
 

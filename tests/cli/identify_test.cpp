@@ -321,6 +321,20 @@ TEST_F(Identify, ResultJsonHasTheEq9ErrorOfEachSurface) {
   EXPECT_FALSE(fs::exists(root_ / "eq9" / "out" / "eq9_course.csv"));
 }
 
+// Noise-free data on the model's own mesh pin every coefficient (relative standard errors ~1e-8, cf.
+// the std errors of RecoversTheTruth); the one test holds all the information.
+TEST_F(Identify, ResultJsonHasTheIdentifiabilityReport) {
+  ASSERT_EQ(identify("identifiability", small_project("../exp", kStopOnDelta)).exit_code, 0);
+  const json id = result("identifiability")["identifiability"];
+  ASSERT_TRUE(id.is_object()) << id;
+  for (const auto& name : kNames) {
+    EXPECT_TRUE(id["pinned"][name].get<bool>()) << name;
+    EXPECT_LT(id["relative_std_error"][name].get<double>(), 0.1) << name;
+  }
+  EXPECT_NEAR(id["tests"]["tension"]["trace_share"].get<double>(), 1.0, 1e-12);
+  EXPECT_GT(id["largest_eigenvalue"].get<double>(), id["smallest_eigenvalue"].get<double>());
+}
+
 TEST_F(Identify, APracticalDomainOutsideTheDataNamesTheKeyAndTheDataRange) {
   const auto r = identify("eq9_outside", small_project("../exp", "[eq9]\npractical_wale = [2.0, 3.0]\n"));
   EXPECT_NE(r.exit_code, 0);
@@ -341,6 +355,13 @@ TEST_F(Identify, ACoefficientListOfTheWrongLengthForAPresetNamesTheKeyAndTheTerm
   EXPECT_NE(r.err.find("law.response_surface.coefficients"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("got 3 values"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("14 (a1, a2"), std::string::npos) << r.err;
+}
+
+TEST_F(Identify, AStabilityBarrierOnALawThatIsNotAResponseSurfaceNamesTheLawType) {
+  const auto r = identify("stability_mr", small_project("../exp", "[stability]\nenabled = true\n"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("law.type"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("needs a response surface"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -47,19 +47,27 @@ ResponseSurface paper14() {
   return law;
 }
 
-/// x^n, or its compression branch (docs/theory/fabric.md §3.1 [choice]): 0 for n ≥ 2 and x < 0.
-double power(double x, int n, bool linear_compression) {
-  return linear_compression && n >= 2 && x < 0 ? 0.0 : std::pow(x, n);
+using Compression = ResponseSurface::Compression;
+
+/// x^n, or its compression branch (docs/theory/fabric.md §3.1 [choice]): for x < 0, 0 for n ≥ 2, and
+/// x^1 = x (linear, or the other force's strain) or the Euler–Almansi strain (1 − λ⁻²)/2 with
+/// λ² = 1 + 2x (almansi, the force's own strain).
+double power(double x, int n, Compression mode, bool own) {
+  if (x >= 0 || mode == Compression::polynomial) return std::pow(x, n);
+  if (n >= 2) return 0.0;
+  if (mode == Compression::linear || !own) return x;
+  const double lambda2 = 1 + 2 * x;
+  return 0.5 * (1 - 1 / lambda2);
 }
 
 /// THEORY §5 written out independently of the implementation.
-Vec2 paper14_forces(double eC, double eW, bool linear_compression = true) {
+Vec2 paper14_forces(double eC, double eW, Compression mode = Compression::almansi) {
   const Eigen::VectorXd c = paper14_coefficients();
   double FC = 0, FW = 0;
-  for (int i = 1; i <= 6; ++i) FC += c(i - 1) * power(eC, i, linear_compression);
-  for (int j = 1; j <= 2; ++j) FC += c(5 + j) * power(eW, j, linear_compression);
-  for (int i = 1; i <= 4; ++i) FW += c(7 + i) * power(eW, i, linear_compression);
-  for (int j = 1; j <= 2; ++j) FW += c(11 + j) * power(eC, j, linear_compression);
+  for (int i = 1; i <= 6; ++i) FC += c(i - 1) * power(eC, i, mode, true);
+  for (int j = 1; j <= 2; ++j) FC += c(5 + j) * power(eW, j, mode, false);
+  for (int i = 1; i <= 4; ++i) FW += c(7 + i) * power(eW, i, mode, true);
+  for (int j = 1; j <= 2; ++j) FW += c(11 + j) * power(eC, j, mode, false);
   return {FC, FW};
 }
 
@@ -246,20 +254,36 @@ TEST(ResponseSurface, InvertedElementGivesNaN) {
   EXPECT_EQ(out.dP_dc.size(), 14u);
 }
 
-TEST(ResponseSurface, CompressionKeepsOnlyTheLinearTermsAndPolynomialModeKeepsThePolynomial) {
+TEST(ResponseSurface, CompressionKeepsOnlyTheFirstPowersAsAlmansiStrainsByDefault) {
   ResponseSurface law = paper14();
   for (double eC : {-0.38, -0.1, 0.0, 0.4})
     for (double eW : {-0.3, -0.05, 0.2}) {
       EXPECT_NEAR(law.forces(eC, eW)(0), paper14_forces(eC, eW)(0), kRoundOff) << eC << " " << eW;
       EXPECT_NEAR(law.forces(eC, eW)(1), paper14_forces(eC, eW)(1), kRoundOff) << eC << " " << eW;
     }
+  // Both compressed: only a1 e(εC) + b1 εW and c1 e(εW) + d1 εC remain, e(x) = x/(1 + 2x):
+  // e(−0.2) = −1/3, e(−0.1) = −0.125.
+  EXPECT_NEAR(law.forces(-0.2, -0.1)(0), 0.25 * -1.0 / 3 + 0.03 * -0.1, kRoundOff);
+  EXPECT_NEAR(law.forces(-0.2, -0.1)(1), 0.06 * -0.125 + 0.02 * -0.2, kRoundOff);
+  // A fibre compressed toward zero length (εC → −½) needs an unbounded force: no collapse.
+  EXPECT_LT(law.forces(-0.4999, 0)(0), -0.25 * 2000);
+}
+
+TEST(ResponseSurface, LinearCompressionKeepsOnlyTheLinearTermsAndPolynomialModeKeepsThePolynomial) {
+  ResponseSurface law = paper14();
+  law.set_compression(Compression::linear);
+  for (double eC : {-0.38, -0.1, 0.0, 0.4})
+    for (double eW : {-0.3, -0.05, 0.2}) {
+      EXPECT_NEAR(law.forces(eC, eW)(0), paper14_forces(eC, eW, Compression::linear)(0), kRoundOff) << eC << " " << eW;
+      EXPECT_NEAR(law.forces(eC, eW)(1), paper14_forces(eC, eW, Compression::linear)(1), kRoundOff) << eC << " " << eW;
+    }
   // Both compressed: only a1 εC + b1 εW and c1 εW + d1 εC remain.
   EXPECT_NEAR(law.forces(-0.2, -0.1)(0), 0.25 * -0.2 + 0.03 * -0.1, kRoundOff);
   EXPECT_NEAR(law.forces(-0.2, -0.1)(1), 0.06 * -0.1 + 0.02 * -0.2, kRoundOff);
-  law.set_compression(ResponseSurface::Compression::polynomial);
-  EXPECT_NEAR(law.forces(-0.2, -0.1)(0), paper14_forces(-0.2, -0.1, false)(0), kRoundOff);
-  EXPECT_NEAR(law.forces(-0.2, -0.1)(1), paper14_forces(-0.2, -0.1, false)(1), kRoundOff);
-  EXPECT_NE(law.forces(-0.2, -0.1)(0), paper14_forces(-0.2, -0.1, true)(0));
+  law.set_compression(Compression::polynomial);
+  EXPECT_NEAR(law.forces(-0.2, -0.1)(0), paper14_forces(-0.2, -0.1, Compression::polynomial)(0), kRoundOff);
+  EXPECT_NEAR(law.forces(-0.2, -0.1)(1), paper14_forces(-0.2, -0.1, Compression::polynomial)(1), kRoundOff);
+  EXPECT_NE(law.forces(-0.2, -0.1)(0), paper14_forces(-0.2, -0.1, Compression::linear)(0));
 }
 
 TEST(ResponseSurface, CompressionBranchIsC1AtZeroAndItsTangentAndSensitivitiesMatchFiniteDifferences) {
@@ -267,18 +291,23 @@ TEST(ResponseSurface, CompressionBranchIsC1AtZeroAndItsTangentAndSensitivitiesMa
   // linear coefficients (the higher powers contribute O(h)).
   constexpr double h = 1e-7;
   constexpr double kOneSided = 1e-6;  // O(h) one-sided truncation with O(1) coefficients
-  const ResponseSurface law = paper14();
+  for (Compression mode : {Compression::almansi, Compression::linear}) {
+  ResponseSurface law = paper14();
+  law.set_compression(mode);
   for (double sign : {-1.0, 1.0}) {
     EXPECT_NEAR((law.forces(sign * h, 0)(0) - law.forces(0, 0)(0)) / (sign * h), 0.25, kOneSided);
     EXPECT_NEAR((law.forces(0, sign * h)(1) - law.forces(0, 0)(1)) / (sign * h), 0.06, kOneSided);
     EXPECT_NEAR((law.forces(0, sign * h)(0) - law.forces(0, 0)(0)) / (sign * h), 0.03, kOneSided);
   }
+  }
   // Compressed states (the free strips of the rig): tangent and ∂P/∂c against central differences.
   Mat2 squeeze_wale, squeeze_both;
   squeeze_wale << 1.5, 0.1, -0.05, 0.62;  // εW ≈ −0.31
   squeeze_both << 0.8, 0.05, 0.02, 0.75;
-  for (const ResponseSurface& l : {paper14(), general()})
+  for (Compression mode : {Compression::almansi, Compression::linear})
+  for (ResponseSurface l : {paper14(), general()})
     for (const Mat2& F : {squeeze_wale, squeeze_both}) {
+      l.set_compression(mode);
       const Mat2 Q = rot(20);
       LawOutput out;
       l.evaluate({F, Q}, {true, true}, out);

@@ -14,10 +14,15 @@
 //
 // Compression [choice] (docs/theory/fabric.md §3.1): a knit carries little compression, and a
 // polynomial fitted to tension extrapolates wildly below 0 (a free strip near the clips of the rig is
-// compressed to εW ≈ −0.38 while no test measures there). By default (Compression::linear) every
-// factor x^n with n ≥ 2 of a monomial is replaced by 0 for x < 0, x^1 is kept: the law is linear in
-// compression, C¹ at 0, and still linear in its coefficients (∂P/∂c exact). Compression::polynomial
-// keeps the plain polynomial everywhere.
+// compressed to εW ≈ −0.38 while no test measures there). By default (Compression::almansi) every
+// factor x^n with n ≥ 2 of a monomial is replaced by 0 for x < 0, and the first power of the force's
+// own strain (εC in F_C, εW in F_W) by the Euler–Almansi strain x/(1 + 2x) (the other strain's first
+// power stays linear): the law is C¹ at 0, still linear in its coefficients (∂P/∂c exact), and its
+// force grows without bound as a fibre is compressed toward zero length, so a free strip cannot
+// collapse, while the cross couplings stay bounded (the compressed tangent is diagonally dominant).
+// Compression::linear keeps x^1 (a finite force at λ → 0: a strip whose transverse coupling exceeds
+// half its own-direction stiffness has no equilibrium and inverts); Compression::polynomial keeps the
+// plain polynomial everywhere.
 //
 // Coefficient names, in the order of coefficients():
 //   separable / presets (THEORY §5):
@@ -43,7 +48,7 @@ struct Monomial {
 class ResponseSurface : public Law {
  public:
   /// How the monomials extend to negative strains (see the file comment).
-  enum class Compression { linear, polynomial };
+  enum class Compression { almansi, linear, polynomial };
 
   /// Default G_s [N/mm]: about 1 % of a compression-knit course stiffness, enough to keep the
   /// tangent regular, too small to matter in the biaxial force.
@@ -82,7 +87,6 @@ class ResponseSurface : public Law {
   double shear_stiffness() const { return G_s_; }
   Compression compression() const { return compression_; }
   void set_compression(Compression c) { compression_ = c; }
-  bool linear_compression() const { return compression_ == Compression::linear; }
 
  private:
   ResponseSurface(std::vector<Monomial> course, std::vector<Monomial> wale, double G_s,
@@ -92,7 +96,7 @@ class ResponseSurface : public Law {
   std::vector<std::string> names_;
   Eigen::VectorXd c_;
   double G_s_;
-  Compression compression_ = Compression::linear;
+  Compression compression_ = Compression::almansi;
 };
 
 }  // namespace tricot::fem

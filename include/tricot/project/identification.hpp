@@ -13,6 +13,8 @@
 #include "tricot/project/experiment_files.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/ident/identify.hpp"
+#include "tricot/ident/identifiability.hpp"
+#include "tricot/ident/stability_barrier.hpp"
 #include "tricot/ident/objective.hpp"
 #include "tricot/ident/surface_error.hpp"
 #include "tricot/io/config.hpp"
@@ -31,6 +33,9 @@ struct Project {
   std::unique_ptr<ident::Objective> objective;
   ident::StrainDomain eq9_practical;  ///< [eq9] practical_course, practical_wale
   int eq9_nearest = 6;                ///< [eq9] nearest
+  ident::IdentifiabilityOptions identifiability;  ///< [identifiability] (sigma2 from the run)
+  /// [stability] enabled: the objective with the material-stability barrier; LM minimises it.
+  std::unique_ptr<ident::StabilizedObjective> stability;
 };
 
 /// Eq. 9's experimental points of an objective's data (THEORY §9 [choice]): [0] course (tests with

@@ -14,6 +14,7 @@
 #include "tricot/ident/experiment.hpp"
 #include "tricot/ident/identify.hpp"
 #include "tricot/ident/objective.hpp"
+#include "tricot/ident/stability_barrier.hpp"
 #include "tricot/ident/surface_error.hpp"
 #include "tricot/io/config.hpp"
 #include "tricot/project/case_spec.hpp"
@@ -98,6 +99,12 @@ struct Eq9Spec {
   ident::StrainDomain practical() const;  ///< the domain (validated)
 };
 
+/// [identifiability]: result.json's identifiability report (ident/identifiability.hpp).
+struct IdentifiabilitySpec {
+  double pinned_relative_error = 0.1;  ///< a coefficient is pinned below this relative standard error, > 0
+  Origin origin{"identifiability"};
+};
+
 /// The whole project file. The case's tables are the base's fields (mesh, law, solver, rig, test).
 struct IdentificationSpec : CaseSpec {
   ProjectExperimentSpec experiment;
@@ -105,6 +112,9 @@ struct IdentificationSpec : CaseSpec {
   DataSpec data;
   IdentifyTable identify;
   Eq9Spec eq9;
+  IdentifiabilitySpec identifiability;
+  /// [stability] enabled: the material-stability barrier's options (ident/stability_barrier.hpp).
+  std::optional<ident::StabilityBarrierOptions> stability;
   /// The project file ("" when built in code): errors of the objective name it; the report shows it.
   std::filesystem::path file;
 

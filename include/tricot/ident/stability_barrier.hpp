@@ -1,0 +1,69 @@
+// A material-stability barrier for response-surface identification (THEORY §3, §5; issue 12;
+// docs/theory/fabric.md §3.2). The polynomial law has no potential: nothing keeps LM's trial laws
+// stable. Where the force–strain Jacobian
+//     A(εC, εW) = ∂(F_C, F_W)/∂(εC, εW)
+// loses its positive determinant (or an own-direction slope turns negative) at strains the rig's
+// fields visit, the membrane localises and an element inverts: the FE fails, and LM, whose best
+// points lie next to that boundary, is walled in. The barrier appends to the objective's residuals,
+// at every point ε_g of a strain grid,
+//     r = w · max(0, m_s − A11)/m_s,   w · max(0, m_s − A22)/m_s,   w · max(0, m_d − det A)/m_d,
+// zero for a law stable with margins (m_s, m_d), growing as the law approaches instability. The law
+// is linear in its coefficients, so A = Σ_k c_k A_k exactly and ∂r/∂J is exact.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "tricot/core/types.hpp"
+#include "tricot/ident/objective.hpp"
+
+namespace tricot::ident {
+
+struct StabilityBarrierOptions {
+  /// The strain grid [Green–Lagrange]: what the rig's fields reach (110 mm campaign: εC ∈ [−0.32,
+  /// 1.29], εW ∈ [−0.38, 1.34] at the last step).
+  double eC_min = -0.4, eC_max = 1.3, eW_min = -0.4, eW_max = 1.4;
+  double step = 0.05;  ///< grid spacing, > 0
+  /// m_d [(N/mm)²], > 0: below it det A is penalised. The reference knit's smallest det A over the
+  /// grid is 5.2e-3 (at rest: k_C k_W − k_P²), so 2e-3 leaves the truth unpenalised.
+  double det_margin = 2e-3;
+  /// m_s [N/mm], > 0: below it an own-direction slope is penalised (the knit's smallest: k_W = 0.06).
+  double slope_margin = 1e-2;
+  double weight = 1;  ///< w ≥ 0; 0 = no barrier (rows of zeros)
+
+  /// Throws InputError naming `stability.<field>`.
+  void validate() const;
+};
+
+/// The FE objective with the barrier's rows appended (3 per grid point). The law must be a
+/// fem::ResponseSurface (InputError naming `law.type` otherwise).
+class StabilizedObjective final : public Problem {
+ public:
+  StabilizedObjective(const Objective& objective, StabilityBarrierOptions options = {});
+
+  const std::vector<Parameter>& parameters() const override { return objective_.parameters(); }
+  int residuals() const override { return objective_.residuals() + barrier_rows(); }
+  /// The objective's evaluation with the barrier's residuals (and Jacobian rows) appended.
+  Evaluation evaluate(const Eigen::VectorXd& J, bool jacobian) const override;
+  bool has_exact_jacobian() const override { return objective_.has_exact_jacobian(); }
+  /// The objective's variances, the barrier's rows at 1 (they are not measurements).
+  Eigen::VectorXd residual_variance() const override;
+
+  int barrier_rows() const { return 3 * static_cast<int>(grid_.size()); }
+  /// The barrier's residuals at J, and ∂r/∂J when `jacobian` is given.
+  Eigen::VectorXd barrier(const Eigen::VectorXd& J, Eigen::MatrixXd* jacobian = nullptr) const;
+  /// A(ε_g) of the law at J on every grid point (column-major 2×2 per point).
+  std::vector<Mat2> force_jacobians(const Eigen::VectorXd& J) const;
+  const std::vector<Vec2>& grid() const { return grid_; }
+  const Objective& objective() const { return objective_; }
+
+ private:
+  const Objective& objective_;
+  StabilityBarrierOptions options_;
+  std::vector<Vec2> grid_;                 // (εC, εW)
+  std::vector<std::vector<Mat2>> basis_;   // basis_[g][i]: A_i at grid point g (law coefficient i)
+  Eigen::VectorXd base_;                   // the law's coefficients (those not identified stay)
+  std::vector<int> coefficient_;           // law coefficient index of each parameter
+};
+
+}  // namespace tricot::ident

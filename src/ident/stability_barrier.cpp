@@ -1,0 +1,136 @@
+// The material-stability barrier (include/tricot/ident/stability_barrier.hpp).
+#include "tricot/ident/stability_barrier.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "tricot/core/error.hpp"
+#include "tricot/core/format.hpp"
+#include "tricot/fem/response_surface.hpp"
+
+namespace tricot::ident {
+
+namespace {
+
+void check(bool ok, const char* field, double got, const std::string& expected) {
+  if (!ok) throw InputError(Location{"", 0, std::string("stability.") + field}, "out of range", format_number(got), expected);
+}
+
+}  // namespace
+
+void StabilityBarrierOptions::validate() const {
+  check(std::isfinite(eC_min) && eC_min > -0.5, "eC_min", eC_min, "> -0.5 (a Green–Lagrange strain)");
+  check(std::isfinite(eW_min) && eW_min > -0.5, "eW_min", eW_min, "> -0.5 (a Green–Lagrange strain)");
+  check(std::isfinite(eC_max) && eC_max > eC_min, "eC_max", eC_max, "> eC_min");
+  check(std::isfinite(eW_max) && eW_max > eW_min, "eW_max", eW_max, "> eW_min");
+  check(step > 0 && (eC_max - eC_min) / step < 1e4 && (eW_max - eW_min) / step < 1e4, "step", step,
+        "> 0, at most 10^4 points per axis");
+  check(det_margin > 0 && std::isfinite(det_margin), "det_margin", det_margin, "> 0");
+  check(slope_margin > 0 && std::isfinite(slope_margin), "slope_margin", slope_margin, "> 0");
+  check(weight >= 0 && std::isfinite(weight), "weight", weight, ">= 0");
+}
+
+StabilizedObjective::StabilizedObjective(const Objective& objective, StabilityBarrierOptions options)
+    : objective_(objective), options_(options) {
+  options_.validate();
+  Eigen::VectorXd J(objective.parameters().size());
+  for (Eigen::Index k = 0; k < J.size(); ++k) J(k) = objective.parameters()[k].start;
+  const std::unique_ptr<fem::Law> law = objective.law_at(J);
+  const auto* rs = dynamic_cast<const fem::ResponseSurface*>(law.get());
+  if (!rs)
+    throw InputError(Location{"", 0, "law.type"}, "the stability barrier needs a response surface", law->name(),
+                     "response_surface");
+  base_ = rs->coefficients();
+  const auto names = rs->coefficient_names();
+  for (const auto& p : objective.parameters())
+    coefficient_.push_back(static_cast<int>(std::find(names.begin(), names.end(), p.name) - names.begin()));
+  const int nx = static_cast<int>(std::floor((options_.eC_max - options_.eC_min) / options_.step + 1e-9)) + 1;
+  const int ny = static_cast<int>(std::floor((options_.eW_max - options_.eW_min) / options_.step + 1e-9)) + 1;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) grid_.emplace_back(options_.eC_min + i * options_.step, options_.eW_min + j * options_.step);
+  // A_i = ∂(F_C, F_W)/∂ε of the law with coefficient i alone at 1: central differences of a C¹
+  // piecewise polynomial (truncation O(h²) away from 0, O(h) on the compression kink at 0).
+  constexpr double h = 1e-7;
+  fem::ResponseSurface unit = *rs;
+  basis_.assign(grid_.size(), std::vector<Mat2>(static_cast<std::size_t>(base_.size())));
+  for (Eigen::Index i = 0; i < base_.size(); ++i) {
+    unit.set_coefficients(Eigen::VectorXd::Unit(base_.size(), i));
+    for (std::size_t g = 0; g < grid_.size(); ++g) {
+      const double eC = grid_[g](0), eW = grid_[g](1);
+      Mat2 A;
+      A.col(0) = (unit.forces(eC + h, eW) - unit.forces(eC - h, eW)) / (2 * h);
+      A.col(1) = (unit.forces(eC, eW + h) - unit.forces(eC, eW - h)) / (2 * h);
+      basis_[g][static_cast<std::size_t>(i)] = A;
+    }
+  }
+}
+
+std::vector<Mat2> StabilizedObjective::force_jacobians(const Eigen::VectorXd& J) const {
+  Eigen::VectorXd c = base_;
+  for (std::size_t k = 0; k < coefficient_.size(); ++k) c(coefficient_[k]) = J(static_cast<Eigen::Index>(k));
+  std::vector<Mat2> out(grid_.size(), Mat2::Zero());
+  for (std::size_t g = 0; g < grid_.size(); ++g)
+    for (Eigen::Index i = 0; i < c.size(); ++i) out[g] += c(i) * basis_[g][static_cast<std::size_t>(i)];
+  return out;
+}
+
+Eigen::VectorXd StabilizedObjective::barrier(const Eigen::VectorXd& J, Eigen::MatrixXd* jacobian) const {
+  const std::vector<Mat2> A = force_jacobians(J);
+  const Eigen::Index n = J.size();
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(barrier_rows());
+  if (jacobian) jacobian->setZero(barrier_rows(), n);
+  const double w = options_.weight, ms = options_.slope_margin, md = options_.det_margin;
+  for (std::size_t g = 0; g < grid_.size(); ++g) {
+    const Mat2& a = A[g];
+    const Eigen::Index row = 3 * static_cast<Eigen::Index>(g);
+    const double values[3] = {a(0, 0) - ms, a(1, 1) - ms, a.determinant() - md};
+    const double margins[3] = {ms, ms, md};
+    for (int m = 0; m < 3; ++m) {
+      if (values[m] >= 0) continue;
+      r(row + m) = -w * values[m] / margins[m];
+      if (!jacobian) continue;
+      for (Eigen::Index k = 0; k < n; ++k) {
+        const Mat2& b = basis_[g][static_cast<std::size_t>(coefficient_[static_cast<std::size_t>(k)])];
+        // ∂A11/∂J_k = b11, ∂A22/∂J_k = b22, ∂det A/∂J_k = b11 a22 + a11 b22 − b12 a21 − a12 b21.
+        const double d = m == 0 ? b(0, 0) : m == 1 ? b(1, 1)
+                                                   : b(0, 0) * a(1, 1) + a(0, 0) * b(1, 1) - b(0, 1) * a(1, 0) - a(0, 1) * b(1, 0);
+        (*jacobian)(row + m, k) = -w * d / margins[m];
+      }
+    }
+  }
+  return r;
+}
+
+Evaluation StabilizedObjective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
+  Evaluation e = objective_.evaluate(J, jacobian);
+  if (!e.ok) return e;
+  Eigen::MatrixXd Jb;
+  const Eigen::VectorXd rb = barrier(J, jacobian ? &Jb : nullptr);
+  const Eigen::Index m = e.r.size(), rows = m + rb.size();
+  Eigen::VectorXd r(rows), y(rows);
+  r << e.r, rb;
+  y.head(std::min(m, e.y.size())) = e.y.head(std::min(m, e.y.size()));
+  y.tail(rows - std::min(m, e.y.size())).setZero();
+  y.tail(rb.size()) = rb;
+  e.r = std::move(r);
+  e.y = std::move(y);
+  if (jacobian && e.jacobian.size() > 0) {
+    Eigen::MatrixXd full(rows, e.jacobian.cols());
+    full.topRows(m) = e.jacobian;
+    full.bottomRows(rb.size()) = Jb;
+    e.jacobian = std::move(full);
+  }
+  return e;
+}
+
+Eigen::VectorXd StabilizedObjective::residual_variance() const {
+  const Eigen::VectorXd v = objective_.residual_variance();
+  if (v.size() == 0) return v;
+  Eigen::VectorXd out = Eigen::VectorXd::Ones(v.size() + barrier_rows());
+  out.head(v.size()) = v;
+  return out;
+}
+
+}  // namespace tricot::ident
