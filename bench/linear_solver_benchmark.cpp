@@ -3,7 +3,7 @@
 // Each iteration is one numeric factorization and one solve with one right-hand side; the ordering
 // and symbolic analysis are done once, outside the timing, as in simulate(). The tangent is the one at
 // a 10 % affine stretch (u_y = 0.1 Y), which meets every boundary condition of the clamped strip.
-// Argument: nx (10, 20, 40, 80, 160 → 2 218, 8 474, 33 114, 130 914, 520 514 dofs). Counter n = dofs.
+// Argument: nx (10, 20, 30, 40, 80, 160 → 2 087 … 523 007 unknowns). Counter n = unknowns (free dofs).
 // The exponent is fitted in docs/validation.md (issue 15).
 #include <benchmark/benchmark.h>
 
@@ -125,8 +125,35 @@ void umfpack(benchmark::State& state, int ordering) {
 void BM_UmfpackDefault(benchmark::State& state) { umfpack(state, -1); }
 void BM_UmfpackMetis(benchmark::State& state) { umfpack(state, UMFPACK_ORDERING_METIS); }
 
+// One forward solve of the clamped strip, 10 displacement steps to 100 % strain (the case file's
+// load_max = 100 mm), with the pre-issue-15 solver (second argument 1: eigen_ldlt) or the engine's
+// choice (0: automatic). Counters: Newton iterations, factorizations, their share of the wall time.
+void BM_ForwardSolve(benchmark::State& state) {
+  TestModel t = clamped_strip(static_cast<int>(state.range(0)));
+  t.loads.clear();
+  for (int k = 1; k <= 10; ++k) t.loads.push_back(10.0 * k);
+  const MooneyRivlin law(paper_mooney_rivlin_terms());
+  SolveOptions o;
+  o.linear_solver = state.range(1) == 1 ? LinearSolverKind::eigen_ldlt : LinearSolverKind::automatic;
+  SimulationResult r;
+  double seconds = 0, factorization = 0;
+  for (auto _ : state) {
+    r = simulate(t, law, o);
+    seconds += r.seconds;
+    factorization += r.factorization_seconds;
+  }
+  if (!r.usable()) state.SkipWithError(r.message.c_str());
+  int iterations = 0;
+  for (const auto& s : r.steps) iterations += s.iterations;
+  state.counters["n"] = t.mesh.dofs();
+  state.counters["newton"] = iterations;
+  state.counters["factorizations"] = r.factorizations;
+  state.counters["fact_s"] = factorization / static_cast<double>(state.iterations());
+  state.counters["wall_over_fact"] = seconds / factorization;
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
-  for (int nx : {10, 20, 40, 80, 160}) b->Arg(nx);
+  for (int nx : {10, 20, 30, 40, 80, 160}) b->Arg(nx);
   b->Unit(benchmark::kMillisecond);
 }
 
@@ -140,3 +167,4 @@ BENCHMARK(BM_CholmodSupernodalNesdis)->Apply(sizes);
 BENCHMARK(BM_EngineAutomatic)->Apply(sizes);
 BENCHMARK(BM_UmfpackDefault)->Apply(sizes);
 BENCHMARK(BM_UmfpackMetis)->Apply(sizes);
+BENCHMARK(BM_ForwardSolve)->ArgsProduct({{10, 20, 40, 80, 160}, {0, 1}})->Unit(benchmark::kMillisecond);
