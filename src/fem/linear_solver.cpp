@@ -4,6 +4,7 @@
 #include <Eigen/OrderingMethods>
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 namespace tricot::fem::detail {
 
@@ -49,10 +50,27 @@ void ldlt_substitute(Eigen::Index n, const int* Lp, const int* Li, const double*
   }
 }
 
+// A CHOLMOD factorization of K's lower triangle in `mode`; supernodal ones on METIS nested
+// dissection (2-D meshes: O(n^1.5) flops, less fill than AMD's; bench/linear_solver_benchmark.cpp).
+std::unique_ptr<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>> make_cholmod(
+    Eigen::CholmodMode mode, bool metis) {
+  auto c = std::make_unique<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>>();
+  c->setMode(mode);
+  c->cholmod().print = 0;  // the library never prints (STYLE.md §4): failures come back as info()
+  if (metis) {
+    c->cholmod().nmethods = 1;
+    c->cholmod().method[0].ordering = CHOLMOD_METIS;
+    c->cholmod().postorder = 1;
+  }
+  return c;
+}
+
 }  // namespace
 
 LinearSolver::LinearSolver(const Eigen::SparseMatrix<double>& pattern, LinearSolverKind kind)
     : kind_(kind), n_(pattern.rows()) {
+  if (kind_ == LinearSolverKind::automatic)
+    kind_ = n_ >= kSupernodalFrom ? LinearSolverKind::cholmod_supernodal : LinearSolverKind::eigen_ldlt;
   if (n_ == 0) return;
   const Eigen::SparseMatrix<double> marked = numbered(pattern);
   if (kind_ == LinearSolverKind::eigen_ldlt) {
@@ -70,11 +88,8 @@ LinearSolver::LinearSolver(const Eigen::SparseMatrix<double>& pattern, LinearSol
     // CHOLMOD reads one triangle; handing it only that one saves a transpose per factorization.
     tri_ = marked.triangularView<Eigen::Lower>();
     tri_.makeCompressed();
-    cholmod_ = std::make_unique<Cholmod>();
-    // Simplicial LDLᵀ: for 2-D meshes of a few thousand dofs it beats the supernodal LLᵀ with Debian's
-    // reference BLAS (bench/fem_benchmark.cpp, docs/validation.md).
-    cholmod_->setMode(Eigen::CholmodLDLt);
-    cholmod_->cholmod().print = 0;  // the library never prints (STYLE.md §4): failures come back as info()
+    const bool supernodal = kind_ == LinearSolverKind::cholmod_supernodal;
+    cholmod_ = make_cholmod(supernodal ? Eigen::CholmodSupernodalLLt : Eigen::CholmodLDLt, supernodal);
     cholmod_->analyzePattern(tri_);
   }
   from_ = sources(tri_);
@@ -84,35 +99,63 @@ bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& K, bool symmetri
   if (n_ == 0) return true;
   const auto t0 = std::chrono::steady_clock::now();
   ++factorizations;
-  bool ok = false;
-  lu_active_ = false;
+  active_ = Active::none;
   if (symmetric) {
     const double* v = K.valuePtr();
     double* t = tri_.valuePtr();
     for (size_t k = 0; k < from_.size(); ++k) t[k] = v[from_[k]];
     if (ldlt_) {
       ldlt_->factorize(tri_);
-      ok = ldlt_->info() == Eigen::Success;
+      if (ldlt_->info() == Eigen::Success) active_ = Active::eigen;
     } else {
       cholmod_->factorize(tri_);
-      ok = cholmod_->info() == Eigen::Success;
+      if (cholmod_->info() == Eigen::Success) active_ = Active::cholmod;
     }
+    if (active_ == Active::none && kind_ == LinearSolverKind::cholmod_supernodal) {
+      // Not positive definite (near an instability): LLᵀ stops at the first pivot ≤ 0, LDLᵀ without
+      // pivoting goes on through negative pivots and solves the same system.
+      ++ldlt_fallbacks;
+      if (!cholmod_ldlt_) {
+        cholmod_ldlt_ = make_cholmod(Eigen::CholmodLDLt, true);
+        cholmod_ldlt_->analyzePattern(tri_);
+      }
+      cholmod_ldlt_->factorize(tri_);
+      if (cholmod_ldlt_->info() == Eigen::Success) active_ = Active::cholmod_ldlt;
+    }
+    if (active_ == Active::none) ++lu_fallbacks;
   }
-  if (!ok) {  // not symmetric, or singular for LDLᵀ without pivoting: LU
+  if (active_ == Active::none) {  // not symmetric, or singular for LDLᵀ without pivoting: LU
     if (!lu_) {
       lu_ = std::make_unique<Eigen::UmfPackLU<Eigen::SparseMatrix<double>>>();
       // No refinement inside UMFPACK's solve (its default is 2 sweeps, each a product with K): Newton
       // corrects its own steps, and the sensitivities match finite differences without it
       // (tests/fem/solver_test.cpp, Sensitivities.*).
       lu_->umfpackControl()(UMFPACK_IRSTEP) = 0;
+      // Large tangents: nested dissection (bench/linear_solver_benchmark.cpp, BM_Umfpack*).
+      if (n_ >= kLuMetisFrom) lu_->umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
       lu_->analyzePattern(K);
     }
     lu_->factorize(K);
-    ok = lu_->info() == Eigen::Success;
-    lu_active_ = ok;
+    if (lu_->info() == Eigen::Success) active_ = Active::lu;
   }
   seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return ok;
+  return active_ != Active::none;
+}
+
+std::string LinearSolver::description() const {
+  const char* what = "";
+  switch (kind_) {
+    case LinearSolverKind::eigen_ldlt: what = "Eigen simplicial LDLT, AMD ordering"; break;
+    case LinearSolverKind::cholmod_ldlt: what = "CHOLMOD simplicial LDLT, CHOLMOD's ordering"; break;
+    case LinearSolverKind::cholmod_supernodal:
+      what = "CHOLMOD supernodal LLT, METIS ordering (LDLT where not positive definite)";
+      break;
+    case LinearSolverKind::automatic: break;  // resolved in the constructor
+  }
+  char line[200];
+  std::snprintf(line, sizeof line, "%s; UMFPACK LU, %s ordering, for non-symmetric tangents; %ld unknowns", what,
+                n_ >= kLuMetisFrom ? "METIS" : "AMD", static_cast<long>(n_));
+  return line;
 }
 
 void LinearSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const {
@@ -120,8 +163,10 @@ void LinearSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const {
     x.resize(0, b.cols());
     return;
   }
-  if (lu_active_) {
+  if (active_ == Active::lu) {
     x = lu_->solve(b);
+  } else if (active_ == Active::cholmod_ldlt) {
+    x = cholmod_ldlt_->solve(b);
   } else if (ldlt_) {
     // x = Pᵀ L⁻ᵀ D⁻¹ L⁻¹ P b on a row-major copy: the columns of b go through L together, so that L
     // (which does not fit in cache) is read twice per solve, not twice per column.

@@ -1,6 +1,9 @@
 // Sparse direct solution of the free-free tangent (THEORY §4, §7), private to fem. Symmetric tangents:
-// LDLᵀ without pivoting, by Eigen's SimplicialLDLT (the default) or CHOLMOD's simplicial LDLᵀ
-// (SolveOptions::linear_solver); UMFPACK LU when the tangent is not symmetric or LDLᵀ breaks down.
+// LDLᵀ without pivoting, by Eigen's SimplicialLDLT or CHOLMOD's simplicial LDLᵀ, or CHOLMOD's
+// supernodal LLᵀ on a METIS ordering (falling back to CHOLMOD's LDLᵀ when the tangent is not positive
+// definite); SolveOptions::linear_solver picks one, or lets the size pick (LinearSolverKind::automatic,
+// crossover measured in bench/linear_solver_benchmark.cpp). UMFPACK LU when the tangent is not
+// symmetric or LDLᵀ breaks down.
 // The ordering and symbolic analysis are done once per simulation (the pattern is fixed); each
 // factorization is numeric only, and the matrix handed to it is filled through a precomputed map.
 #pragma once
@@ -11,6 +14,7 @@
 #include <Eigen/SparseCore>
 #include <Eigen/UmfPackSupport>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tricot/fem/solver.hpp"
@@ -19,6 +23,14 @@ namespace tricot::fem::detail {
 
 class LinearSolver {
  public:
+  /// Tangents of at least this many unknowns go to CHOLMOD's supernodal LLᵀ under
+  /// LinearSolverKind::automatic; smaller ones to Eigen's SimplicialLDLT. The crossover measured on
+  /// the clamped strip (bench/linear_solver_benchmark.cpp, docs/validation.md issue 15).
+  static constexpr Eigen::Index kSupernodalFrom = 20000;
+  /// Non-symmetric tangents of at least this many unknowns are ordered by METIS in UMFPACK (its
+  /// default, AMD, below).
+  static constexpr Eigen::Index kLuMetisFrom = 20000;
+
   /// Ordering and symbolic analysis of the (full, symmetric) pattern for the chosen backend.
   LinearSolver(const Eigen::SparseMatrix<double>& pattern, LinearSolverKind kind);
   /// Numeric factorization of K (same pattern as at construction): LDLᵀ when `symmetric` (K's
@@ -27,8 +39,15 @@ class LinearSolver {
   /// x = K⁻¹ b with the last factorization (b may have several columns; x may not alias b).
   void solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const;
 
+  /// The backend in use for symmetric tangents (never `automatic`).
+  LinearSolverKind kind() const { return kind_; }
+  /// One line naming the factorization, its ordering and the size, e.g. for a --verbose log.
+  std::string description() const;
+
   double seconds = 0;  ///< wall time in numeric factorizations
   int factorizations = 0;
+  int ldlt_fallbacks = 0;  ///< supernodal LLᵀ factorizations that met a non-positive pivot (then LDLᵀ)
+  int lu_fallbacks = 0;    ///< symmetric tangents that LDLᵀ could not factorize (then LU)
 
  private:
   using Ldlt = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>>;
@@ -42,8 +61,12 @@ class LinearSolver {
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> P_, Pinv_;
   std::unique_ptr<Ldlt> ldlt_;
   std::unique_ptr<Cholmod> cholmod_;
+  /// cholmod_supernodal only: the simplicial LDLᵀ for tangents that are not positive definite,
+  /// analyzed at its first use (same ordering method as cholmod_).
+  std::unique_ptr<Cholmod> cholmod_ldlt_;
   std::unique_ptr<Eigen::UmfPackLU<Eigen::SparseMatrix<double>>> lu_;
-  bool lu_active_ = false;
+  enum class Active { none, eigen, cholmod, cholmod_ldlt, lu };
+  Active active_ = Active::none;
   mutable Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> work_;
 };
 

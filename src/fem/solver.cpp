@@ -370,6 +370,7 @@ SimulationResult Simulation::run() {
   SimulationResult result;
   const auto t0 = std::chrono::steady_clock::now();
   const size_t n = test_.loads.size();
+  if (reporter_.log) reporter_.info("linear solver: " + linear_solver_.description());
   z_.setZero(dofs_.equations);
   Failure fail;
   // The reference state's tangent starts the first predictor.

@@ -15,11 +15,17 @@
 
 namespace tricot::fem {
 
-/// Sparse direct solver for symmetric tangents (THEORY §4): LDLᵀ without pivoting on a fill-reducing
+/// Sparse direct solver for symmetric tangents (THEORY §4): a factorization on a fill-reducing
 /// ordering computed once per simulation. Non-symmetric tangents (and LDLᵀ breakdowns) use UMFPACK LU.
 enum class LinearSolverKind {
-  eigen_ldlt,    ///< Eigen's SimplicialLDLT on an AMD ordering: measured fastest here (docs/validation.md)
+  /// By size, on the crossover measured by bench/linear_solver_benchmark.cpp (docs/validation.md,
+  /// issue 15): eigen_ldlt for small tangents, cholmod_supernodal for large ones.
+  automatic,
+  eigen_ldlt,    ///< Eigen's SimplicialLDLT on an AMD ordering: fastest below the crossover
   cholmod_ldlt,  ///< SuiteSparse CHOLMOD's simplicial LDLᵀ
+  /// CHOLMOD's supernodal LLᵀ (BLAS on dense supernodes) on a METIS nested-dissection ordering; a
+  /// tangent that is not positive definite is factorized by CHOLMOD's simplicial LDLᵀ instead.
+  cholmod_supernodal,
 };
 
 struct SolveOptions {
@@ -36,7 +42,7 @@ struct SolveOptions {
   /// Keep every Newton iteration's residual norm in StepResult::residuals.
   bool keep_residuals = true;
   /// Sparse solver for symmetric tangents (see LinearSolverKind).
-  LinearSolverKind linear_solver = LinearSolverKind::eigen_ldlt;
+  LinearSolverKind linear_solver = LinearSolverKind::automatic;
 
   /// Throws InputError naming `solver.<field>` when out of range.
   void validate() const;

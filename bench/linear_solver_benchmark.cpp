@@ -1,0 +1,170 @@
+// Issue 15: the sparse direct solvers on real FE tangents of the clamped Mooney–Rivlin strip
+// (examples/uniaxial-mooney: quarter 25 × 100 mm, Q8, ny = 3.4 nx) from ~2 200 to ~520 000 dofs.
+// Each iteration is one numeric factorization and one solve with one right-hand side; the ordering
+// and symbolic analysis are done once, outside the timing, as in simulate(). The tangent is the one at
+// a 10 % affine stretch (u_y = 0.1 Y), which meets every boundary condition of the clamped strip.
+// Argument: nx (10, 20, 30, 40, 80, 160 → 2 087 … 523 007 unknowns). Counter n = unknowns (free dofs).
+// The exponent is fitted in docs/validation.md (issue 15).
+#include <benchmark/benchmark.h>
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/UmfPackSupport>
+#include <map>
+#include <memory>
+
+#include "assembly.hpp"       // the engine's private assembly (bench/CMakeLists.txt adds src/fem)
+#include "linear_solver.hpp"  // and its sparse solver
+#include "tricot/fem/mooney_rivlin.hpp"
+
+namespace {
+
+using namespace tricot::fem;
+using SpMat = Eigen::SparseMatrix<double>;
+
+constexpr double kStretch = 0.1;  // u_y = kStretch · Y: a deformed state, far from any instability
+
+TestModel clamped_strip(int nx) {
+  MeshOptions m;
+  m.width = 25, m.height = 100, m.nx = nx, m.ny = nx * 34 / 10, m.type = ElementType::Q8;
+  TestModel t;
+  t.name = "tension";
+  t.mesh = make_quarter_mesh(m);
+  t.grip_holds_x = true;
+  t.loads = {kStretch * m.height};
+  return t;
+}
+
+// The free-free tangent of the strip with nx elements across, built once per size.
+const SpMat& tangent(int nx) {
+  static std::map<int, std::unique_ptr<SpMat>> cache;
+  auto& slot = cache[nx];
+  if (!slot) {
+    const TestModel t = clamped_strip(nx);
+    const MooneyRivlin law(paper_mooney_rivlin_terms());
+    const detail::DofMap dofs = detail::make_dof_map(t);
+    const detail::Assembler assembler(t, dofs, law);
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(t.mesh.dofs());
+    for (int n = 0; n < t.mesh.nodes(); ++n) u(2 * n + 1) = kStretch * t.mesh.X(1, n);
+    detail::Assembled a;
+    assembler.assemble(u, {true, false}, a);
+    slot = std::make_unique<SpMat>(a.K);
+  }
+  return *slot;
+}
+
+template <class Solver>
+void factorize_and_solve(benchmark::State& state, Solver& s, const SpMat& K) {
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(K.rows());
+  Eigen::VectorXd x;
+  s.analyzePattern(K);
+  for (auto _ : state) {
+    s.factorize(K);
+    x = s.solve(b);
+    benchmark::DoNotOptimize(x.data());
+  }
+  if (s.info() != Eigen::Success) state.SkipWithError("factorization failed");
+  state.counters["n"] = static_cast<double>(K.rows());
+}
+
+// What simulate() did before issue 15 (LinearSolverKind::eigen_ldlt): AMD once, Eigen's simplicial
+// LDLᵀ in place.
+void BM_EigenSimplicialLdltAmd(benchmark::State& state) {
+  const SpMat& K = tangent(static_cast<int>(state.range(0)));
+  detail::LinearSolver s(K, LinearSolverKind::eigen_ldlt);
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Ones(K.rows(), 1);
+  Eigen::MatrixXd x;
+  for (auto _ : state) {
+    if (!s.factorize(K, true)) state.SkipWithError("factorization failed");
+    s.solve(b, x);
+  }
+  state.counters["n"] = static_cast<double>(K.rows());
+}
+
+// CHOLMOD's supernodal LLᵀ (BLAS on the supernodes) with a given ordering; -1: CHOLMOD's default
+// choice (AMD, then METIS if AMD's fill is high).
+void cholmod_supernodal(benchmark::State& state, int ordering) {
+  const SpMat L = tangent(static_cast<int>(state.range(0))).triangularView<Eigen::Lower>();
+  Eigen::CholmodDecomposition<SpMat, Eigen::Lower> s;
+  s.setMode(Eigen::CholmodSupernodalLLt);
+  s.cholmod().print = 0;
+  if (ordering >= 0) {
+    s.cholmod().nmethods = 1;
+    s.cholmod().method[0].ordering = ordering;
+    s.cholmod().postorder = 1;
+  }
+  factorize_and_solve(state, s, L);
+}
+void BM_CholmodSupernodalDefault(benchmark::State& state) { cholmod_supernodal(state, -1); }
+void BM_CholmodSupernodalAmd(benchmark::State& state) { cholmod_supernodal(state, CHOLMOD_AMD); }
+void BM_CholmodSupernodalMetis(benchmark::State& state) { cholmod_supernodal(state, CHOLMOD_METIS); }
+void BM_CholmodSupernodalNesdis(benchmark::State& state) { cholmod_supernodal(state, CHOLMOD_NESDIS); }
+
+// The engine's own choice (LinearSolverKind::automatic), as simulate() uses it.
+void BM_EngineAutomatic(benchmark::State& state) {
+  const SpMat& K = tangent(static_cast<int>(state.range(0)));
+  detail::LinearSolver s(K, LinearSolverKind::automatic);
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Ones(K.rows(), 1);
+  Eigen::MatrixXd x;
+  for (auto _ : state) {
+    if (!s.factorize(K, true)) state.SkipWithError("factorization failed");
+    s.solve(b, x);
+  }
+  state.SetLabel(s.description());
+  state.counters["n"] = static_cast<double>(K.rows());
+}
+
+// UMFPACK LU, the path of non-symmetric tangents (response-surface law); the clamped strip's tangent
+// stands in for one (same pattern, same size), with UMFPACK's default ordering and with METIS.
+void umfpack(benchmark::State& state, int ordering) {
+  const SpMat& K = tangent(static_cast<int>(state.range(0)));
+  Eigen::UmfPackLU<SpMat> s;
+  s.umfpackControl()(UMFPACK_IRSTEP) = 0;
+  if (ordering >= 0) s.umfpackControl()(UMFPACK_ORDERING) = ordering;
+  factorize_and_solve(state, s, K);
+}
+void BM_UmfpackDefault(benchmark::State& state) { umfpack(state, -1); }
+void BM_UmfpackMetis(benchmark::State& state) { umfpack(state, UMFPACK_ORDERING_METIS); }
+
+// One forward solve of the clamped strip, 10 displacement steps to 100 % strain (the case file's
+// load_max = 100 mm), with the pre-issue-15 solver (second argument 1: eigen_ldlt) or the engine's
+// choice (0: automatic). Counters: Newton iterations, factorizations, their share of the wall time.
+void BM_ForwardSolve(benchmark::State& state) {
+  TestModel t = clamped_strip(static_cast<int>(state.range(0)));
+  t.loads.clear();
+  for (int k = 1; k <= 10; ++k) t.loads.push_back(10.0 * k);
+  const MooneyRivlin law(paper_mooney_rivlin_terms());
+  SolveOptions o;
+  o.linear_solver = state.range(1) == 1 ? LinearSolverKind::eigen_ldlt : LinearSolverKind::automatic;
+  SimulationResult r;
+  double seconds = 0, factorization = 0;
+  for (auto _ : state) {
+    r = simulate(t, law, o);
+    seconds += r.seconds;
+    factorization += r.factorization_seconds;
+  }
+  if (!r.usable()) state.SkipWithError(r.message.c_str());
+  int iterations = 0;
+  for (const auto& s : r.steps) iterations += s.iterations;
+  state.counters["n"] = t.mesh.dofs();
+  state.counters["newton"] = iterations;
+  state.counters["factorizations"] = r.factorizations;
+  state.counters["fact_s"] = factorization / static_cast<double>(state.iterations());
+  state.counters["wall_over_fact"] = seconds / factorization;
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+  for (int nx : {10, 20, 30, 40, 80, 160}) b->Arg(nx);
+  b->Unit(benchmark::kMillisecond);
+}
+
+}  // namespace
+
+BENCHMARK(BM_EigenSimplicialLdltAmd)->Apply(sizes);
+BENCHMARK(BM_CholmodSupernodalDefault)->Apply(sizes);
+BENCHMARK(BM_CholmodSupernodalAmd)->Apply(sizes);
+BENCHMARK(BM_CholmodSupernodalMetis)->Apply(sizes);
+BENCHMARK(BM_CholmodSupernodalNesdis)->Apply(sizes);
+BENCHMARK(BM_EngineAutomatic)->Apply(sizes);
+BENCHMARK(BM_UmfpackDefault)->Apply(sizes);
+BENCHMARK(BM_UmfpackMetis)->Apply(sizes);
+BENCHMARK(BM_ForwardSolve)->ArgsProduct({{10, 20, 40, 80, 160}, {0, 1}})->Unit(benchmark::kMillisecond);
