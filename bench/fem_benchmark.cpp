@@ -9,6 +9,7 @@
 
 #include "assembly.hpp"       // the engine's private assembly (bench/CMakeLists.txt adds src/fem)
 #include "linear_solver.hpp"  // and its sparse solver
+#include "simulation_timing.hpp"
 #include "tricot/fem/mooney_rivlin.hpp"
 #include "tricot/fem/solver.hpp"
 
@@ -27,23 +28,7 @@ TestModel uniaxial_strip(ElementType type, int nx, int ny) {
 }
 
 void run(benchmark::State& state, const TestModel& t, const SolveOptions& o) {
-  const MooneyRivlin law(paper_mooney_rivlin_terms());
-  SimulationResult r;
-  double seconds = 0, factorization = 0;
-  for (auto _ : state) {
-    r = simulate(t, law, o);
-    seconds += r.seconds;
-    factorization += r.factorization_seconds;
-  }
-  if (!r.usable()) state.SkipWithError(r.message.c_str());
-  int iterations = 0;
-  for (const auto& s : r.steps) iterations += s.iterations;
-  state.counters["dofs"] = t.mesh.dofs();
-  state.counters["newton"] = iterations;
-  state.counters["factorizations"] = r.factorizations;
-  state.counters["fact_ms"] = 1e3 * factorization / state.iterations();
-  state.counters["fact_share"] = factorization / seconds;
-  state.counters["force_N"] = r.steps.empty() ? 0 : r.steps.back().edge_force;
+  tricot::bench::time_simulation(state, t, MooneyRivlin(paper_mooney_rivlin_terms()), o);
 }
 
 SolveOptions options(bool sensitivities = false, LinearSolverKind kind = LinearSolverKind::eigen_ldlt) {

@@ -14,6 +14,7 @@
 
 #include "assembly.hpp"       // the engine's private assembly (bench/CMakeLists.txt adds src/fem)
 #include "linear_solver.hpp"  // and its sparse solver
+#include "simulation_timing.hpp"
 #include "tricot/fem/mooney_rivlin.hpp"
 
 namespace {
@@ -127,29 +128,14 @@ void BM_UmfpackMetis(benchmark::State& state) { umfpack(state, UMFPACK_ORDERING_
 
 // One forward solve of the clamped strip, 10 displacement steps to 100 % strain (the case file's
 // load_max = 100 mm), with the pre-issue-15 solver (second argument 1: eigen_ldlt) or the engine's
-// choice (0: automatic). Counters: Newton iterations, factorizations, their share of the wall time.
+// choice (0: automatic). Counters: simulation_timing.hpp.
 void BM_ForwardSolve(benchmark::State& state) {
   TestModel t = clamped_strip(static_cast<int>(state.range(0)));
   t.loads.clear();
   for (int k = 1; k <= 10; ++k) t.loads.push_back(10.0 * k);
-  const MooneyRivlin law(paper_mooney_rivlin_terms());
   SolveOptions o;
   o.linear_solver = state.range(1) == 1 ? LinearSolverKind::eigen_ldlt : LinearSolverKind::automatic;
-  SimulationResult r;
-  double seconds = 0, factorization = 0;
-  for (auto _ : state) {
-    r = simulate(t, law, o);
-    seconds += r.seconds;
-    factorization += r.factorization_seconds;
-  }
-  if (!r.usable()) state.SkipWithError(r.message.c_str());
-  int iterations = 0;
-  for (const auto& s : r.steps) iterations += s.iterations;
-  state.counters["n"] = t.mesh.dofs();
-  state.counters["newton"] = iterations;
-  state.counters["factorizations"] = r.factorizations;
-  state.counters["fact_s"] = factorization / static_cast<double>(state.iterations());
-  state.counters["wall_over_fact"] = seconds / factorization;
+  tricot::bench::time_simulation(state, t, MooneyRivlin(paper_mooney_rivlin_terms()), o);
 }
 
 void sizes(benchmark::internal::Benchmark* b) {
