@@ -21,6 +21,15 @@ std::string format_real(double x) {
   return s;
 }
 
+
+int line_of(const toml::node& n) { return static_cast<int>(n.source().begin.line); }
+
+std::string join(std::string_view a, std::string_view b) {
+  return a.empty() ? std::string(b) : std::string(a) + "." + std::string(b);
+}
+
+}  // namespace
+
 std::string range_text(const KeySpec& k) {
   if (!k.choices.empty()) {
     std::string s = "one of ";
@@ -33,14 +42,6 @@ std::string range_text(const KeySpec& k) {
   if (hi) return fmt::format("<= {}", k.max);
   return {};
 }
-
-int line_of(const toml::node& n) { return static_cast<int>(n.source().begin.line); }
-
-std::string join(std::string_view a, std::string_view b) {
-  return a.empty() ? std::string(b) : std::string(a) + "." + std::string(b);
-}
-
-}  // namespace
 
 std::string to_toml(const Value& v) {
   struct {

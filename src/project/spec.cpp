@@ -49,39 +49,26 @@ std::string real_text(double x) {
   return s;
 }
 
-std::string range_text(const io::KeySpec& k) {
-  if (!k.choices.empty()) {
-    std::string s = "one of ";
-    for (std::size_t i = 0; i < k.choices.size(); ++i) s += (i ? ", " : "") + k.choices[i];
-    return s;
-  }
-  const bool lo = std::isfinite(k.min), hi = std::isfinite(k.max);
-  if (lo && hi) return fmt::format("{} to {}", k.min, k.max);
-  if (lo) return fmt::format(">= {}", k.min);
-  if (hi) return fmt::format("<= {}", k.max);
-  return {};
-}
-
 }  // namespace
 
 void check_key(const Origin& origin, const io::SectionSpec& table, std::string_view key, const io::Value& value) {
   const auto k = std::find_if(table.keys.begin(), table.keys.end(), [&](const io::KeySpec& s) { return s.name == key; });
   if (k == table.keys.end()) throw std::logic_error("check_key: no key " + std::string(key) + " in [" + table.name + "]");
   auto number = [&](double x, const std::string& at) {
-    if (!std::isfinite(x)) origin.fail(at, "must be a finite number", real_text(x), range_text(*k));
-    if (x < k->min || x > k->max) origin.fail(at, "out of range", real_text(x), range_text(*k));
+    if (!std::isfinite(x)) origin.fail(at, "must be a finite number", real_text(x), io::range_text(*k));
+    if (x < k->min || x > k->max) origin.fail(at, "out of range", real_text(x), io::range_text(*k));
   };
   if (const auto* x = std::get_if<double>(&value)) number(*x, std::string(key));
   if (const auto* i = std::get_if<std::int64_t>(&value))
     if (static_cast<double>(*i) < k->min || static_cast<double>(*i) > k->max)
-      origin.fail(key, "out of range", std::to_string(*i), range_text(*k));
+      origin.fail(key, "out of range", std::to_string(*i), io::range_text(*k));
   if (const auto* r = std::get_if<io::Reals>(&value))
     for (std::size_t i = 0; i < r->size(); ++i) number((*r)[i], fmt::format("{}[{}]", key, i));
   if (const auto* w = std::get_if<std::string>(&value))
     if (!k->choices.empty() && std::find(k->choices.begin(), k->choices.end(), *w) == k->choices.end()) {
       const std::string hint = io::closest_name(*w, k->choices);
       origin.fail(key, "not a valid choice" + (hint.empty() ? std::string() : "; did you mean '" + hint + "'?"),
-                  "\"" + *w + "\"", range_text(*k));
+                  "\"" + *w + "\"", io::range_text(*k));
     }
 }
 

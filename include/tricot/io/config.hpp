@@ -123,4 +123,7 @@ std::string to_toml(const Value& v);
 /// The closest name to `word` among `names` (edit distance ≤ max(2, length/3)), or "".
 std::string closest_name(std::string_view word, const Strings& names);
 
+/// The allowed values of a key as an error message gives them: "one of a, b", "0 to 1", ">= 0", or "".
+std::string range_text(const KeySpec& k);
+
 }  // namespace tricot::io
