@@ -132,6 +132,15 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
   const int k = s.next;
   const int n = static_cast<int>(s.ref_x.size());
   const auto cur = std::make_shared<const Frame>(prepare_frame(next, s.o.dic.prefilter_sigma));
+  const auto since = [](std::chrono::steady_clock::time_point& t) {
+    const auto now = std::chrono::steady_clock::now();
+    const double d = std::chrono::duration<double>(now - t).count();
+    t = now;
+    return d;
+  };
+  auto tick = t0;
+  TrackedFrame::Stages stages;
+  stages.prepare = since(tick);
   const TrackedFrame& before = s.result.frames.back();
 
   PairResult pair = s.correlate(*cur, s.last);
@@ -182,10 +191,12 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
     }
   }
   f.mean_zncc = f.ok ? sum / f.ok : 0;
+  stages.correlate = since(tick);
   std::vector<Vec2> X(s.result.grid.size());
   for (int p = 0; p < n; ++p) X[p] = s.result.grid[p].x;
   f.strain = green_lagrange(s.result.grid, f.x, good, s.o.strain);
   f.message = note + pair.message;
+  stages.strain = since(tick);
 
   // Fixed-point incremental field between the previous image and this one (before the state moves on).
   if (s.o.fixed_point_fields) {
@@ -212,6 +223,7 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
     }
     if (!s.o.keep_frames) s.result.increments.clear();
     s.result.increments.push_back(std::move(inc));
+    stages.increments = since(tick);
   }
 
   // Move on.
@@ -230,6 +242,7 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
   }
   s.prev = cur;
   f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  f.stages = stages;
   s.result.frames.push_back(std::move(f));
   if (!s.o.keep_frames) s.result.frames.erase(s.result.frames.begin(), s.result.frames.end() - 1);
   ++s.next;

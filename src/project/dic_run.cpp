@@ -7,6 +7,7 @@
 
 #include <fmt/ranges.h>
 
+#include <chrono>
 #include <csignal>
 #include <cmath>
 #include <cstdint>
@@ -300,7 +301,24 @@ bool wanted(int frame, int every, int last) { return frame % every == 0 || frame
 
 std::string fields_name(int frame) { return fmt::format("fields/frame_{:04d}.vtu", frame); }
 
+/// Seconds since `t`, and `t` moved to now.
+double lap(std::chrono::steady_clock::time_point& t) {
+  const auto now = std::chrono::steady_clock::now();
+  const double d = std::chrono::duration<double>(now - t).count();
+  t = now;
+  return d;
+}
+
 }  // namespace
+
+std::string DicStageSeconds::brief_report() const {
+  std::string s;
+  for (const auto& [name, v] : {std::pair{"check", check}, {"decode", decode}, {"prepare", prepare}, {"correlate", correlate},
+                                {"strain", strain}, {"increments", increments}, {"tables", tables},
+                                {"overlays", overlays}, {"fields", fields}, {"checkpoint", checkpoint}})
+    if (v > 0) s += fmt::format("{}{} {:.2f} s", s.empty() ? "" : ", ", name, v);
+  return s;
+}
 
 DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, const fs::path& out_dir,
                const Log& log, const DicRunOptions& options) {
@@ -334,10 +352,12 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   // at position 22 is found in seconds rather than after 21 frames of work. Each is dropped at once
   // (issue 16: memory stays bounded); decoding twice costs far less than correlating.
   const int n = static_cast<int>(images.size()) - 1;
+  auto tick = std::chrono::steady_clock::now();
   for (int k = 1; k <= n; ++k) {
     log.reporter().report({"checking images", static_cast<std::size_t>(k), static_cast<std::size_t>(n), ""});
     image::require_same_size(ref.image, image::load_image(images[k]).image, images[k]);
   }
+  run.stages.check = lap(tick);
 
   // A checkpoint a killed run left (--resume).
   const std::string print = fingerprint(spec, images, grid.size());
@@ -385,7 +405,11 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   if (s.outputs.increments) increments.emplace(staged / "increments.csv", kIncrementsHeader, size_of(2));
   if (s.outputs.physical) specimen.emplace(staged / "specimen.csv", kSpecimenHeader, size_of(3));
 
+  DicStageSeconds& st = run.stages;
   const auto write_frame = [&](const image::Image& img, const dic::TrackedFrame& f) {
+    st.prepare += f.stages.prepare, st.correlate += f.stages.correlate, st.strain += f.stages.strain;
+    st.increments += f.stages.increments;
+    auto t = std::chrono::steady_clock::now();
     if (f.ok == 0 && run.lost_at < 0) run.lost_at = f.frame;
     std::string rows = points_rows(grid, f);
     if (const char* v = std::getenv("TRICOT_TEST_KILL_DIC_FRAME"); v && std::atoi(v) == f.frame) {
@@ -397,19 +421,25 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
     frames.append(frames_row(f, grid.size(), images[f.frame]));
     if (increments && f.frame > 0) increments->append(increments_rows(grid, tracker->result().increments.back()));
     if (specimen) specimen->append(specimen_rows(grid, f, *s.outputs.physical));
+    st.tables += lap(t);
     if (s.outputs.overlays && wanted(f.frame, s.outputs.overlay_every, n)) {
       io::write_atomic(staged / "overlays" / overlay_name(f.frame),
                        image::encode_png(dic::draw_overlay(img, grid, s.sequence.dic.step, f, s.outputs.overlay)));
+      st.overlays += lap(t);
     }
-    if (s.outputs.fields && wanted(f.frame, s.outputs.fields_every, n))
+    if (s.outputs.fields && wanted(f.frame, s.outputs.fields_every, n)) {
       io::write_vtu(staged / fields_name(f.frame), fields_vtu(grid, f));
+      st.fields += lap(t);
+    }
     // The frame is complete on disk: record where the tables end and the tracker's state.
     RunCheckpoint c;
     c.fingerprint = print;
     c.sizes = {points.flush(), frames.flush(), increments ? increments->flush() : 0, specimen ? specimen->flush() : 0};
+    st.tables += lap(t);
     c.lost_at = run.lost_at;
     c.tracker = tracker->checkpoint();
     io::write_atomic(checkpoint_path, encode(c));
+    st.checkpoint += lap(t);
   };
 
   if (!resumed) {
@@ -423,8 +453,10 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   }
   log.reporter().report({"dic", static_cast<std::size_t>(first - 1), static_cast<std::size_t>(n), ""});
   for (int k = first; k <= n; ++k) {
+    tick = std::chrono::steady_clock::now();
     const image::LoadedImage cur = image::load_image(images[k]);
     image::require_same_size(ref.image, cur.image, images[k]);
+    st.decode += lap(tick);
     if (!cur.warning.empty()) warnings.push_back(cur.warning);
     const dic::TrackedFrame& f = tracker->add(cur.image);
     write_frame(cur.image, f);
@@ -461,6 +493,7 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
                         run.frames, grid.size(), dic::to_string(s.sequence.mode), last.ok, grid.size(),
                         last.mean_zncc, format_duration(r.seconds)));
   log.print("wrote " + written);
+  log.reporter().info("time per stage: " + st.brief_report());
   run.written = std::move(written);
   run.result = r;
   return run;

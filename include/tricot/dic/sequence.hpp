@@ -62,6 +62,11 @@ struct TrackedFrame {
   int ok = 0;
   double mean_zncc = 0;
   double seconds = 0;
+  /// Where `seconds` went: preparing the image (B-spline coefficients, gradients), correlating the
+  /// tracked points (seeds, propagation, IC-GN), the strain fit, the fixed-point incremental field.
+  struct Stages {
+    double prepare = 0, correlate = 0, strain = 0, increments = 0;
+  } stages;
   std::string message;
 };
 

@@ -39,6 +39,22 @@ struct DicRunOptions {
   bool keep_frames = true;
 };
 
+/// Wall seconds per stage, summed over the frames a run correlated (issue 16: where the time goes).
+struct DicStageSeconds {
+  double check = 0;       ///< decoding every frame once before any work, to check its size
+  double decode = 0;      ///< decoding each frame for its correlation
+  double prepare = 0;     ///< B-spline coefficients and gradients (dic::TrackedFrame::Stages)
+  double correlate = 0;   ///< seeds, propagation and IC-GN
+  double strain = 0;      ///< the strain fit
+  double increments = 0;  ///< fixed-point incremental fields
+  double tables = 0;      ///< formatting and appending the CSV rows
+  double overlays = 0;    ///< drawing and encoding the overlays
+  double fields = 0;      ///< the VTU files
+  double checkpoint = 0;  ///< the --resume checkpoint of each frame
+  /// "check 1.2 s, decode 0.3 s, ..." (the stages that took any time).
+  std::string brief_report() const;
+};
+
 struct DicRun {
   /// The frames (all of them with DicRunOptions::keep_frames, else the last; after a resume, those
   /// from the checkpoint's frame on), termination and message.
@@ -49,6 +65,7 @@ struct DicRun {
   int frames = 0;                     ///< frames in points.csv, frame 0 included
   int lost_at = -1;                   ///< the first frame with no point ok (−1: none)
   int resumed_from = 0;               ///< the first frame correlated by this run (> 1 after a resume)
+  DicStageSeconds stages;
 };
 /// Runs the sequence `images` (the first is the reference) and writes its tables to `out`, frame by
 /// frame: points.csv and the other tables grow in the staging folder as each frame is correlated, and
