@@ -1,6 +1,9 @@
 // Sequence tracking: incremental, reference and automatic reference update (see sequence.hpp).
 #include "tricot/dic/sequence.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -103,9 +106,13 @@ SequenceTracker::SequenceTracker(const image::Image& reference, std::vector<Grid
   f0.zncc.assign(n, 1.0);
   f0.status.assign(n, PointStatus::ok);
   f0.sigma.assign(n, Vec2::Zero());
+  // The texture test reads every reference subset: in parallel (issue 16), then the statuses in order.
+  std::vector<char> textured(n);
+#pragma omp parallel for schedule(dynamic, 64) num_threads(s.o.dic.threads > 0 ? std::min(s.o.dic.threads, omp_get_num_procs()) : omp_get_max_threads())
+  for (int k = 0; k < n; ++k) textured[k] = has_texture(*s.ref, g[k].x, s.o.dic.icgn);
   for (int k = 0; k < n; ++k) {
     s.ref_x[k] = f0.x[k] = g[k].x;
-    if (!has_texture(*s.ref, g[k].x, s.o.dic.icgn)) {
+    if (!textured[k]) {
       f0.status[k] = icgn(*s.ref, *s.ref, g[k].x, Shape::Zero(), s.o.dic.icgn).status;  // no_texture / out_of_image
       f0.zncc[k] = 0;
       s.alive[k] = 0;
