@@ -442,3 +442,17 @@ TEST(CliDic, ResumingWithOtherSettingsIsAUsageErrorAndWithoutACheckpointStartsAt
   EXPECT_NE(r.out.find("nothing to resume"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(fresh / "points.csv"));
 }
+
+// Off a terminal (this test's pipes), progress is one log line per frame, no carriage returns.
+TEST(CliDic, OffATerminalProgressIsOneLinePerFrame) {
+  const Frames f("cli_dic_log_lines");
+  const auto r = run_tricot("dic --step 20" + std::string(kRoi) + " -o " + q(f.dir / "out") + f.args());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
+  for (const char* line : {"dic: frame 1: ", "dic: frame 2: "}) {
+    const auto at = r.err.find(line);
+    ASSERT_NE(at, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(line, at + 1), std::string::npos) << "twice: " << r.err;
+  }
+  EXPECT_NE(r.err.find("(2/2)"), std::string::npos) << r.err;
+}
