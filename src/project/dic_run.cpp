@@ -456,7 +456,9 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
       io::write_vtu(staged / fields_name(f.frame), fields_vtu(grid, f));
       st.fields += lap(t);
     }
-    // The frame is complete on disk: record where the tables end and the tracker's state.
+    // The frame is complete on disk: record where the tables end and the tracker's state (not after
+    // the last frame: the run then publishes and there is nothing left to resume).
+    if (f.frame == n) return;
     RunCheckpoint c;
     c.fingerprint = print;
     c.sizes = {points.flush(), frames.flush(), increments ? increments->flush() : 0, specimen ? specimen->flush() : 0};
