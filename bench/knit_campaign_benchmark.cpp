@@ -469,6 +469,33 @@ void BM_Identify(benchmark::State& state, int size, std::string preset, bool res
   state.counters["paper_ratio"] = 80 * 3600.0 / state.counters["wall_s"];  // the paper's ~80 h class
 }
 
+/// One evaluation of the 110 mm campaign at LM's start (paper14, the least-squares start), every test
+/// with its 14 sensitivities, one thread: the unit of the identification's cost. Counters: Newton
+/// iterations, factorizations and the factorization time per evaluation, per load step.
+void BM_Evaluate(benchmark::State& state) {
+  Campaign& c = campaign(110);
+  fem::ResponseSurface law = fem::ResponseSurface::preset("paper14", kShear);
+  law.set_coefficients(polynomial_start(law, c));
+  fem::SolveOptions so;
+  so.sensitivities = state.range(0) != 0;
+  double newton = 0, factorizations = 0, factor_s = 0, steps = 0;
+  for (auto _ : state) {
+    newton = factorizations = factor_s = steps = 0;
+    for (const auto& t : c.tests) {
+      const fem::SimulationResult r = fem::simulate(t.model, law, so);
+      if (!r.usable()) state.SkipWithError(r.message.c_str());
+      for (const auto& s : r.steps) newton += s.iterations;
+      factorizations += r.factorizations, factor_s += r.factorization_seconds;
+      steps += static_cast<double>(r.steps.size());
+    }
+  }
+  state.counters["steps"] = steps;
+  state.counters["newton_per_step"] = newton / steps;
+  state.counters["factorizations_per_step"] = factorizations / steps;
+  state.counters["factor_ms_per_step"] = 1e3 * factor_s / steps;
+}
+BENCHMARK(BM_Evaluate)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+
 BENCHMARK_CAPTURE(BM_Identify, 110/paper14, 110, "paper14", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_Identify, 110/paper14/restricted, 110, "paper14", true)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_Identify, 110/paper24, 110, "paper24", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
