@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,10 @@ struct SolveOptions {
   bool keep_residuals = true;
   /// Sparse solver for symmetric tangents (see LinearSolverKind).
   LinearSolverKind linear_solver = LinearSolverKind::automatic;
+  /// When set, asked before every (sub)step increment: true stops the run there with
+  /// SolveTermination::cancelled (e.g. an identification whose evaluation already failed in another
+  /// test: its result is discarded anyway). Called from the simulating thread; must be thread-safe.
+  std::function<bool()> cancelled;
 
   /// Throws InputError naming `solver.<field>` when out of range.
   void validate() const;
@@ -72,6 +77,7 @@ enum class SolveTermination {
   /// a force-controlled grip converged only to a compressed state (grip displacement ≤ 0 under a
   /// tensile force: the law has no tensile equilibrium there), after every cutback
   invalid_state,
+  cancelled,  ///< SolveOptions::cancelled returned true; `steps` holds the converged ones
 };
 const char* to_string(SolveTermination t);
 
