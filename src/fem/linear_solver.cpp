@@ -204,8 +204,13 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
   for (size_t k = 0; k < f.Bu.size(); ++k) f.Bu[k] = v[f.upper_from[k]], f.Bl[k] = v[f.lower_from[k]];
   const int* Ap = f.upper.outerIndexPtr();
   const int* Ai = f.upper.innerIndexPtr();
-  double* y = f.y.data();
-  double* w = f.w.data();
+  double* __restrict y = f.y.data();
+  double* __restrict w = f.w.data();
+  int* __restrict Li = f.Li.data();
+  double* __restrict Lx = f.Lx.data();
+  double* __restrict Ux = f.Ux.data();
+  const int* Lp = f.Lp.data();
+  double* D = f.D.data();
   std::fill(f.flag.begin(), f.flag.end(), -1);
   for (int k = 0; k < n; ++k) {
     int top = n;
@@ -227,23 +232,24 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
       const int i = f.pattern[top];
       const double yi = y[i], wi = w[i];
       y[i] = w[i] = 0;
-      const int p2 = f.Lp[i] + f.Lnz[i];
-      for (int p = f.Lp[i]; p < p2; ++p) {
-        y[f.Li[p]] -= f.Lx[p] * yi;
-        w[f.Li[p]] -= f.Ux[p] * wi;
+      const int p2 = Lp[i] + f.Lnz[i];
+      for (int p = Lp[i]; p < p2; ++p) {
+        const int r = Li[p];
+        y[r] -= Lx[p] * yi;
+        w[r] -= Ux[p] * wi;
       }
-      const double Di = f.D(i);
+      const double Di = D[i];
       Dk -= wi * yi / Di;
-      f.Li[p2] = k;
-      f.Lx[p2] = wi / Di;
-      f.Ux[p2] = yi / Di;
+      Li[p2] = k;
+      Lx[p2] = wi / Di;
+      Ux[p2] = yi / Di;
       ++f.Lnz[i];
     }
     if (!(std::abs(Dk) > kTinyPivot * scale) || !std::isfinite(Dk)) {
       std::fill(f.y.begin(), f.y.end(), 0.0), std::fill(f.w.begin(), f.w.end(), 0.0);  // a later one starts clean
       return false;
     }
-    f.D(k) = Dk;
+    D[k] = Dk;
   }
   return true;
 }
