@@ -68,15 +68,16 @@ class LinearSolver {
   /// analyzed at its first use (same ordering method as cholmod_).
   std::unique_ptr<Cholmod> cholmod_ldlt_;
   std::unique_ptr<Eigen::UmfPackLU<Eigen::SparseMatrix<double>>> lu_;
-  /// The simplicial LU (eigen_ldlt kind only): B = P K Pᵀ = L D U, L and Uᵀ unit lower triangular with
-  /// the pattern of LDLᵀ's L (CSC: Lp_, Li_; values Lx_ and Ux_, Ux_ holding Uᵀ), built at the first
-  /// non-symmetric tangent. B's upper triangle by columns (upper_, values K[upper_from_[k]]) and its
-  /// lower triangle by rows (values K[lower_from_[k]], same pattern as upper_).
+  /// The simplicial LU (eigen_ldlt kind only), built at the first non-symmetric tangent:
+  /// B = P K Pᵀ = L D U (P: the AMD ordering of the LDLᵀ path), L and Uᵀ unit lower triangular with the
+  /// pattern of LDLᵀ's L (CSC: Lp, Li; values Lx, and Ux holding Uᵀ). `upper` is B's upper triangle by
+  /// columns, its values K[upper_from[k]] (Bu); B's lower triangle by rows has the same pattern, values
+  /// K[lower_from[k]] (Bl). False on a tiny pivot (then UMFPACK).
   bool factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K);
   struct SimplicialLu {
     Eigen::SparseMatrix<double> upper;
     std::vector<int> upper_from, lower_from;
-    std::vector<int> parent, Lp, Li, Lnz, flag, pattern;
+    std::vector<int> parent, Lp, Li, Lnz, flag, pattern;  // elimination tree, L's columns, workspace
     std::vector<double> Lx, Ux, Bu, Bl, y, w;
     Eigen::VectorXd D;
   };
