@@ -469,6 +469,64 @@ void BM_Identify(benchmark::State& state, int size, std::string preset, bool res
   state.counters["paper_ratio"] = 80 * 3600.0 / state.counters["wall_s"];  // the paper's ~80 h class
 }
 
+/// One evaluation of the 110 mm campaign at LM's start (paper14, the least-squares start), every test
+/// with its 14 sensitivities, one thread: the unit of the identification's cost. Counters: Newton
+/// iterations, factorizations and the factorization time per evaluation, per load step.
+void BM_Evaluate(benchmark::State& state) {
+  Campaign& c = campaign(110);
+  fem::ResponseSurface law = fem::ResponseSurface::preset("paper14", kShear);
+  law.set_coefficients(polynomial_start(law, c));
+  fem::SolveOptions so;
+  so.sensitivities = state.range(0) != 0;
+  double newton = 0, factorizations = 0, factor_s = 0, steps = 0;
+  for (auto _ : state) {
+    newton = factorizations = factor_s = steps = 0;
+    for (const auto& t : c.tests) {
+      const fem::SimulationResult r = fem::simulate(t.model, law, so);
+      if (!r.usable()) state.SkipWithError(r.message.c_str());
+      for (const auto& s : r.steps) newton += s.iterations;
+      factorizations += r.factorizations, factor_s += r.factorization_seconds;
+      steps += static_cast<double>(r.steps.size());
+    }
+  }
+  state.counters["steps"] = steps;
+  state.counters["newton_per_step"] = newton / steps;
+  state.counters["factorizations_per_step"] = factorizations / steps;
+  state.counters["factor_ms_per_step"] = 1e3 * factor_s / steps;
+}
+BENCHMARK(BM_Evaluate)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+
+/// Issue 15, the paper's scale: one evaluation (field + grip force, 14 sensitivities) of the five
+/// wale-pulled 110 mm tests × 21 steps with `paper14` at the slope start (a1 and c1 only, fitted to the
+/// eq. 9 points: stable at every strain; the least-squares start and the 120-element J* both lose
+/// material stability at the fine mesh's clip strains, docs/validation.md issue 15), on an nx × ny Q8 quarter (70 × 58: 24 874 dofs, the paper's ~24 000),
+/// the data of the 24 × 20 synthesis, the tests on the objective's threads (OpenMP default). The
+/// identification's cost is this times its evaluations.
+void BM_EvaluatePaperScale(benchmark::State& state) {
+  Campaign& c = campaign(110);
+  fem::ResponseSurface law = fem::ResponseSurface::preset("paper14", kShear);
+  const Eigen::VectorXd J0 = polynomial_start(law, c, 1);
+  law.set_coefficients(J0);
+  std::vector<fem::TestModel> models;
+  ident::Experiment data;
+  for (const auto& t : c.tests) {
+    if (t.pull != fem::PullDirection::wale) continue;
+    models.push_back(fem::make_rig_test(rig(c.spec, t.pull, t.transverse, static_cast<int>(state.range(0)),
+                                            static_cast<int>(state.range(1)))));
+    data.tests.push_back(t.data);
+  }
+  std::vector<ident::Parameter> p;
+  for (const std::string& name : law.coefficient_names()) p.push_back(ident::Parameter{name});
+  const ident::Objective objective(models, data, law, p);
+  for (auto _ : state) {
+    const ident::Evaluation e = objective.evaluate(J0, true);
+    if (!e.ok) state.SkipWithError(e.message.c_str());
+  }
+  state.counters["dofs"] = models.front().mesh.dofs();
+  state.counters["tests"] = static_cast<double>(models.size());
+}
+BENCHMARK(BM_EvaluatePaperScale)->Args({12, 10})->Args({70, 58})->Iterations(1)->Unit(benchmark::kSecond)->MeasureProcessCPUTime()->UseRealTime();
+
 BENCHMARK_CAPTURE(BM_Identify, 110/paper14, 110, "paper14", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_Identify, 110/paper14/restricted, 110, "paper14", true)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_Identify, 110/paper24, 110, "paper24", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);

@@ -4,6 +4,7 @@
 #include <Eigen/OrderingMethods>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 namespace tricot::fem::detail {
@@ -23,11 +24,11 @@ std::vector<int> sources(const Eigen::SparseMatrix<double>& tri) {
   return from;
 }
 
-// Y ← L⁻ᵀ D⁻¹ L⁻¹ Y for M columns of a row-major block (row stride m), L unit lower triangular
-// (strict part in CSC).
+// Y ← U⁻¹ D⁻¹ L⁻¹ Y for M columns of a row-major block (row stride m), L and Uᵀ unit lower triangular
+// with the same pattern (strict parts in CSC, values Lx and Ux); LDLᵀ: Ux = Lx.
 template <int M>
-void ldlt_substitute(Eigen::Index n, const int* Lp, const int* Li, const double* Lx, const Eigen::VectorXd& D,
-                     double* Y, Eigen::Index m) {
+void ldu_substitute(Eigen::Index n, const int* Lp, const int* Li, const double* Lx, const double* Ux,
+                    const Eigen::VectorXd& D, double* Y, Eigen::Index m) {
   using Row = Eigen::Matrix<double, 1, M>;
   using RowMap = Eigen::Map<Row>;
   for (Eigen::Index j = 0; j < n; ++j) {  // L y = b
@@ -36,16 +37,16 @@ void ldlt_substitute(Eigen::Index n, const int* Lp, const int* Li, const double*
   }
   for (Eigen::Index j = 0; j < n; ++j) RowMap(Y + j * m) /= D(j);
   auto row = [&](int p) { return RowMap(Y + static_cast<Eigen::Index>(Li[p]) * m); };
-  for (Eigen::Index j = n - 1; j >= 0; --j) {  // Lᵀ z = D⁻¹ y: a dot product per row, in 4 chains
+  for (Eigen::Index j = n - 1; j >= 0; --j) {  // U z = D⁻¹ y: a dot product per row, in 4 chains
     Row a0 = RowMap(Y + j * m), a1 = Row::Zero(), a2 = Row::Zero(), a3 = Row::Zero();
     int p = Lp[j];
     for (const int end = Lp[j + 1]; p + 3 < end; p += 4) {
-      a0 -= Lx[p] * row(p);
-      a1 -= Lx[p + 1] * row(p + 1);
-      a2 -= Lx[p + 2] * row(p + 2);
-      a3 -= Lx[p + 3] * row(p + 3);
+      a0 -= Ux[p] * row(p);
+      a1 -= Ux[p + 1] * row(p + 1);
+      a2 -= Ux[p + 2] * row(p + 2);
+      a3 -= Ux[p + 3] * row(p + 3);
     }
-    for (; p < Lp[j + 1]; ++p) a0 -= Lx[p] * row(p);
+    for (; p < Lp[j + 1]; ++p) a0 -= Ux[p] * row(p);
     RowMap(Y + j * m) = (a0 + a1) + (a2 + a3);
   }
 }
@@ -124,6 +125,10 @@ bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& K, bool symmetri
     }
     if (active_ == Active::none) ++lu_fallbacks;
   }
+  if (!symmetric && kind_ == LinearSolverKind::eigen_ldlt) {
+    if (factorize_simplicial_lu(K)) active_ = Active::simplicial_lu;
+    else ++simplicial_lu_fallbacks;
+  }
   if (active_ == Active::none) {  // not symmetric, or singular for LDLᵀ without pivoting: LU
     if (!lu_) {
       lu_ = std::make_unique<Eigen::UmfPackLU<Eigen::SparseMatrix<double>>>();
@@ -142,6 +147,113 @@ bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& K, bool symmetri
   return active_ != Active::none;
 }
 
+// Up-looking LDU without pivoting (the LDL algorithm of Davis, ACM TOMS 31(4), 2005, with a second
+// triangular solve for the row): row k of B gives, through the elimination tree's reach of column k,
+//   y = L⁻¹ B(0:k, k),  w = U⁻ᵀ B(k, 0:k)ᵀ,  U(i, k) = y_i / D_i,  L(k, i) = w_i / D_i,
+//   D_k = B_kk − Σ_i w_i y_i / D_i.
+// A pivot |D_k| ≤ kTinyPivot · max |B(:, k)|, |B(k, :)| fails the factorization (UMFPACK then pivots).
+bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K) {
+  constexpr double kTinyPivot = 1e-10;  // growth beyond 1e10 would cost the sensitivities their digits
+  const int n = static_cast<int>(n_);
+  if (!simplicial_lu_) {
+    auto f = std::make_unique<SimplicialLu>();
+    // B = P K Pᵀ, B(perm[i], perm[j]) = K(i, j); entries numbered by their place in K's values.
+    const Eigen::SparseMatrix<double> marked = numbered(K);
+    const int* perm = P_.indices().data();
+    std::vector<Eigen::Triplet<double>> up, low;
+    for (int j = 0; j < marked.outerSize(); ++j)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(marked, j); it; ++it) {
+        const int r = perm[it.row()], c = perm[it.col()];
+        if (r <= c) up.emplace_back(r, c, it.value());
+        if (r >= c) low.emplace_back(c, r, it.value());  // Bᵀ's upper triangle: row r of B as column r
+      }
+    f->upper.resize(n, n);
+    f->upper.setFromTriplets(up.begin(), up.end());
+    f->upper.makeCompressed();
+    Eigen::SparseMatrix<double> lower(n, n);
+    lower.setFromTriplets(low.begin(), low.end());
+    lower.makeCompressed();
+    if (lower.nonZeros() != f->upper.nonZeros()) return false;  // not a symmetric pattern
+    const int* Ap = f->upper.outerIndexPtr();
+    const int* Ai = f->upper.innerIndexPtr();
+    for (int k = 0; k < f->upper.nonZeros(); ++k)
+      if (lower.innerIndexPtr()[k] != Ai[k]) return false;
+    f->upper_from = sources(f->upper);
+    f->lower_from = sources(lower);
+    // Symbolic: elimination tree and column counts of L.
+    f->parent.assign(n, -1), f->flag.assign(n, -1), f->Lnz.assign(n, 0);
+    for (int k = 0; k < n; ++k) {
+      f->flag[k] = k;
+      for (int p = Ap[k]; p < Ap[k + 1]; ++p)
+        for (int i = Ai[p]; i < k && f->flag[i] != k; i = f->parent[i]) {
+          if (f->parent[i] == -1) f->parent[i] = k;
+          ++f->Lnz[i];
+          f->flag[i] = k;
+        }
+    }
+    f->Lp.assign(n + 1, 0);
+    for (int k = 0; k < n; ++k) f->Lp[k + 1] = f->Lp[k] + f->Lnz[k];
+    f->Li.resize(f->Lp[n]), f->Lx.resize(f->Lp[n]), f->Ux.resize(f->Lp[n]);
+    f->Bu.resize(f->upper.nonZeros()), f->Bl.resize(f->upper.nonZeros());
+    f->y.assign(n, 0.0), f->w.assign(n, 0.0), f->pattern.resize(n);
+    f->D.resize(n);
+    simplicial_lu_ = std::move(f);
+  }
+  SimplicialLu& f = *simplicial_lu_;
+  const double* v = K.valuePtr();
+  for (size_t k = 0; k < f.Bu.size(); ++k) f.Bu[k] = v[f.upper_from[k]], f.Bl[k] = v[f.lower_from[k]];
+  const int* Ap = f.upper.outerIndexPtr();
+  const int* Ai = f.upper.innerIndexPtr();
+  double* __restrict y = f.y.data();
+  double* __restrict w = f.w.data();
+  int* __restrict Li = f.Li.data();
+  double* __restrict Lx = f.Lx.data();
+  double* __restrict Ux = f.Ux.data();
+  const int* Lp = f.Lp.data();
+  double* D = f.D.data();
+  std::fill(f.flag.begin(), f.flag.end(), -1);
+  for (int k = 0; k < n; ++k) {
+    int top = n;
+    f.flag[k] = k;
+    f.Lnz[k] = 0;
+    double scale = 0;
+    for (int p = Ap[k]; p < Ap[k + 1]; ++p) {
+      int i = Ai[p];
+      y[i] += f.Bu[p];
+      if (i < k) w[i] += f.Bl[p];
+      scale = std::max({scale, std::abs(f.Bu[p]), std::abs(f.Bl[p])});
+      int len = 0;
+      for (; f.flag[i] != k; i = f.parent[i]) f.pattern[len++] = i, f.flag[i] = k;
+      while (len > 0) f.pattern[--top] = f.pattern[--len];
+    }
+    double Dk = y[k];
+    y[k] = 0;
+    for (; top < n; ++top) {
+      const int i = f.pattern[top];
+      const double yi = y[i], wi = w[i];
+      y[i] = w[i] = 0;
+      const int p2 = Lp[i] + f.Lnz[i];
+      for (int p = Lp[i]; p < p2; ++p) {
+        const int r = Li[p];
+        y[r] -= Lx[p] * yi;
+        w[r] -= Ux[p] * wi;
+      }
+      const double Di = D[i];
+      Dk -= wi * yi / Di;
+      Li[p2] = k;
+      Lx[p2] = wi / Di;
+      Ux[p2] = yi / Di;
+      ++f.Lnz[i];
+    }
+    if (!(std::abs(Dk) > kTinyPivot * scale) || !std::isfinite(Dk)) {
+      std::fill(f.y.begin(), f.y.end(), 0.0), std::fill(f.w.begin(), f.w.end(), 0.0);  // a later one starts clean
+      return false;
+    }
+    D[k] = Dk;
+  }
+  return true;
+}
+
 std::string LinearSolver::description() const {
   const char* what = "";
   switch (kind_) {
@@ -153,7 +265,8 @@ std::string LinearSolver::description() const {
     case LinearSolverKind::automatic: break;  // resolved in the constructor
   }
   char line[200];
-  std::snprintf(line, sizeof line, "%s; UMFPACK LU, %s ordering, for non-symmetric tangents; %ld unknowns", what,
+  std::snprintf(line, sizeof line, "%s; %sUMFPACK LU, %s ordering, for non-symmetric tangents; %ld unknowns", what,
+                kind_ == LinearSolverKind::eigen_ldlt ? "simplicial LU without pivoting on the same ordering, else " : "",
                 n_ >= kLuMetisFrom ? "METIS" : "AMD", static_cast<long>(n_));
   return line;
 }
@@ -167,14 +280,22 @@ void LinearSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const {
     x = lu_->solve(b);
   } else if (active_ == Active::cholmod_ldlt) {
     x = cholmod_ldlt_->solve(b);
-  } else if (ldlt_) {
-    // x = Pᵀ L⁻ᵀ D⁻¹ L⁻¹ P b on a row-major copy: the columns of b go through L together, so that L
+  } else if (active_ == Active::eigen || active_ == Active::simplicial_lu) {
+    // x = Pᵀ U⁻¹ D⁻¹ L⁻¹ P b on a row-major copy: the columns of b go through L together, so that L
     // (which does not fit in cache) is read twice per solve, not twice per column.
-    const auto& L = ldlt_->matrixL().nestedExpression();  // strictly lower part, unit diagonal implied
-    const int* Lp = L.outerIndexPtr();
-    const int* Li = L.innerIndexPtr();
-    const double* Lx = L.valuePtr();
-    const Eigen::VectorXd& D = ldlt_->vectorD();
+    const int *Lp, *Li;
+    const double *Lx, *Ux;
+    const Eigen::VectorXd* D;
+    Eigen::VectorXd D_ldlt;
+    if (active_ == Active::eigen) {
+      D_ldlt = ldlt_->vectorD();
+      const auto& L = ldlt_->matrixL().nestedExpression();  // strictly lower part, unit diagonal implied
+      Lp = L.outerIndexPtr(), Li = L.innerIndexPtr(), Lx = Ux = L.valuePtr();
+      D = &D_ldlt;
+    } else {
+      const SimplicialLu& f = *simplicial_lu_;
+      Lp = f.Lp.data(), Li = f.Li.data(), Lx = f.Lx.data(), Ux = f.Ux.data(), D = &f.D;
+    }
     const Eigen::Index m = b.cols();
     const int* perm = P_.indices().data();
     work_.resize(n_, m);
@@ -183,10 +304,10 @@ void LinearSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const {
       for (Eigen::Index c = 0; c < m; ++c) Y[perm[i] * m + c] = b(i, c);
     for (Eigen::Index c0 = 0; c0 < m; c0 += 4) {  // blocks of ≤ 4 columns: a compile-time width keeps rows in registers
       switch (std::min<Eigen::Index>(4, m - c0)) {
-        case 1: ldlt_substitute<1>(n_, Lp, Li, Lx, D, Y + c0, m); break;
-        case 2: ldlt_substitute<2>(n_, Lp, Li, Lx, D, Y + c0, m); break;
-        case 3: ldlt_substitute<3>(n_, Lp, Li, Lx, D, Y + c0, m); break;
-        default: ldlt_substitute<4>(n_, Lp, Li, Lx, D, Y + c0, m); break;
+        case 1: ldu_substitute<1>(n_, Lp, Li, Lx, Ux, *D, Y + c0, m); break;
+        case 2: ldu_substitute<2>(n_, Lp, Li, Lx, Ux, *D, Y + c0, m); break;
+        case 3: ldu_substitute<3>(n_, Lp, Li, Lx, Ux, *D, Y + c0, m); break;
+        default: ldu_substitute<4>(n_, Lp, Li, Lx, Ux, *D, Y + c0, m); break;
       }
     }
     x.resize(n_, m);

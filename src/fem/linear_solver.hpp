@@ -2,8 +2,10 @@
 // LDLᵀ without pivoting, by Eigen's SimplicialLDLT or CHOLMOD's simplicial LDLᵀ, or CHOLMOD's
 // supernodal LLᵀ on a METIS ordering (falling back to CHOLMOD's LDLᵀ when the tangent is not positive
 // definite); SolveOptions::linear_solver picks one, or lets the size pick (LinearSolverKind::automatic,
-// crossover measured in bench/linear_solver_benchmark.cpp). UMFPACK LU when the tangent is not
-// symmetric or LDLᵀ breaks down.
+// crossover measured in bench/linear_solver_benchmark.cpp). Non-symmetric tangents: with the Eigen
+// backend (small models), a simplicial LU without pivoting on the same AMD ordering (the tangent's
+// pattern is symmetric, so L and Uᵀ have LDLᵀ's pattern); UMFPACK LU for the larger ones, where a
+// pivot of that LU is tiny, or where LDLᵀ breaks down.
 // The ordering and symbolic analysis are done once per simulation (the pattern is fixed); each
 // factorization is numeric only, and the matrix handed to it is filled through a precomputed map.
 #pragma once
@@ -48,6 +50,7 @@ class LinearSolver {
   int factorizations = 0;
   int ldlt_fallbacks = 0;  ///< supernodal LLᵀ factorizations that met a non-positive pivot (then LDLᵀ)
   int lu_fallbacks = 0;    ///< symmetric tangents that LDLᵀ could not factorize (then LU)
+  int simplicial_lu_fallbacks = 0;  ///< non-symmetric tangents whose simplicial LU met a tiny pivot (then UMFPACK)
 
  private:
   using Ldlt = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>>;
@@ -65,7 +68,21 @@ class LinearSolver {
   /// analyzed at its first use (same ordering method as cholmod_).
   std::unique_ptr<Cholmod> cholmod_ldlt_;
   std::unique_ptr<Eigen::UmfPackLU<Eigen::SparseMatrix<double>>> lu_;
-  enum class Active { none, eigen, cholmod, cholmod_ldlt, lu };
+  /// The simplicial LU (eigen_ldlt kind only), built at the first non-symmetric tangent:
+  /// B = P K Pᵀ = L D U (P: the AMD ordering of the LDLᵀ path), L and Uᵀ unit lower triangular with the
+  /// pattern of LDLᵀ's L (CSC: Lp, Li; values Lx, and Ux holding Uᵀ). `upper` is B's upper triangle by
+  /// columns, its values K[upper_from[k]] (Bu); B's lower triangle by rows has the same pattern, values
+  /// K[lower_from[k]] (Bl). False on a tiny pivot (then UMFPACK).
+  bool factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K);
+  struct SimplicialLu {
+    Eigen::SparseMatrix<double> upper;
+    std::vector<int> upper_from, lower_from;
+    std::vector<int> parent, Lp, Li, Lnz, flag, pattern;  // elimination tree, L's columns, workspace
+    std::vector<double> Lx, Ux, Bu, Bl, y, w;
+    Eigen::VectorXd D;
+  };
+  std::unique_ptr<SimplicialLu> simplicial_lu_;
+  enum class Active { none, eigen, cholmod, cholmod_ldlt, simplicial_lu, lu };
   Active active_ = Active::none;
   mutable Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> work_;
 };

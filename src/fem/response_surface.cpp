@@ -39,6 +39,28 @@ Factor factor(double x, int n, ResponseSurface::Compression mode, bool own) {
   return {ipow(x, n), n * ipow(x, n - 1)};
 }
 
+/// The factors x^0 … x^n_max of one strain, as the force's own strain and as the other force's
+/// (they differ only for x < 0 at n = 1): `factor` for every n, by the same products as ipow.
+constexpr int kTabled = 16;  // exponents below this come from the table; higher ones from `factor`
+struct Powers {
+  Factor own[kTabled], other[kTabled];
+  int n = 0;  // tabled up to n
+};
+void fill_powers(double x, int n_max, ResponseSurface::Compression mode, Powers& t) {
+  t.n = std::min(n_max, kTabled - 1);
+  t.own[0] = t.other[0] = {1.0, 0.0};
+  double p = 1;  // x^(k−1)
+  for (int k = 1; k <= t.n; ++k) {
+    if (x < 0 && mode != ResponseSurface::Compression::polynomial) {
+      t.own[k] = factor(x, k, mode, true);
+      t.other[k] = factor(x, k, mode, false);
+    } else {
+      t.own[k] = t.other[k] = {p * x, k * p};
+    }
+    p *= x;
+  }
+}
+
 /// εC^p εW^q (each factor extended as in `factor`; `force` 0 = course, whose own strain is εC, 1 =
 /// wale) and its two partial derivatives.
 struct MonomialValue {
@@ -46,6 +68,13 @@ struct MonomialValue {
 };
 MonomialValue eval(const Monomial& m, double eC, double eW, ResponseSurface::Compression mode, int force) {
   const Factor C = factor(eC, m.p, mode, force == 0), W = factor(eW, m.q, mode, force == 1);
+  return {C.v * W.v, C.d * W.v, C.v * W.d};
+}
+/// The same from the strains' tables.
+MonomialValue eval(const Monomial& m, const Powers& tC, const Powers& tW, double eC, double eW,
+                   ResponseSurface::Compression mode, int force) {
+  if (m.p > tC.n || m.q > tW.n) return eval(m, eC, eW, mode, force);
+  const Factor C = force == 0 ? tC.own[m.p] : tC.other[m.p], W = force == 1 ? tW.own[m.q] : tW.other[m.q];
   return {C.v * W.v, C.d * W.v, C.v * W.d};
 }
 
@@ -77,6 +106,8 @@ ResponseSurface::ResponseSurface(std::vector<Monomial> course, std::vector<Monom
   if (!(G_s > 0) || !std::isfinite(G_s))
     throw InputError(Location{"", 0, "material.shear_stiffness"}, "out of range", std::to_string(G_s), "> 0 N/mm");
   c_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(course_.size() + wale_.size()));
+  for (const auto* list : {&course_, &wale_})
+    for (const Monomial& m : *list) max_p_ = std::max(max_p_, m.p), max_q_ = std::max(max_q_, m.q);
 }
 
 ResponseSurface::ResponseSurface(std::vector<Monomial> course, std::vector<Monomial> wale, double G_s,
@@ -133,28 +164,33 @@ void ResponseSurface::evaluate(const LawInput& in, const LawRequest& req, LawOut
   if (detail::invalid_state(in.F.determinant(), req, c_.size(), out)) return;
   const detail::FabricKinematics k = detail::fabric_kinematics(in, req.tangent);
   const double eC = k.E_m(0, 0), eW = k.E_m(1, 1);
+  Powers tC, tW;
+  fill_powers(eC, max_p_, compression_, tC);
+  fill_powers(eW, max_q_, compression_, tW);
   detail::FabricForces f;
   const std::size_t nc = course_.size();
   for (std::size_t i = 0; i < nc; ++i) {
-    const MonomialValue m = eval(course_[i], eC, eW, compression_, 0);
+    const MonomialValue m = eval(course_[i], tC, tW, eC, eW, compression_, 0);
     f.F_C += c_(i) * m.v;
     f.dFC_deC += c_(i) * m.d_C;
     f.dFC_deW += c_(i) * m.d_W;
   }
   for (std::size_t i = 0; i < wale_.size(); ++i) {
-    const MonomialValue m = eval(wale_[i], eC, eW, compression_, 1);
+    const MonomialValue m = eval(wale_[i], tC, tW, eC, eW, compression_, 1);
     f.F_W += c_(nc + i) * m.v;
     f.dFW_deC += c_(nc + i) * m.d_C;
     f.dFW_deW += c_(nc + i) * m.d_W;
   }
   detail::fabric_stress(in, k, f, G_s_, req.tangent, out);
   if (req.sensitivities) {
-    // Linear: ∂P/∂c_k = R Q T_k Qᵀ with T_k = diag(monomial, 0) (course) or diag(0, monomial) (wale).
+    // Linear: ∂P/∂c_k = R Q T_k Qᵀ with T_k = diag(monomial, 0) (course) or diag(0, monomial) (wale),
+    // i.e. the monomial times R Q diag(1, 0) Qᵀ or R Q diag(0, 1) Qᵀ.
+    const Mat2 B_C = detail::fabric_basis(in, k, Vec2(1, 0).asDiagonal());
+    const Mat2 B_W = detail::fabric_basis(in, k, Vec2(0, 1).asDiagonal());
     out.dP_dc.resize(c_.size());
-    for (std::size_t i = 0; i < nc; ++i)
-      out.dP_dc[i] = detail::fabric_basis(in, k, Vec2(eval(course_[i], eC, eW, compression_, 0).v, 0).asDiagonal());
+    for (std::size_t i = 0; i < nc; ++i) out.dP_dc[i] = eval(course_[i], tC, tW, eC, eW, compression_, 0).v * B_C;
     for (std::size_t i = 0; i < wale_.size(); ++i)
-      out.dP_dc[nc + i] = detail::fabric_basis(in, k, Vec2(0, eval(wale_[i], eC, eW, compression_, 1).v).asDiagonal());
+      out.dP_dc[nc + i] = eval(wale_[i], tC, tW, eC, eW, compression_, 1).v * B_W;
   } else {
     out.dP_dc.clear();
   }

@@ -27,6 +27,7 @@ const char* to_string(SolveTermination t) {
     case SolveTermination::converged: return "converged";
     case SolveTermination::not_converged: return "not_converged";
     case SolveTermination::invalid_state: return "invalid_state";
+    case SolveTermination::cancelled: return "cancelled";
   }
   return "?";
 }
@@ -53,7 +54,13 @@ struct Failure {
   /// iterations are a convergence failure instead (Newton wandered off, e.g. past a limit point).
   bool invalid = false;
   std::string why;
+  bool cancelled = false;  ///< SolveOptions::cancelled said stop
 };
+
+SolveTermination termination(const Failure& fail) {
+  if (fail.cancelled) return SolveTermination::cancelled;
+  return fail.invalid ? SolveTermination::invalid_state : SolveTermination::not_converged;
+}
 
 class Simulation {
  public:
@@ -329,6 +336,12 @@ bool Simulation::solve_step(const Load& target, StepResult& step, Failure& fail)
   };
   double s = 0, ds = 1;
   while (s < 1) {
+    if (options_.cancelled && options_.cancelled()) {
+      fail = Failure{};
+      fail.cancelled = true;
+      fail.why = "cancelled";
+      return false;
+    }
     const double s1 = std::min(1.0, s + ds);
     const Load to = s1 == 1.0 ? target : lerp(s1);
     if (reporter_.log) reporter_.info("increment to " + fmt("%.6g", s1) + " of the step");
@@ -383,7 +396,7 @@ SimulationResult Simulation::run() {
   if (result.usable() && test_.guide_setting_steps > 0) {
     std::string where;
     if (!set_transverse_dimension(fail, where)) {
-      result.termination = fail.invalid ? SolveTermination::invalid_state : SolveTermination::not_converged;
+      result.termination = termination(fail);
       result.message = "test '" + test_.name + "': " + where + ": " + fail.why;
     }
   }
@@ -392,7 +405,7 @@ SimulationResult Simulation::run() {
     step.load = test_.loads[k];
     if (reporter_.log) reporter_.info("step " + std::to_string(k + 1) + "/" + std::to_string(n) + ", load " + fmt("%.6g", step.load));
     if (!solve_step(load_at(k), step, fail)) {
-      result.termination = fail.invalid ? SolveTermination::invalid_state : SolveTermination::not_converged;
+      result.termination = termination(fail);
       result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) + " of " + std::to_string(n) +
                        " (load " + fmt("%.6g", step.load) + ") failed after " + std::to_string(step.cutbacks) +
                        " cutbacks: " + fail.why;

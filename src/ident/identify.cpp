@@ -435,6 +435,7 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
       so.gradient_tolerance = options.gradient_tolerance;
       so.parameter_tolerance = options.delta;
       so.initial_trust_region_radius = state.trust_region_radius;
+      if (!options.bounds_line_search) so.max_num_line_search_step_size_iterations = 0;
       so.logging_type = ceres::SILENT;
       so.minimizer_progress_to_stdout = false;
       so.update_state_every_iteration = true;

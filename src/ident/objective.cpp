@@ -6,6 +6,7 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <optional>
@@ -148,14 +149,27 @@ Evaluation Objective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
   std::vector<detail::Prediction> pred(T);
   std::vector<std::string> message(T);
   std::vector<char> ok(T, 0);
+  // A failed test fails the evaluation: the tests after the first failed one are not run, or stop at
+  // their next increment. The lowest failing test always runs to its end, whatever the threads do, so
+  // the evaluation's message is the same on any number of threads.
+  std::atomic<int> first_failed{T};
+  const auto failed = [&first_failed](int t) {
+    int current = first_failed.load();
+    while (t < current && !first_failed.compare_exchange_weak(current, t)) {
+    }
+  };
   // More threads than cores never speeds this up, and a team of 1024 can fail to start (libgomp aborts).
   const int threads = options_.threads > 0 ? std::min(options_.threads, omp_get_num_procs()) : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int t = 0; t < T; ++t) {
+    if (first_failed.load(std::memory_order_relaxed) < t) continue;
+    fem::SolveOptions st = so;
+    st.cancelled = [&first_failed, t] { return first_failed.load(std::memory_order_relaxed) < t; };
     try {
-      const fem::SimulationResult sim = fem::simulate(models_[t], *law, so);
+      const fem::SimulationResult sim = fem::simulate(models_[t], *law, st);
       if (!sim.usable()) {
         message[t] = "test " + models_[t].name + ": " + sim.message;
+        failed(t);
         continue;
       }
       ok[t] = detail::predict(models_[t], experiment_.tests[t], reference_locations_[t], sim,
@@ -163,6 +177,7 @@ Evaluation Objective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
     } catch (const std::exception& e) {
       message[t] = "test " + models_[t].name + ": " + e.what();
     }
+    if (!ok[t]) failed(t);
   }
   for (int t = 0; t < T; ++t)
     if (!ok[t]) {

@@ -98,5 +98,58 @@ TEST(LinearSolver, ASingularTangentIsReported) {
   EXPECT_FALSE(s.factorize(K, true));  // LDLᵀ meets a zero pivot, LU a singular matrix
 }
 
+// A 5-point grid of m × m unknowns with a symmetric pattern and non-symmetric values (as the
+// response-surface tangent): `skew` moves weight from the lower to the upper neighbours.
+Eigen::SparseMatrix<double> grid(int m, double skew, double shift = 0) {
+  std::vector<Eigen::Triplet<double>> t;
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) {
+      const int k = j * m + i;
+      t.emplace_back(k, k, 4.5 + shift + 0.01 * (k % 7));
+      if (i + 1 < m) t.emplace_back(k, k + 1, -1 - skew), t.emplace_back(k + 1, k, -1 + skew);
+      if (j + 1 < m) t.emplace_back(k, k + m, -1 + 0.5 * skew), t.emplace_back(k + m, k, -1 - 0.5 * skew);
+    }
+  Eigen::SparseMatrix<double> K(m * m, m * m);
+  K.setFromTriplets(t.begin(), t.end());
+  K.makeCompressed();
+  return K;
+}
+
+TEST(LinearSolver, ASmallNonSymmetricTangentIsSolvedBySimplicialLuAsByUmfpack) {
+  const Eigen::SparseMatrix<double> K = grid(9, 0.4);
+  const Eigen::MatrixXd b = right_hand_sides(81);
+  LinearSolver simplicial(K, LinearSolverKind::eigen_ldlt), umfpack(K, LinearSolverKind::cholmod_ldlt);
+  ASSERT_TRUE(simplicial.factorize(K, false));
+  ASSERT_TRUE(umfpack.factorize(K, false));
+  EXPECT_EQ(simplicial.simplicial_lu_fallbacks, 0);
+  EXPECT_NE(simplicial.description().find("simplicial LU"), std::string::npos);
+  Eigen::MatrixXd x, x_umfpack;
+  simplicial.solve(b, x);
+  umfpack.solve(b, x_umfpack);
+  EXPECT_LT(relative_residual(K, x, b), kSolve);
+  EXPECT_LT((x - x_umfpack).cwiseAbs().maxCoeff() / x_umfpack.cwiseAbs().maxCoeff(), kSolve);
+  // The next tangent (new values, same pattern) is factorized afresh: 5 columns, one block of 4 and one of 1.
+  const Eigen::SparseMatrix<double> K2 = grid(9, -0.3, 1.0);
+  ASSERT_TRUE(simplicial.factorize(K2, false));
+  Eigen::MatrixXd b5(81, 5);
+  for (int c = 0; c < 5; ++c) b5.col(c) = b.col(c % 2) * (c + 1) + Eigen::VectorXd::Constant(81, c);
+  simplicial.solve(b5, x);
+  EXPECT_LT(relative_residual(K2, x, b5), kSolve);
+}
+
+TEST(LinearSolver, ANonSymmetricTangentWithAZeroPivotFallsBackToUmfpack) {
+  // [[0, 2], [1, 1]]: regular, but elimination without pivoting meets 0 first (AMD keeps the order of a 2 × 2).
+  std::vector<Eigen::Triplet<double>> t{{0, 0, 0.0}, {0, 1, 2.0}, {1, 0, 1.0}, {1, 1, 1.0}};
+  Eigen::SparseMatrix<double> K(2, 2);
+  K.setFromTriplets(t.begin(), t.end());
+  LinearSolver s(K, LinearSolverKind::eigen_ldlt);
+  ASSERT_TRUE(s.factorize(K, false));
+  EXPECT_EQ(s.simplicial_lu_fallbacks, 1);
+  const Eigen::MatrixXd b = right_hand_sides(2);
+  Eigen::MatrixXd x;
+  s.solve(b, x);
+  EXPECT_LT(relative_residual(K, x, b), kSolve);
+}
+
 }  // namespace
 }  // namespace tricot::fem::detail

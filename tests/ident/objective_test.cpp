@@ -6,6 +6,9 @@
 
 #include "testing/fd_check.hpp"
 #include "tricot/core/error.hpp"
+#include "tricot/fem/reference_fabric.hpp"
+#include "tricot/fem/response_surface.hpp"
+#include "tricot/fem/rig.hpp"
 #include "tricot/ident/synthetic.hpp"
 #include "uniaxial.hpp"
 
@@ -140,6 +143,79 @@ TEST(Objective, ADivergingTrialIsAFailedEvaluationNotAnException) {
   const Evaluation e = objective.evaluate(Eigen::Vector4d::Zero(), false);
   EXPECT_FALSE(e.ok);
   EXPECT_NE(e.message.find("test uniaxial"), std::string::npos) << e.message;
+}
+
+/// Four small rig tests (THEORY §6) with data from the reference knit and `paper14` to identify: a
+/// non-symmetric tangent (the simplicial LU), guides, ties and sensitivities, as in the §4 campaign.
+struct RigCampaign {
+  std::vector<fem::TestModel> models;
+  Experiment data;
+  fem::ResponseSurface law = fem::ResponseSurface::preset("paper14", 0.05);
+  std::vector<Parameter> parameters;
+};
+RigCampaign rig_campaign() {
+  RigCampaign c;
+  const fem::ReferenceFabric truth;
+  for (auto [pull, transverse] : {std::pair{fem::PullDirection::wale, 0.0}, {fem::PullDirection::wale, 0.3},
+                                  {fem::PullDirection::course, 0.0}, {fem::PullDirection::course, 0.2}}) {
+    fem::RigOptions o;
+    o.name = std::string(fem::to_string(pull)) + "-" + std::to_string(static_cast<int>(100 * transverse));
+    o.pull = pull, o.transverse_strain = transverse, o.pull_strain = 0.3, o.steps = 4, o.nx = 4, o.ny = 4;
+    const fem::TestModel m = fem::make_rig_test(o);
+    const fem::SimulationResult r = fem::simulate(m, truth);
+    EXPECT_TRUE(r.usable()) << r.message;
+    c.models.push_back(m);
+    c.data.tests.push_back(measure(m, r, field_points(3, 3, 20) * 1.5));
+  }
+  Eigen::VectorXd J = Eigen::VectorXd::Zero(14);
+  J(0) = 0.25, J(8) = 0.06, J(6) = 0.01, J(12) = 0.01;  // a1, c1, b1, d1: a stable start
+  c.law.set_coefficients(J);
+  for (const std::string& name : c.law.coefficient_names()) c.parameters.push_back(Parameter{name});
+  return c;
+}
+
+// Issue 15: the tests of an evaluation run on threads, each with its own solver, and the result is
+// the serial one bit for bit (each test's values land in their own rows; nothing is summed across
+// threads).
+TEST(Objective, ThreadsGiveTheSerialResidualsAndJacobianBitForBit) {
+  const RigCampaign c = rig_campaign();
+  Eigen::VectorXd J = c.law.coefficients();
+  J(0) *= 1.1, J(8) *= 0.9;
+  Evaluation serial;
+  for (int threads : {1, 2, 4}) {
+    ObjectiveOptions o;
+    o.threads = threads;
+    const Objective objective(c.models, c.data, c.law, c.parameters, o);
+    const Evaluation e = objective.evaluate(J, true);
+    ASSERT_TRUE(e.ok) << e.message;
+    if (threads == 1) {
+      serial = e;
+      EXPECT_GT(e.jacobian.cwiseAbs().maxCoeff(), 0);
+      continue;
+    }
+    ASSERT_EQ(e.r.size(), serial.r.size());
+    EXPECT_TRUE((e.r.array() == serial.r.array()).all()) << threads << " threads";
+    EXPECT_TRUE((e.jacobian.array() == serial.jacobian.array()).all()) << threads << " threads";
+  }
+}
+
+// A failed test fails the evaluation; the later tests are cancelled, and the message names the first
+// failed test on any number of threads.
+TEST(Objective, AFailedTestNamesTheFirstFailureOnAnyNumberOfThreads) {
+  const RigCampaign c = rig_campaign();
+  Eigen::VectorXd J = c.law.coefficients();
+  J(8) = -0.2;  // c1 < 0: the wale softens; the course-pulled test with a held wale strain fails
+  std::string serial;
+  for (int threads : {1, 2, 4}) {
+    ObjectiveOptions o;
+    o.threads = threads;
+    const Objective objective(c.models, c.data, c.law, c.parameters, o);
+    const Evaluation e = objective.evaluate(J, false);
+    EXPECT_FALSE(e.ok);
+    if (threads == 1) serial = e.message;
+    EXPECT_EQ(e.message, serial) << threads << " threads";
+  }
+  EXPECT_EQ(serial.rfind("test course-20: ", 0), 0u) << serial;
 }
 
 }  // namespace

@@ -97,6 +97,7 @@ class ResponseSurface : public Law {
   Eigen::VectorXd c_;
   double G_s_;
   Compression compression_ = Compression::almansi;
+  int max_p_ = 0, max_q_ = 0;  // the highest powers of εC and εW in either list
 };
 
 }  // namespace tricot::fem

@@ -1,11 +1,13 @@
 // Nonlinear quasi-static solution of a test model (THEORY §4–§7): total-Lagrangian assembly, Newton–
 // Raphson with the consistent tangent and a line search, load stepping with automatic cutback, a
-// sparse direct solver (Eigen's SimplicialLDLT or CHOLMOD; UMFPACK for non-symmetric tangents) whose
+// sparse direct solver (Eigen's SimplicialLDLT or CHOLMOD; for non-symmetric tangents a simplicial LU
+// on the same ordering below 20 000 unknowns, UMFPACK above or where that LU meets a tiny pivot) whose
 // symbolic analysis is kept across iterations and steps, and exact sensitivities du/dc by
 // back-substitution with the converged tangent.
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,7 +18,9 @@
 namespace tricot::fem {
 
 /// Sparse direct solver for symmetric tangents (THEORY §4): a factorization on a fill-reducing
-/// ordering computed once per simulation. Non-symmetric tangents (and LDLᵀ breakdowns) use UMFPACK LU.
+/// ordering computed once per simulation. Non-symmetric tangents: with eigen_ldlt, a simplicial LU
+/// without pivoting on the same ordering (UMFPACK where a pivot is tiny); otherwise, and for LDLᵀ
+/// breakdowns, UMFPACK LU.
 enum class LinearSolverKind {
   /// By size, on the crossover measured by bench/linear_solver_benchmark.cpp (docs/validation.md,
   /// issue 15): eigen_ldlt for small tangents, cholmod_supernodal for large ones.
@@ -43,6 +47,10 @@ struct SolveOptions {
   bool keep_residuals = true;
   /// Sparse solver for symmetric tangents (see LinearSolverKind).
   LinearSolverKind linear_solver = LinearSolverKind::automatic;
+  /// When set, asked before every (sub)step increment: true stops the run there with
+  /// SolveTermination::cancelled (e.g. an identification whose evaluation already failed in another
+  /// test: its result is discarded anyway). Called from the simulating thread; must be thread-safe.
+  std::function<bool()> cancelled;
 
   /// Throws InputError naming `solver.<field>` when out of range.
   void validate() const;
@@ -72,6 +80,7 @@ enum class SolveTermination {
   /// a force-controlled grip converged only to a compressed state (grip displacement ≤ 0 under a
   /// tensile force: the law has no tensile equilibrium there), after every cutback
   invalid_state,
+  cancelled,  ///< SolveOptions::cancelled returned true; `steps` holds the converged ones
 };
 const char* to_string(SolveTermination t);
 

@@ -100,6 +100,12 @@ struct IdentifyOptions {
   /// Mooney–Rivlin test from ×2 the truth, 1e4 (Ceres' default, nearly Gauss–Newton) cost 107
   /// failed FE trials and 5 stability restarts, 10 none, 1 none but more iterations.
   double initial_trust_region_radius = 10;
+  /// With bounds on the parameters, Ceres's projected Armijo line search along each LM step (its
+  /// `max_num_line_search_step_size_iterations`). Each of its trials is an FE evaluation with the
+  /// Jacobian, but it is what lets LM leave a start on a bound: on the §4 campaign (c4 = 0 at its
+  /// bound) LM without it was still at f = 1.59 after 74 iterations, with it at 0.39 after 2
+  /// (docs/validation.md, issue 12).
+  bool bounds_line_search = true;
   /// Called with the state to save after every accepted step (and at the start), once its ε and δ
   /// tests are made, when LM stops (phase stability or done) and after each stability test; may be
   /// empty.
