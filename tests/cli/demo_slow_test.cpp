@@ -1,4 +1,4 @@
-// tricot demo end to end (about a minute): the paper's Table 1 reproduced, noise-free.
+// tricot demo --table1 end to end (about a minute): the paper's Table 1 reproduced, noise-free.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,7 +21,7 @@ constexpr double kC03 = 1e-2;                 // C03 within 1 %
 
 TEST(Demo, ReproducesTableOneFromNoiseFreeData) {
   const fs::path dir = test::scratch_dir("demo");
-  const auto r = test::run_tricot("demo -q -o " + (dir / "out").string());
+  const auto r = test::run_tricot("demo --table1 -q -o " + (dir / "out").string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("Table 1"), std::string::npos);
   for (const char* f : {"table1.md", "table1.csv", "epsilon.csv", "plots/epsilon.png", "both/result.json",

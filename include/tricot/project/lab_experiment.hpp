@@ -39,6 +39,7 @@ struct ExperimentSpec {
   std::string control = "displacement";   ///< forces.csv's load: displacement or force
   std::string grip = "auto";              ///< the grip displacement: auto, crosshead or field
   bool plot = true;                       ///< DIR/sync.png
+  bool force_sigma = true;                ///< project.toml's sigma_edge_force from the logs' spread at rest
   double sigma_edge_displacement = 0;     ///< mm, ≥ 0: written to project.toml when > 0
   /// The project template, relative to the lab file's folder as written in the file ("" = a skeleton);
   /// from_config resolves it against that folder.
