@@ -146,13 +146,8 @@ std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& exp
                                     const CameraSetup& cam, const fs::path& plots, const Log& log) {
   std::vector<DicQuality> q;
   const json sync = read_json_file(experiment / "sync.json");
-  std::string script = fmt::format(
-      "set terminal pngcairo size 1500,{} font \",10\"\nset output {}\n"
-      "set multiplot layout {},5 title \"DIC quality at the last frame: ZNCC of each point (lost points: black ×)\"\n"
-      "set size ratio -1\nset xrange [0:{}]\nset yrange [{}:0]\nunset key\nset cbrange [0.9:1]\n"
-      "set palette defined (0.9 \"#b2182b\", 0.97 \"#fddbc7\", 1 \"#2166ac\")\nset format x \"\"\nset format y \"\"\n",
-      tests.size() > 5 ? 700 : 380, io::gnuplot_quote(plots / "dic_quality.png"), tests.size() > 5 ? 2 : 1, cam.width,
-      cam.height);
+  std::string panels;
+  double floor = 0.99;  // the colour scale spans [floor, 1]: the worst point's ZNCC, at most 0.99
   for (const auto& t : tests) {
     const dic::SequenceResult seq = read_dic_folder(dic_dir / t.name());
     const auto& last = seq.frames.back();
@@ -175,12 +170,20 @@ std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& exp
     const fs::path a = plots / ("dic_" + d.name + "_ok.csv"), b = plots / ("dic_" + d.name + "_lost.csv");
     io::write_atomic(a, ok);
     io::write_atomic(b, lost);
-    script += fmt::format(
-        "set datafile separator \",\"\nset title \"{} ({} of {} ok)\" noenhanced\n"
-        "plot {} skip 1 using 1:2:3 with points pt 7 ps 0.6 palette, {} skip 1 using 1:2 with points pt 2 ps 0.8 lc rgb \"black\"\n",
-        d.name, d.ok_last, d.grid, io::gnuplot_quote(a), io::gnuplot_quote(b));
+    if (d.ok_last > 0) floor = std::min(floor, std::floor(100 * d.min_zncc) / 100);
+    panels += fmt::format("set title \"{} ({} of {} ok)\" noenhanced\nplot {} skip 1 using 1:2:3 with points pt 7 ps 0.6 palette",
+                          d.name, d.ok_last, d.grid, io::gnuplot_quote(a));
+    if (d.ok_last < d.grid) panels += fmt::format(", {} skip 1 using 1:2 with points pt 2 ps 0.8 lc rgb \"black\"", io::gnuplot_quote(b));
+    panels += "\n";
   }
-  script += "unset multiplot\n";
+  const std::string script = fmt::format(
+      "set terminal pngcairo size 1500,{} font \",10\"\nset output {}\nset datafile separator \",\"\n"
+      "set multiplot layout {},5 title \"DIC quality at the last frame: ZNCC of each point (lost points: black ×)\"\n"
+      "set size ratio -1\nset xrange [0:{}]\nset yrange [{}:0]\nunset key\nset cbrange [{}:1]\n"
+      "set palette defined (0 \"#b2182b\", 0.7 \"#fddbc7\", 1 \"#2166ac\")\nset format x \"\"\nset format y \"\"\n{}"
+      "unset multiplot\n",
+      tests.size() > 5 ? 700 : 380, io::gnuplot_quote(plots / "dic_quality.png"), tests.size() > 5 ? 2 : 1, cam.width,
+      cam.height, floor, panels);
   std::string why;
   if (!io::run_gnuplot(script, &why)) log.reporter().info("no dic_quality.png: " + why);
   return q;
