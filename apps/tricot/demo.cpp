@@ -56,14 +56,15 @@ Exit codes: 0 ok, 4 the identification (a Table 1 run) did not converge.
   cmd->add_flag_callback(
       "--print-config",
       [] {
-        std::cout << "# tricot demo takes no config file. This is the experiment it synthesises (tricot synth);\n"
-                     "# `tricot demo --print-example project` prints its both-data project (tricot identify).\n\n"
-                  << project::demo_experiment_toml();
+        std::cout << "# tricot demo takes no config file. This is the campaign it synthesises (tricot synth); it\n"
+                     "# writes it, dic.toml, lab.toml and project-template.toml to DIR. `tricot demo --print-example\n"
+                     "# experiment|project` prints the --table1 job's files (examples/uniaxial-mooney).\n\n"
+                  << project::campaign_experiment_toml({});
         throw CLI::Success();
       },
-      "Print the demo's built-in experiment file and exit");
+      "Print the demo's built-in campaign (its experiment file) and exit");
   cmd->add_option("--print-example", args->print_example,
-                  "Print the built-in experiment or project file (examples/uniaxial-mooney/*.toml) and exit")
+                  "Print the --table1 job's experiment or project file (examples/uniaxial-mooney/*.toml) and exit")
       ->check(CLI::IsMember({"experiment", "project"}));
   return [args]() {
     if (args->print_example.empty()) {
