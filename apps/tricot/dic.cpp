@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <memory>
 
+#include <unistd.h>
+
 #include "console.hpp"
 #include "tricot/project/dic_run.hpp"
 #include "verbs.hpp"
@@ -23,7 +25,7 @@ struct DicArgs {
   project::DicFlags flags;
   int subset = 0, step = 0;
   CLI::Option *subset_given = nullptr, *step_given = nullptr;
-  bool verbose = false, quiet = false;
+  bool verbose = false, quiet = false, resume = false;
 };
 
 constexpr const char* kFooter = R"(
@@ -44,14 +46,20 @@ Writes:
                     Green-Lagrange strains. Cells without a value are empty.
   DIR/frames.csv    frame, image, reference frame, points ok, mean ZNCC, seconds.
   DIR/overlays/frame_NNNN.png   displacement, strain and ZNCC maps drawn over each image.
+  DIR/fields/frame_NNNN.vtu     u, v, strains, ZNCC and status on the grid (compressed binary VTK);
+  DIR/fields.pvd                the series: open it in ParaView ([output] fields, fields_every).
   DIR/increments.csv            with [output] increments = true: fixed-point incremental fields.
   DIR/specimen.csv              with [physical] mm_per_px > 0: the same in specimen mm.
+The files grow frame by frame in DIR/.tricot-dic/ and replace DIR's earlier ones at the end; memory
+does not grow with the number of frames. A killed run goes on from its last complete frame with
+--resume (same config, flags and images).
 
 Examples:
   tricot dic -o out/dic frames/img_*.tif
   tricot dic --subset 41 --step 20 --roi 200,100,1800,900 -o out/dic ref.tif def1.tif def2.tif
   tricot dic --print-config > dic.toml     # every key, commented; edit, then:
   tricot dic dic.toml --mode auto -o out/dic frames/*.png
+  tricot dic dic.toml --mode auto -o out/dic frames/*.png --resume    # after a crash or kill
 
 Exit codes: 0 ok, 2 bad command line or config, 3 an image or the config is missing or unreadable
 (or an image's size differs from the reference), 4 every point was lost (results are still written).
@@ -74,19 +82,30 @@ ExitCode run_dic(const DicArgs& a) {
     throw InputError({"command line", 0, "IMAGE"}, "no image given", {}, "the reference image, then the frames");
   const project::DicSpec spec = project::dic_spec(config, a.flags);
   Console console(a.verbose, a.quiet);
-  const project::DicRun run = project::run_dic(spec, images, a.out_dir, console.log());
+  project::Log log = console.log();
+  // Off a terminal (a log file, a batch job), one line per correlated frame instead of the console's
+  // throttled progress line; on a terminal, the progress line alone.
+  if (!a.quiet && isatty(fileno(stderr)) == 0) {
+    const Reporter console_reporter = log.reporter();
+    Reporter per_frame{[console_reporter](const Progress& p) {
+                         if (p.stage != "dic") return console_reporter.report(p);
+                         if (!p.detail.empty())
+                           std::fprintf(stderr, "dic: %s (%zu/%zu)\n", p.detail.c_str(), p.done, p.total);
+                       },
+                       console_reporter.log};
+    log = project::Log(per_frame, [&console](const std::string& l) { console.print(l); });
+  }
+  project::DicRunOptions options;
+  options.resume = a.resume;
+  options.keep_frames = false;  // streamed: the files hold the frames
+  const project::DicRun run = project::run_dic(spec, images, a.out_dir, log, options);
   const dic::SequenceResult& r = run.result;
   const std::vector<std::string>& warnings = run.warnings;
   if (!warnings.empty())
     std::fprintf(stderr, "tricot: warning: %s%s\n", warnings.front().c_str(),
                  warnings.size() > 1 ? fmt::format(" (and {} more images)", warnings.size() - 1).c_str() : "");
   if (r.termination == dic::SequenceTermination::all_lost) {
-    int lost_at = 0;
-    for (const auto& f : r.frames)
-      if (f.ok == 0) {
-        lost_at = f.frame;
-        break;
-      }
+    const int lost_at = std::max(run.lost_at, 0);
     std::fprintf(stderr, "tricot: error: %s: every point was lost (no point ok from frame %d on; see frames.csv)\n",
                  images[lost_at].c_str(), lost_at);
     return ExitCode::not_converged;
@@ -111,6 +130,8 @@ Runner add_dic(CLI::App& app) {
   cmd->add_option("--roi", args->flags.roi, "Region of interest X0,Y0,X1,Y1 in px (overrides dic.roi; default the whole image)");
   cmd->add_flag("-v,--verbose", args->verbose, "Log every frame (points ok, mean ZNCC, seeds, reference updates)");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
+  cmd->add_flag("--resume", args->resume,
+                "Go on with a killed run into the same -o folder from its last complete frame (same config, flags, images)");
   add_print_config(cmd, project::dic_schema);
   return [args]() {
     check_out_dir(args->out_dir);

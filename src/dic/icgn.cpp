@@ -113,7 +113,7 @@ struct Reference {
   std::vector<float> fc;  ///< f − f̄, n values, row-major over the subset
   std::vector<float> J;   ///< NP planes of n values: J[a·n + k]
   double df = 0;          ///< √Σ (f − f̄)²
-  std::vector<float> row; ///< g − f̄ along one row of the warped subset
+  std::vector<float> row; ///< g − f̄ over the warped subset, row-major (n values)
   float fm = 0;           ///< f̄: subtracted from g too, so that the single-precision row sums stay well conditioned
   MatP H;
   VecP sum_J, sum_fJ;
@@ -151,7 +151,7 @@ bool read_reference(const Frame& ref, const Vec2& c, const IcgnOptions& o, Refer
   }
   R.fc.resize(n);
   R.J.resize(std::size_t(n) * NP);
-  R.row.resize(N);
+  R.row.resize(n);
   const bool on_pixels = is_integer(c(0)) && is_integer(c(1));
   double sum = 0;
   int k = 0;
@@ -232,6 +232,42 @@ inline float spline_value(const float* origin, int stride, double X, double Y) {
   return v;
 }
 
+/// One row of a first-order warped subset: h[i] = g(X0 + ax·x, Y0 + ay·x) − fm at x = i − M, vectorised
+/// over the row (issue 16): positions relative to the row's centre pixel in single precision (|x| ≤ a
+/// few hundred px, so 1e-5 px), floor by truncation of a shifted value, and the 16 B-spline taps as
+/// gathers. Same weights as spline_value.
+inline void spline_row(const float* origin, int stride, double X0, double Y0, double ax, double ay, int N, float fm,
+                       float* __restrict h) {
+  const double bx = std::floor(X0), by = std::floor(Y0);
+  const float* const base = origin + (static_cast<std::ptrdiff_t>(by) - 1) * stride + (static_cast<std::ptrdiff_t>(bx) - 1);
+  const float x0 = static_cast<float>(X0 - bx), y0 = static_cast<float>(Y0 - by);
+  const float fax = static_cast<float>(ax), fay = static_cast<float>(ay);
+  const int M = N / 2;
+  constexpr float kShift = 4096.0f;  // > any offset within a subset: truncation of X + kShift is floor
+  constexpr float s6 = 1.0f / 6.0f;
+#pragma omp simd
+  for (int i = 0; i < N; ++i) {
+    const float x = static_cast<float>(i - M);
+    const float X = x0 + fax * x, Y = y0 + fay * x;
+    const int ix = static_cast<int>(X + kShift) - static_cast<int>(kShift);
+    const int iy = static_cast<int>(Y + kShift) - static_cast<int>(kShift);
+    const float tx = X - static_cast<float>(ix), ty = Y - static_cast<float>(iy);
+    const float tx2 = tx * tx, tx3 = tx2 * tx, sx = 1.0f - tx;
+    const float ty2 = ty * ty, ty3 = ty2 * ty, sy = 1.0f - ty;
+    const float wx0 = sx * sx * sx * s6, wx1 = (3.0f * tx3 - 6.0f * tx2 + 4.0f) * s6,
+                wx2 = (-3.0f * tx3 + 3.0f * tx2 + 3.0f * tx + 1.0f) * s6, wx3 = tx3 * s6;
+    const float wy0 = sy * sy * sy * s6, wy1 = (3.0f * ty3 - 6.0f * ty2 + 4.0f) * s6,
+                wy2 = (-3.0f * ty3 + 3.0f * ty2 + 3.0f * ty + 1.0f) * s6, wy3 = ty3 * s6;
+    const int o = iy * stride + ix;
+    const float r0 = wx0 * base[o] + wx1 * base[o + 1] + wx2 * base[o + 2] + wx3 * base[o + 3];
+    const float r1 = wx0 * base[o + stride] + wx1 * base[o + stride + 1] + wx2 * base[o + stride + 2] + wx3 * base[o + stride + 3];
+    const int o2 = o + 2 * stride, o3 = o + 3 * stride;
+    const float r2 = wx0 * base[o2] + wx1 * base[o2 + 1] + wx2 * base[o2 + 2] + wx3 * base[o2 + 3];
+    const float r3 = wx0 * base[o3] + wx1 * base[o3 + 1] + wx2 * base[o3 + 2] + wx3 * base[o3 + 3];
+    h[i] = wy0 * r0 + wy1 * r1 + wy2 * r2 + wy3 * r3 - fm;
+  }
+}
+
 /// σ of u and v of a converged match (icgn.hpp, PointMatch::sigma). The residual's variance per pixel,
 /// s² = Σ r² / (n − P) with Σ r² = 2 Δf² (1 − ZNCC), is the variance of n_f − n_g (both images' noise).
 /// The steepest-descent images J hold the reference's noise gradient too, so H = Σ J Jᵀ = H0 + N with
@@ -307,41 +343,44 @@ PointMatch icgn_order(const Frame& ref, const Frame& cur, const Vec2& c, const S
     // One pass over the warped subset: Σh, Σh², Σ(f − f̄)h and Σ h J with h = g − f̄, row by row: first
     // h along the row (the B-spline gathers), then the sums (SIMD; single precision within a row, double
     // across rows).
-    double sg = 0, sgg = 0, sfg = 0;
-    VecP sgJ = VecP::Zero();
-    float* const h = R.row.data();
+    // First g − f̄ over the whole warped subset, row by row (the B-spline gathers), then the sums as
+    // SIMD dot products over the n pixels (issue 16: one horizontal reduction per sum, not per row).
+    float* const h0 = R.row.data();
     const float* const J = R.J.data();
-    const float* const fc0 = R.fc.data();
+    const float* const fc = R.fc.data();
     const float fm = R.fm;  // locals: the compiler cannot keep thread-local members in registers across stores to h
     for (int y = -M, row = 0; y <= M; ++y, row += N) {
+      float* const h = h0 + row;
       // first-order part of the warp along the row: X = X0 + (1 + ux)·x, Y = Y0 + vx·x
       const double X0 = c(0) + p(0) + p(2) * y, Y0 = c(1) + y + p(6) + p(8) * y;
       const double ax = 1 + p(1), ay = p(7);
-      for (int i = 0; i < N; ++i) {
-        const int x = i - M;
-        double X = X0 + ax * x, Y = Y0 + ay * x;
-        if constexpr (NP == 12) {
-          X += 0.5 * p(3) * x * x + p(4) * x * y + 0.5 * p(5) * y * y;
-          Y += 0.5 * p(9) * x * x + p(10) * x * y + 0.5 * p(11) * y * y;
+      if constexpr (NP == 6) {
+        spline_row(origin, stride, X0, Y0, ax, ay, N, fm, h);
+      } else {
+        for (int i = 0; i < N; ++i) {
+          const int x = i - M;
+          const double X = X0 + ax * x + 0.5 * p(3) * x * x + p(4) * x * y + 0.5 * p(5) * y * y;
+          const double Y = Y0 + ay * x + 0.5 * p(9) * x * x + p(10) * x * y + 0.5 * p(11) * y * y;
           if (!inside(X, Y)) {
             out.status = std::isfinite(X) && std::isfinite(Y) ? PointStatus::out_of_image : PointStatus::diverged;
             return out;
           }
+          h[i] = spline_value(origin, stride, X, Y) - fm;
         }
-        h[i] = spline_value(origin, stride, X, Y) - fm;
       }
-      const float* fc = fc0 + row;
-      float rg = 0, rgg = 0, rfg = 0;
+    }
+    const float* const h = h0;
+    float rg = 0, rgg = 0, rfg = 0;
 #pragma omp simd reduction(+ : rg, rgg, rfg)
-      for (int i = 0; i < N; ++i) rg += h[i], rgg += h[i] * h[i], rfg += fc[i] * h[i];
-      sg += rg, sgg += rgg, sfg += rfg;
-      for (int a = 0; a < NP; ++a) {
-        const float* Ja = J + std::size_t(a) * n + row;
-        float s = 0;
-#pragma omp simd reduction(+ : s)
-        for (int i = 0; i < N; ++i) s += h[i] * Ja[i];
-        sgJ(a) += s;
-      }
+    for (int k = 0; k < n; ++k) rg += h[k], rgg += h[k] * h[k], rfg += fc[k] * h[k];
+    const double sg = rg, sgg = rgg, sfg = rfg;
+    VecP sgJ;
+    for (int a = 0; a < NP; ++a) {
+      const float* Ja = J + std::size_t(a) * n;
+      float sa = 0;
+#pragma omp simd reduction(+ : sa)
+      for (int k = 0; k < n; ++k) sa += h[k] * Ja[k];
+      sgJ(a) = sa;
     }
     const double hm = sg / n;  // ḡ − f̄
     const double dg = std::sqrt(std::max(0.0, sgg - sg * hm));

@@ -1,9 +1,16 @@
 // Sequence tracking: incremental, reference and automatic reference update (see sequence.hpp).
 #include "tricot/dic/sequence.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <optional>
+#include <type_traits>
 
 #include "tricot/core/error.hpp"
 
@@ -39,6 +46,7 @@ struct SequenceTracker::State {
   std::vector<std::array<int, 4>> neighbours;
   std::shared_ptr<const Frame> ref, prev;  ///< the current reference image r and the previous image
   int r = 0;
+  int next = 1;                             ///< the frame the next add() correlates
   std::vector<Vec2> ref_x;                  ///< positions in image r
   std::vector<Vec2> ref_sigma;              ///< σ of those positions (px), 0 in image 0
   std::vector<char> alive;                  ///< the point has a position in image r
@@ -98,9 +106,13 @@ SequenceTracker::SequenceTracker(const image::Image& reference, std::vector<Grid
   f0.zncc.assign(n, 1.0);
   f0.status.assign(n, PointStatus::ok);
   f0.sigma.assign(n, Vec2::Zero());
+  // The texture test reads every reference subset: in parallel (issue 16), then the statuses in order.
+  std::vector<char> textured(n);
+#pragma omp parallel for schedule(dynamic, 64) num_threads(s.o.dic.threads > 0 ? std::min(s.o.dic.threads, omp_get_num_procs()) : omp_get_max_threads())
+  for (int k = 0; k < n; ++k) textured[k] = has_texture(*s.ref, g[k].x, s.o.dic.icgn);
   for (int k = 0; k < n; ++k) {
     s.ref_x[k] = f0.x[k] = g[k].x;
-    if (!has_texture(*s.ref, g[k].x, s.o.dic.icgn)) {
+    if (!textured[k]) {
       f0.status[k] = icgn(*s.ref, *s.ref, g[k].x, Shape::Zero(), s.o.dic.icgn).status;  // no_texture / out_of_image
       f0.zncc[k] = 0;
       s.alive[k] = 0;
@@ -124,9 +136,18 @@ SequenceTracker::~SequenceTracker() = default;
 const TrackedFrame& SequenceTracker::add(const image::Image& next) {
   State& s = *s_;
   const auto t0 = std::chrono::steady_clock::now();
-  const int k = static_cast<int>(s.result.frames.size());
+  const int k = s.next;
   const int n = static_cast<int>(s.ref_x.size());
   const auto cur = std::make_shared<const Frame>(prepare_frame(next, s.o.dic.prefilter_sigma));
+  const auto since = [](std::chrono::steady_clock::time_point& t) {
+    const auto now = std::chrono::steady_clock::now();
+    const double d = std::chrono::duration<double>(now - t).count();
+    t = now;
+    return d;
+  };
+  auto tick = t0;
+  TrackedFrame::Stages stages;
+  stages.prepare = since(tick);
   const TrackedFrame& before = s.result.frames.back();
 
   PairResult pair = s.correlate(*cur, s.last);
@@ -177,10 +198,12 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
     }
   }
   f.mean_zncc = f.ok ? sum / f.ok : 0;
-  std::vector<Vec2> X(n);
+  stages.correlate = since(tick);
+  std::vector<Vec2> X(s.result.grid.size());
   for (int p = 0; p < n; ++p) X[p] = s.result.grid[p].x;
   f.strain = green_lagrange(s.result.grid, f.x, good, s.o.strain);
   f.message = note + pair.message;
+  stages.strain = since(tick);
 
   // Fixed-point incremental field between the previous image and this one (before the state moves on).
   if (s.o.fixed_point_fields) {
@@ -205,7 +228,9 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
         s.fixed_last[p] = m.p;
       }
     }
+    if (!s.o.keep_frames) s.result.increments.clear();
     s.result.increments.push_back(std::move(inc));
+    stages.increments = since(tick);
   }
 
   // Move on.
@@ -224,7 +249,10 @@ const TrackedFrame& SequenceTracker::add(const image::Image& next) {
   }
   s.prev = cur;
   f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  f.stages = stages;
   s.result.frames.push_back(std::move(f));
+  if (!s.o.keep_frames) s.result.frames.erase(s.result.frames.begin(), s.result.frames.end() - 1);
+  ++s.next;
   const TrackedFrame& done = s.result.frames.back();
   char detail[160];
   std::snprintf(detail, sizeof detail, "frame %d: %d/%d ok, mean ZNCC %.4f, ref %d", k, done.ok, n, done.mean_zncc,
@@ -238,11 +266,179 @@ const SequenceResult& SequenceTracker::result() {
   SequenceResult& r = s.result;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start).count();
   const TrackedFrame& last = r.frames.back();
-  r.termination = last.ok > 0 || r.frames.size() == 1 ? SequenceTermination::completed : SequenceTermination::all_lost;
-  r.message = std::to_string(r.frames.size()) + " frames, " + to_string(s.o.mode) + " mode; " +
+  r.termination = last.ok > 0 || s.next == 1 ? SequenceTermination::completed : SequenceTermination::all_lost;
+  r.message = std::to_string(s.next) + " frames, " + to_string(s.o.mode) + " mode; " +
               std::to_string(last.ok) + "/" + std::to_string(r.grid.size()) + " points ok in the last frame";
   if (r.termination == SequenceTermination::all_lost) r.message += " (every point was lost)";
   return r;
+}
+
+// Checkpoints: the State's fields in a fixed order, each number as its bytes (this machine's byte
+// order: a checkpoint resumes a run on the machine that made it).
+namespace {
+
+constexpr char kMagic[] = "tricot-dic-sequence-1";
+
+struct Writer {
+  std::string bytes;
+  template <class T>
+  void put(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  void put_vec2s(const std::vector<Vec2>& v) {
+    for (const Vec2& x : v) put(x(0)), put(x(1));
+  }
+  void put_shapes(const std::vector<std::optional<Shape>>& v) {
+    for (const auto& p : v) {
+      put(static_cast<char>(p.has_value()));
+      if (p)
+        for (int i = 0; i < p->size(); ++i) put((*p)(i));
+    }
+  }
+  void put_string(const std::string& t) {
+    put(static_cast<std::uint64_t>(t.size()));
+    bytes += t;
+  }
+};
+
+struct Reader {
+  const std::string& bytes;
+  std::size_t at = 0;
+  [[noreturn]] void fail() const {
+    throw InputError(Location{"", 0, "resume"}, "not a DIC checkpoint of this run (truncated or of another grid)",
+                     std::to_string(bytes.size()) + " bytes", "the checkpoint a killed run of the same settings left");
+  }
+  template <class T>
+  T get() {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (at + sizeof(T) > bytes.size()) fail();
+    T v;
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    at += sizeof v;
+    return v;
+  }
+  std::vector<Vec2> get_vec2s(std::size_t n) {
+    std::vector<Vec2> v(n);
+    for (Vec2& x : v) x(0) = get<double>(), x(1) = get<double>();
+    return v;
+  }
+  std::vector<std::optional<Shape>> get_shapes(std::size_t n) {
+    std::vector<std::optional<Shape>> v(n);
+    for (auto& p : v)
+      if (get<char>()) {
+        Shape q;
+        for (int i = 0; i < q.size(); ++i) q(i) = get<double>();
+        p = q;
+      }
+    return v;
+  }
+  std::string get_string() {
+    const auto size = get<std::uint64_t>();
+    if (size > bytes.size() - at) fail();
+    std::string t = bytes.substr(at, size);
+    at += size;
+    return t;
+  }
+};
+
+SequenceResumePoint read_header(Reader& in) {
+  if (in.get_string() != kMagic) in.fail();
+  SequenceResumePoint p;
+  p.next_frame = in.get<int>();
+  p.reference_frame = in.get<int>();
+  if (p.next_frame < 1 || p.reference_frame < 0 || p.reference_frame >= p.next_frame) in.fail();
+  return p;
+}
+
+}  // namespace
+
+std::string SequenceTracker::checkpoint() const {
+  const State& s = *s_;
+  Writer out;
+  out.put_string(kMagic);
+  out.put(s.next);
+  out.put(s.r);
+  const std::size_t n = s.ref_x.size();
+  out.put(static_cast<std::uint64_t>(n));
+  for (const GridPoint& g : s.result.grid) out.put(g.x(0)), out.put(g.x(1));
+  out.put_vec2s(s.ref_x);
+  out.put_vec2s(s.ref_sigma);
+  for (char a : s.alive) out.put(a);
+  for (PointStatus d : s.dead) out.put(d);
+  out.put_shapes(s.last);
+  out.put_shapes(s.fixed_last);
+  const TrackedFrame& f = s.result.frames.back();
+  out.put(f.frame);
+  out.put(f.reference_frame);
+  out.put_vec2s(f.x);
+  for (double z : f.zncc) out.put(z);
+  for (PointStatus st : f.status) out.put(st);
+  for (const StrainPoint& e : f.strain)
+    out.put(e.F(0, 0)), out.put(e.F(0, 1)), out.put(e.F(1, 0)), out.put(e.F(1, 1)), out.put(e.exx), out.put(e.eyy),
+        out.put(e.exy), out.put(static_cast<char>(e.valid));
+  out.put_vec2s(f.sigma);
+  out.put(f.ok);
+  out.put(f.mean_zncc);
+  out.put(f.seconds);
+  out.put_string(f.message);
+  return out.bytes;
+}
+
+SequenceResumePoint SequenceTracker::resume_point(const std::string& checkpoint) {
+  Reader in{checkpoint};
+  return read_header(in);
+}
+
+SequenceTracker::SequenceTracker(const image::Image& reference, const image::Image& previous,
+                                 std::vector<GridPoint> grid, SequenceOptions options, const std::string& checkpoint,
+                                 Reporter reporter)
+    : s_(std::make_unique<State>()) {
+  options.validate();
+  State& s = *s_;
+  s.o = std::move(options);
+  s.reporter = std::move(reporter);
+  s.result.grid = std::move(grid);
+  Reader in{checkpoint};
+  const SequenceResumePoint at = read_header(in);
+  s.next = at.next_frame;
+  s.r = at.reference_frame;
+  const std::size_t n = s.result.grid.size();
+  if (in.get<std::uint64_t>() != n) in.fail();
+  for (const GridPoint& g : s.result.grid)
+    if (in.get<double>() != g.x(0) || in.get<double>() != g.x(1)) in.fail();
+  s.neighbours = grid_neighbours(s.result.grid);
+  s.ref_x = in.get_vec2s(n);
+  s.ref_sigma = in.get_vec2s(n);
+  s.alive.resize(n);
+  for (char& a : s.alive) a = in.get<char>();
+  s.dead.resize(n);
+  for (PointStatus& d : s.dead) d = in.get<PointStatus>();
+  s.last = in.get_shapes(n);
+  s.fixed_last = in.get_shapes(n);
+  TrackedFrame f;
+  f.frame = in.get<int>();
+  f.reference_frame = in.get<int>();
+  f.x = in.get_vec2s(n);
+  f.zncc.resize(n);
+  for (double& z : f.zncc) z = in.get<double>();
+  f.status.resize(n);
+  for (PointStatus& st : f.status) st = in.get<PointStatus>();
+  f.strain.resize(n);
+  for (StrainPoint& e : f.strain) {
+    e.F(0, 0) = in.get<double>(), e.F(0, 1) = in.get<double>(), e.F(1, 0) = in.get<double>(), e.F(1, 1) = in.get<double>();
+    e.exx = in.get<double>(), e.eyy = in.get<double>(), e.exy = in.get<double>();
+    e.valid = in.get<char>() != 0;
+  }
+  f.sigma = in.get_vec2s(n);
+  f.ok = in.get<int>();
+  f.mean_zncc = in.get<double>();
+  f.seconds = in.get<double>();
+  f.message = in.get_string();
+  if (in.at != checkpoint.size() || f.frame != s.next - 1) in.fail();
+  s.result.frames.push_back(std::move(f));
+  s.ref = std::make_shared<const Frame>(prepare_frame(reference, s.o.dic.prefilter_sigma));
+  s.prev = s.r == s.next - 1 ? s.ref : std::make_shared<const Frame>(prepare_frame(previous, s.o.dic.prefilter_sigma));
 }
 
 SequenceResult track_sequence(const std::vector<image::Image>& images, const Roi& roi, const SequenceOptions& options,

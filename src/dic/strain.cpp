@@ -4,7 +4,8 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <limits>
-#include <map>
+#include <algorithm>
+#include <vector>
 
 #include "tricot/core/error.hpp"
 
@@ -21,12 +22,22 @@ void StrainOptions::validate() const {
 std::vector<StrainPoint> green_lagrange(const std::vector<GridPoint>& grid, const std::vector<Vec2>& x,
                                         const std::vector<char>& good, const StrainOptions& o) {
   o.validate();
-  std::map<std::pair<int, int>, int> index;
-  for (int k = 0; k < static_cast<int>(grid.size()); ++k) index[{grid[k].i, grid[k].j}] = k;
+  // Grid indices → point, a dense table over the grid's bounding box (−1 where there is no point).
+  int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+  if (!grid.empty()) i0 = i1 = grid[0].i, j0 = j1 = grid[0].j;
+  for (const GridPoint& g : grid) i0 = std::min(i0, g.i), i1 = std::max(i1, g.i), j0 = std::min(j0, g.j), j1 = std::max(j1, g.j);
+  const long long width = i1 - i0 + 1;
+  std::vector<int> index(static_cast<std::size_t>(std::max(0LL, width * (j1 - j0 + 1))), -1);
+  for (int k = 0; k < static_cast<int>(grid.size()); ++k) index[(grid[k].j - j0) * width + (grid[k].i - i0)] = k;
+  const auto point_at = [&](int i, int j) {
+    return i < i0 || i > i1 || j < j0 || j > j1 ? -1 : index[(j - j0) * width + (i - i0)];
+  };
   const int h = o.window / 2;
   const int needed = std::max(4, static_cast<int>(std::ceil(o.min_fraction * o.window * o.window)));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<StrainPoint> out(grid.size());
+  // Each point's fit is independent of the others': in parallel (issue 16).
+#pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < grid.size(); ++k) {
     StrainPoint& s = out[k];
     s.exx = s.eyy = s.exy = nan;
@@ -37,12 +48,12 @@ std::vector<StrainPoint> green_lagrange(const std::vector<GridPoint>& grid, cons
     int count = 0;
     for (int dj = -h; dj <= h; ++dj)
       for (int di = -h; di <= h; ++di) {
-        auto it = index.find({grid[k].i + di, grid[k].j + dj});
-        if (it == index.end() || !good[it->second]) continue;
-        const Vec2 dX = grid[it->second].x - grid[k].x;
+        const int q = point_at(grid[k].i + di, grid[k].j + dj);
+        if (q < 0 || !good[q]) continue;
+        const Vec2 dX = grid[q].x - grid[k].x;
         const Eigen::Vector3d phi(1, dX(0), dX(1));
         A += phi * phi.transpose();
-        b += phi * x[it->second].transpose();
+        b += phi * x[q].transpose();
         ++count;
       }
     if (count < needed) continue;

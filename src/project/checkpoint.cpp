@@ -84,43 +84,49 @@ ident::Checkpoint read_checkpoint(const fs::path& file, const std::string& finge
   if (!fs::exists(file))
     throw FileError({file.string(), 0, ""}, "nothing to resume: no checkpoint in the output folder", "",
                     "the -o folder of an earlier run of this project");
-  ident::Checkpoint c;
+  json j;
   try {
-    const json j = json::parse(io::read_text(file));
-    if (j.at("fingerprint").get<std::string>() != fingerprint)
-      throw InputError({file.string(), 0, "fingerprint"},
-                       "the checkpoint belongs to other data or another model (the experiment, [law], [mesh], "
-                       "[[test]], [[parameter]] or [data] changed); run without --resume to start afresh");
-    c.names = j.at("names").get<std::vector<std::string>>();
-    c.scales = json_vec(j.at("scales"));
-    c.x = json_vec(j.at("x"));
-    c.parameters = json_vec(j.at("parameters"));
-    c.objective = j.at("objective").get<double>();
-    c.trust_region_radius = j.at("trust_region_radius").get<double>();
-    c.iterations = j.at("iterations").get<int>();
-    c.evaluations = j.at("evaluations").get<int>();
-    c.jacobian_evaluations = j.at("jacobian_evaluations").get<int>();
-    c.failed_evaluations = j.at("failed_evaluations").get<int>();
-    c.restarts = j.at("restarts").get<int>();
-    c.wall_seconds = j.at("wall_seconds").get<double>();
-    // A checkpoint written before issue 14 has no phase: LM under way.
-    const std::string phase_name = j.value("phase", std::string("lm"));
-    const auto phase = ident::phase_from_string(phase_name);
-    if (!phase) throw InputError({file.string(), 0, "phase"}, "unknown phase", phase_name, "lm, stability or done");
-    c.phase = *phase;
-    const std::string termination_name = j.value("termination", std::string("fe_failure"));
-    const auto termination = termination_from_string(termination_name);
-    if (!termination)
-      throw InputError({file.string(), 0, "termination"}, "unknown termination", termination_name,
-                       "a termination of result.json");
-    c.termination = *termination;
-    c.message = j.value("message", std::string());
-    c.stability_passed = j.value("stability_passed", false);
-    for (const json& e : j.at("history"))
-      c.history.push_back({e.at("iteration").get<int>(), e.at("objective").get<double>(), json_vec(e.at("parameters")),
-                           e.at("restart").get<int>()});
+    j = json::parse(io::read_text(file));
   } catch (const json::exception& e) {
-    throw InputError({file.string(), 0, ""}, std::string("not a tricot checkpoint: ") + e.what());
+    throw InputError({file.string(), 0, ""}, "not a tricot checkpoint: " + json_problem(e));
+  }
+  const std::string f = file.string();
+  if (json_get<std::string>(j, "fingerprint", f) != fingerprint)
+    throw InputError({f, 0, "fingerprint"},
+                     "the checkpoint belongs to other data or another model (the experiment, [law], [mesh], "
+                     "[[test]], [[parameter]] or [data] changed); run without --resume to start afresh");
+  ident::Checkpoint c;
+  c.names = json_get<std::vector<std::string>>(j, "names", f);
+  c.scales = json_get_vec(j, "scales", f);
+  c.x = json_get_vec(j, "x", f);
+  c.parameters = json_get_vec(j, "parameters", f);
+  c.objective = json_get<double>(j, "objective", f);
+  c.trust_region_radius = json_get<double>(j, "trust_region_radius", f);
+  c.iterations = json_get<int>(j, "iterations", f);
+  c.evaluations = json_get<int>(j, "evaluations", f);
+  c.jacobian_evaluations = json_get<int>(j, "jacobian_evaluations", f);
+  c.failed_evaluations = json_get<int>(j, "failed_evaluations", f);
+  c.restarts = json_get<int>(j, "restarts", f);
+  c.wall_seconds = json_get<double>(j, "wall_seconds", f);
+  // A checkpoint written before issue 14 has no phase: LM under way.
+  const auto phase_name = json_get_or(j, "phase", std::string("lm"), f);
+  const auto phase = ident::phase_from_string(phase_name);
+  if (!phase) throw InputError({f, 0, "phase"}, "unknown phase", phase_name, "lm, stability or done");
+  c.phase = *phase;
+  const auto termination_name = json_get_or(j, "termination", std::string("fe_failure"), f);
+  const auto termination = termination_from_string(termination_name);
+  if (!termination)
+    throw InputError({f, 0, "termination"}, "unknown termination", termination_name, "a termination of result.json");
+  c.termination = *termination;
+  c.message = json_get_or(j, "message", std::string(), f);
+  c.stability_passed = json_get_or(j, "stability_passed", false, f);
+  const json history = json_get<json>(j, "history", f);
+  if (!history.is_array()) throw InputError({f, 0, "history"}, "of the wrong type", history.dump(), "an array");
+  for (std::size_t i = 0; i < history.size(); ++i) {
+    const json& e = history[i];
+    const std::string at = fmt::format("history[{}].", i);
+    c.history.push_back({json_get<int>(e, "iteration", f, at), json_get<double>(e, "objective", f, at),
+                         json_get_vec(e, "parameters", f, at), json_get<int>(e, "restart", f, at)});
   }
   return c;
 }

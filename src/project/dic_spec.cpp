@@ -81,6 +81,11 @@ io::SectionSpec dic_schema() {
       key("increments", o0.increments,
           "DIR/increments.csv: displacement between consecutive images at the fixed grid centres\n"
           "(the paper's WIMA-style incremental fields; costs a second correlation per image)."),
+      key("fields", o0.fields,
+          "DIR/fields/frame_NNNN.vtu (compressed binary: u, v, strains, ZNCC, status on the reference grid)\n"
+          "and DIR/fields.pvd, the series ParaView opens (see fields_every)."),
+      key("fields_every", std::int64_t{o0.fields_every},
+          "Fields of frame 0, of every n-th frame and of the last (1 = every frame).", 1, 1000000),
   };
   root.sections = {d, st, ph, out};
   return root;
@@ -135,8 +140,16 @@ DicSpec DicSpec::from_config(const io::Node& root, std::filesystem::path dir) {
   const Node& ph = root.section("physical");
   x.physical = {ph.real("mm_per_px"), ph.reals("centre_px"), ph.real("angle_deg"), ph.boolean("y_up"), Origin(ph)};
   const Node& out = root.section("output");
-  x.output = {out.boolean("overlays"), static_cast<int>(out.integer("overlay_every")), out.strings("panels"), static_cast<int>(out.integer("panel_width")),
-              out.real("zncc_floor"), out.boolean("increments"), Origin(out)};
+  OutputTable& o = x.output;
+  o.overlays = out.boolean("overlays");
+  o.overlay_every = static_cast<int>(out.integer("overlay_every"));
+  o.panels = out.strings("panels");
+  o.panel_width = static_cast<int>(out.integer("panel_width"));
+  o.zncc_floor = out.real("zncc_floor");
+  o.increments = out.boolean("increments");
+  o.fields = out.boolean("fields");
+  o.fields_every = static_cast<int>(out.integer("fields_every"));
+  o.origin = Origin(out);
   return x;
 }
 
@@ -259,6 +272,10 @@ DicSettings DicSpec::settings(const image::Image& reference) const {
     s.outputs.overlay.panel_width = output.panel_width;
     s.outputs.overlay.zncc_floor = output.zncc_floor;
     s.outputs.increments = output.increments;
+    s.outputs.fields = output.fields;
+    if (output.fields_every < 1)
+      output.origin.fail("fields_every", "out of range", std::to_string(output.fields_every), "1 to 1000000");
+    s.outputs.fields_every = output.fields_every;
     s.sequence.fixed_point_fields = s.outputs.increments;
 
     s.sequence.validate();  // every range of [dic] and [strain], named by their keys

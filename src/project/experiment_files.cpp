@@ -169,32 +169,6 @@ json sigma_json(const ident::Sigma& s) {
   return json{{"edge_displacement", s.edge_displacement}, {"edge_force", s.edge_force}, {"field", s.field}};
 }
 
-// Reads `j[key]` as T, or throws InputError naming the file and key.
-template <class T>
-T get(const json& j, const std::string& key, const std::string& file, const std::string& path) {
-  try {
-    return j.at(key).get<T>();
-  } catch (const json::exception&) {
-    throw InputError({file, 0, path + key}, "missing or of the wrong type", j.is_object() && j.contains(key) ? j[key].dump() : "none");
-  }
-}
-
-// Reads `j[key]` as T when present (else `fallback`), or throws InputError naming the file and key:
-// nlohmann's own type_error names neither.
-template <class T>
-T get_or(const json& j, const std::string& key, T fallback, const std::string& file, const std::string& path) {
-  if (!j.is_object() || !j.contains(key)) return fallback;
-  const json& v = j[key];
-  bool ok = false;
-  if constexpr (std::is_same_v<T, std::string>) ok = v.is_string();
-  else if constexpr (std::is_floating_point_v<T>) ok = v.is_number();
-  else ok = v.is_number_integer() || v.is_number_unsigned();
-  if (!ok)
-    throw InputError({file, 0, path + key}, "of the wrong type", v.dump(),
-                     std::is_same_v<T, std::string> ? "a string" : std::is_floating_point_v<T> ? "a number" : "an integer");
-  return v.get<T>();
-}
-
 }  // namespace
 
 void write_test_data(const fs::path& dir, const ident::TestData& d) {
@@ -283,7 +257,7 @@ std::optional<Truth> read_truth(const fs::path& dir) {
     throw InputError({file, 0, ""}, "not valid JSON: " + json_problem(e));
   }
   Truth t;
-  t.law = get<std::string>(j, "law", file, "");
+  t.law = json_get<std::string>(j, "law", file, "");
   const json c = j.contains("coefficients") ? j["coefficients"] : json();
   if (!c.is_object()) throw InputError({file, 0, "coefficients"}, "missing or not an object");
   for (const auto& [name, value] : c.items()) {
@@ -291,35 +265,35 @@ std::optional<Truth> read_truth(const fs::path& dir) {
     t.names.push_back(name);
     t.values.push_back(value.get<double>());
   }
-  t.noise_relative = get_or(j, "noise_relative", 0.0, file, "");
-  t.seed = get_or(j, "seed", std::uint64_t{0}, file, "");
-  t.field_kind = get_or(j, "field_kind", std::string("cumulative"), file, "") == "incremental" ? ident::FieldKind::incremental
+  t.noise_relative = json_get_or(j, "noise_relative", 0.0, file, "");
+  t.seed = json_get_or(j, "seed", std::uint64_t{0}, file, "");
+  t.field_kind = json_get_or(j, "field_kind", std::string("cumulative"), file, "") == "incremental" ? ident::FieldKind::incremental
                                                                                    : ident::FieldKind::cumulative;
   if (j.contains("tests")) {
     if (!j["tests"].is_array()) throw InputError({file, 0, "tests"}, "not an array");
     for (const json& s : j["tests"]) {
       Truth::Test x;
-      x.name = get<std::string>(s, "name", file, "tests.");
+      x.name = json_get<std::string>(s, "name", file, "tests.");
       const std::string p = "tests." + x.name + ".";
-      x.control = get_or(s, "control", std::string(), file, p);
-      x.steps = get_or(s, "steps", 0, file, p);
-      x.points = get_or(s, "points", 0, file, p);
-      x.dropped_points = get_or(s, "dropped_points", 0, file, p);
+      x.control = json_get_or(s, "control", std::string(), file, p);
+      x.steps = json_get_or(s, "steps", 0, file, p);
+      x.points = json_get_or(s, "points", 0, file, p);
+      x.dropped_points = json_get_or(s, "dropped_points", 0, file, p);
       if (s.contains("mesh")) {
         const json& m = s["mesh"];
-        x.mesh.type = get_or(m, "element", std::string("Q8"), file, p + "mesh.") == "Q4" ? fem::ElementType::Q4 : fem::ElementType::Q8;
-        x.mesh.width = get_or(m, "width", 2 * x.mesh.width, file, p + "mesh.") / 2;
-        x.mesh.height = get_or(m, "height", 2 * x.mesh.height, file, p + "mesh.") / 2;
-        x.mesh.nx = get_or(m, "nx", x.mesh.nx, file, p + "mesh.");
-        x.mesh.ny = get_or(m, "ny", x.mesh.ny, file, p + "mesh.");
-        x.mesh.grading = get_or(m, "grading", 1.0, file, p + "mesh.");
-        x.dofs = get_or(m, "dofs", 0, file, p + "mesh.");
+        x.mesh.type = json_get_or(m, "element", std::string("Q8"), file, p + "mesh.") == "Q4" ? fem::ElementType::Q4 : fem::ElementType::Q8;
+        x.mesh.width = json_get_or(m, "width", 2 * x.mesh.width, file, p + "mesh.") / 2;
+        x.mesh.height = json_get_or(m, "height", 2 * x.mesh.height, file, p + "mesh.") / 2;
+        x.mesh.nx = json_get_or(m, "nx", x.mesh.nx, file, p + "mesh.");
+        x.mesh.ny = json_get_or(m, "ny", x.mesh.ny, file, p + "mesh.");
+        x.mesh.grading = json_get_or(m, "grading", 1.0, file, p + "mesh.");
+        x.dofs = json_get_or(m, "dofs", 0, file, p + "mesh.");
       }
       if (s.contains("sigma")) {
         const json& g = s["sigma"];
-        x.sigma.edge_displacement = get<double>(g, "edge_displacement", file, p + "sigma.");
-        x.sigma.edge_force = get<double>(g, "edge_force", file, p + "sigma.");
-        x.sigma.field = get<double>(g, "field", file, p + "sigma.");
+        x.sigma.edge_displacement = json_get<double>(g, "edge_displacement", file, p + "sigma.");
+        x.sigma.edge_force = json_get<double>(g, "edge_force", file, p + "sigma.");
+        x.sigma.field = json_get<double>(g, "field", file, p + "sigma.");
       }
       t.tests.push_back(std::move(x));
     }

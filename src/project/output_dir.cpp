@@ -32,7 +32,7 @@ std::vector<std::string> read_list(const fs::path& file, const char* key) {
     });
     return list;
   } catch (const json::exception& e) {
-    throw InputError({file.string(), 0, key}, std::string("not a tricot output record: ") + e.what());
+    throw InputError({file.string(), 0, key}, "not a tricot output record: " + json_problem(e));
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include "tricot/project/dic_spec.hpp"
 #include "testing/cli.hpp"
+#include "testing/meshio.hpp"
 #include "tricot/dic/grid.hpp"
 #include "tricot/image/image.hpp"
 #include "tricot/synth/speckle.hpp"
@@ -312,4 +313,146 @@ TEST(CliDic, APolygonOrAMaskFromTheConfigLimitsTheGrid) {
 TEST(CliDic, NoImageIsAUsageError) {
   const fs::path dir = test::scratch_dir("cli_dic_none");
   EXPECT_EQ(run_tricot("dic -o " + q(dir / "out")).exit_code, 2);
+}
+
+namespace {
+
+/// `n` frames, frame k translated by (0.5 k, −0.25 k) px.
+std::vector<fs::path> moving_frames(const fs::path& dir, int n) {
+  std::vector<fs::path> files;
+  for (int k = 0; k < n; ++k) {
+    files.push_back(dir / ("f_" + std::to_string(k) + ".png"));
+    write_frame(files.back(), Vec2(0.5 * k, -0.25 * k));
+  }
+  return files;
+}
+
+std::string args_of(const std::vector<fs::path>& files) {
+  std::string s;
+  for (const auto& f : files) s.append(" ").append(q(f));
+  return s;
+}
+
+/// frames.csv without its seconds column (wall time differs from run to run).
+std::string frames_without_seconds(const fs::path& csv) {
+  std::string s;
+  for (const auto& row : read_rows(csv)) {
+    for (std::size_t c = 0; c + 1 < row.size(); ++c) s += row[c] + ",";
+    s += "\n";
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(CliDic, FieldsAreOneCompressedVtuPerFrameAndAPvdSeriesThatMeshioReadsBack) {
+  const fs::path dir = test::scratch_dir("cli_dic_fields");
+  const auto files = moving_frames(dir, 3);
+  const fs::path out = dir / "out";
+  const auto r = run_tricot("dic -q --step 20" + std::string(kRoi) + " -o " + q(out) + args_of(files));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string pvd = slurp(out / "fields.pvd");
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NE(pvd.find("fields/frame_000" + std::to_string(k) + ".vtu"), std::string::npos) << pvd;
+    EXPECT_NE(slurp(out / "fields" / ("frame_000" + std::to_string(k) + ".vtu")).find("vtkZLibDataCompressor"),
+              std::string::npos);
+  }
+  if (!test::have_meshio()) GTEST_SKIP() << "python3 with meshio is not installed";
+  const std::size_t n = dic::make_grid(dic::Roi::rectangle(20, 20, 140, 100), kW, kH, 31, 20).size();
+  // Frame 2 moved by (1, −0.5) px: every ok point (status 0) reads it back, frame 0 reads 0.
+  const std::string got = test::read_with_meshio(out / "fields" / "frame_0002.vtu", R"(
+import numpy as np
+d = m.point_data["displacement"]; s = m.point_data["status"]
+ok = s == 0
+print(len(m.points), int(ok.sum()), len(m.cells_dict["quad"]))
+print("%.4f %.4f %.4f" % (np.abs(d[ok, 0] - 1.0).max(), np.abs(d[ok, 1] + 0.5).max(), np.nanmax(np.abs(m.point_data["exx"]))))
+)");
+  std::istringstream in(got);
+  std::size_t points = 0, ok = 0, quads = 0;
+  double du = 1, dv = 1, exx = 1;
+  in >> points >> ok >> quads >> du >> dv >> exx;
+  EXPECT_EQ(points, n) << got;
+  EXPECT_EQ(ok, n) << got;
+  EXPECT_GT(quads, 0u) << got;
+  EXPECT_LT(du, kShiftTol) << got;
+  EXPECT_LT(dv, kShiftTol) << got;
+  EXPECT_LT(exx, 1e-3) << got;  // a rigid translation: no strain
+}
+
+TEST(CliDic, FieldsCanBeTurnedOffOrWrittenEveryNthFrame) {
+  const fs::path dir = test::scratch_dir("cli_dic_fields_every");
+  const auto files = moving_frames(dir, 4);
+  std::ofstream(dir / "every.toml") << "[output]\noverlays = false\nfields_every = 2\n";
+  std::ofstream(dir / "off.toml") << "[output]\nfields = false\n";
+  ASSERT_EQ(run_tricot("dic " + q(dir / "every.toml") + " -q --step 20" + kRoi + " -o " + q(dir / "every") + args_of(files)).exit_code, 0);
+  EXPECT_TRUE(fs::exists(dir / "every" / "fields" / "frame_0000.vtu"));
+  EXPECT_FALSE(fs::exists(dir / "every" / "fields" / "frame_0001.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "every" / "fields" / "frame_0002.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "every" / "fields" / "frame_0003.vtu"));  // the last frame always
+  EXPECT_FALSE(fs::exists(dir / "every" / "overlays"));
+  ASSERT_EQ(run_tricot("dic " + q(dir / "off.toml") + " -q --step 20" + kRoi + " -o " + q(dir / "off") + args_of(files)).exit_code, 0);
+  EXPECT_FALSE(fs::exists(dir / "off" / "fields"));
+  EXPECT_FALSE(fs::exists(dir / "off" / "fields.pvd"));
+  EXPECT_TRUE(fs::exists(dir / "off" / "points.csv"));
+}
+
+// A run killed in the middle of writing a frame publishes nothing; --resume goes on from the last
+// complete frame and leaves the same files as a run that was never killed.
+TEST(CliDic, AResumedKilledRunEqualsTheUninterruptedOne) {
+  const fs::path dir = test::scratch_dir("cli_dic_resume");
+  const auto files = moving_frames(dir, 6);
+  std::ofstream(dir / "c.toml") << "[output]\noverlay_every = 2\nincrements = true\n[physical]\nmm_per_px = 0.05\n";
+  for (const char* mode : {"incremental", "reference", "auto"}) {
+    SCOPED_TRACE(mode);
+    const std::string common = "dic " + q(dir / "c.toml") + " -q --step 20 --mode " + mode + kRoi + args_of(files);
+    const fs::path whole = dir / (std::string("whole_") + mode), killed = dir / (std::string("killed_") + mode);
+    ASSERT_EQ(run_tricot(common + " -o " + q(whole)).exit_code, 0);
+
+    ::setenv("TRICOT_TEST_KILL_DIC_FRAME", "3", 1);
+    const auto k = run_tricot(common + " -o " + q(killed));
+    ::unsetenv("TRICOT_TEST_KILL_DIC_FRAME");
+    ASSERT_NE(k.exit_code, 0);
+    EXPECT_FALSE(fs::exists(killed / "points.csv")) << "a killed run published a file";
+
+    const auto r = run_tricot(common + " --resume -o " + q(killed));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("resuming from frame 3"), std::string::npos) << r.out;
+    for (const char* f : {"points.csv", "increments.csv", "specimen.csv", "fields.pvd", "fields/frame_0004.vtu",
+                          "fields/frame_0005.vtu", "overlays/frame_0004.png"})
+      EXPECT_EQ(slurp(killed / f), slurp(whole / f)) << f;
+    EXPECT_EQ(frames_without_seconds(killed / "frames.csv"), frames_without_seconds(whole / "frames.csv"));
+    EXPECT_FALSE(fs::exists(killed / ".tricot-dic"));
+  }
+}
+
+TEST(CliDic, ResumingWithOtherSettingsIsAUsageErrorAndWithoutACheckpointStartsAtFrameZero) {
+  const fs::path dir = test::scratch_dir("cli_dic_resume_other");
+  const auto files = moving_frames(dir, 4);
+  const fs::path out = dir / "out";
+  ::setenv("TRICOT_TEST_KILL_DIC_FRAME", "2", 1);
+  ASSERT_NE(run_tricot("dic -q --step 20" + std::string(kRoi) + " -o " + q(out) + args_of(files)).exit_code, 0);
+  ::unsetenv("TRICOT_TEST_KILL_DIC_FRAME");
+  const auto other = run_tricot("dic -q --step 10" + std::string(kRoi) + " --resume -o " + q(out) + args_of(files));
+  EXPECT_EQ(other.exit_code, 2) << other.err;
+  EXPECT_NE(other.err.find("--resume"), std::string::npos) << other.err;
+
+  const fs::path fresh = dir / "fresh";
+  const auto r = run_tricot("dic -q --step 20" + std::string(kRoi) + " --resume -o " + q(fresh) + args_of(files));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("nothing to resume"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(fresh / "points.csv"));
+}
+
+// Off a terminal (this test's pipes), progress is one log line per frame, no carriage returns.
+TEST(CliDic, OffATerminalProgressIsOneLinePerFrame) {
+  const Frames f("cli_dic_log_lines");
+  const auto r = run_tricot("dic --step 20" + std::string(kRoi) + " -o " + q(f.dir / "out") + f.args());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
+  for (const char* line : {"dic: frame 1: ", "dic: frame 2: "}) {
+    const auto at = r.err.find(line);
+    ASSERT_NE(at, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(line, at + 1), std::string::npos) << "twice: " << r.err;
+  }
+  EXPECT_NE(r.err.find("(2/2)"), std::string::npos) << r.err;
 }

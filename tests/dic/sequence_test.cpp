@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "stretch_sequence.hpp"
 #include "tricot/core/error.hpp"
@@ -236,3 +237,91 @@ TEST(Sequence, TheReferenceFramesStrainIsExactlyZero) {
   EXPECT_GT(valid, 0);
 }
 
+
+namespace {
+
+/// Bit for bit, NaN equal to NaN (a lost point's position).
+template <class T>
+bool same(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+}  // namespace
+
+// Streaming (issue 16): keep_frames = false holds only the latest frame, with the same numbers.
+TEST(Sequence, WithoutKeptFramesOnlyTheLatestFrameIsHeldAndItIsTheSame) {
+  StretchSequence s;
+  s.frames = 4;
+  SequenceOptions o = options(SequenceMode::incremental);
+  o.fixed_point_fields = true;
+  const SequenceResult all = test::track(s, o);
+  o.keep_frames = false;
+  const SequenceResult last = test::track(s, o);
+  ASSERT_EQ(last.frames.size(), 1u);
+  ASSERT_EQ(last.increments.size(), 1u);
+  EXPECT_EQ(last.frames[0].frame, 4);
+  EXPECT_TRUE(same(last.frames[0].x, all.frames.back().x));
+  EXPECT_TRUE(same(last.increments[0].u, all.increments.back().u));
+  EXPECT_EQ(last.message, all.message);
+}
+
+// --resume (issue 16): a tracker rebuilt from a checkpoint goes on bit for bit as the one that made it,
+// in every mode (auto moves its reference, so the checkpoint's reference frame is neither 0 nor k − 1).
+TEST(Sequence, ATrackerResumedFromACheckpointGoesOnExactlyAsTheUninterruptedOne) {
+  StretchSequence s;
+  s.frames = 5;
+  const synth::SpecklePattern P = s.pattern();
+  std::vector<image::Image> images;
+  for (int k = 0; k <= s.frames; ++k) images.push_back(s.image(P, k));
+  for (SequenceMode mode : {SequenceMode::incremental, SequenceMode::reference, SequenceMode::automatic}) {
+    SCOPED_TRACE(to_string(mode));
+    SequenceOptions o = options(mode);
+    o.update_zncc = 0.99999;
+    o.fixed_point_fields = true;
+    const auto grid = make_grid(s.roi(), s.width, s.height, o.dic.icgn.subset_size, o.dic.step);
+    SequenceTracker whole(images[0], grid, o);
+    SequenceTracker first(images[0], grid, o);
+    std::string checkpoint;
+    for (int k = 1; k <= s.frames; ++k) {
+      whole.add(images[k]);
+      if (k <= 3) first.add(images[k]);
+      if (k == 3) checkpoint = first.checkpoint();
+    }
+    const SequenceResumePoint at = SequenceTracker::resume_point(checkpoint);
+    EXPECT_EQ(at.next_frame, 4);
+    SequenceTracker resumed(images[at.reference_frame], images[at.next_frame - 1], grid, o, checkpoint);
+    for (int k = 4; k <= s.frames; ++k) {
+      const TrackedFrame& f = resumed.add(images[k]);
+      const TrackedFrame& g = whole.result().frames[k];
+      EXPECT_EQ(f.frame, k);
+      EXPECT_EQ(f.reference_frame, g.reference_frame);
+      EXPECT_TRUE(same(f.x, g.x));
+      EXPECT_TRUE(same(f.zncc, g.zncc));
+      EXPECT_TRUE(same(f.sigma, g.sigma));
+      EXPECT_EQ(f.status, g.status);
+      EXPECT_TRUE(same(resumed.result().increments.back().u, whole.result().increments[k - 1].u));
+    }
+    EXPECT_EQ(resumed.result().message, whole.result().message);
+  }
+}
+
+TEST(Sequence, ACheckpointOfAnotherGridOrATruncatedOneIsRefusedWithTheResumeKey) {
+  StretchSequence s;
+  s.frames = 1;
+  const synth::SpecklePattern P = s.pattern();
+  const image::Image a = s.image(P, 0), b = s.image(P, 1);
+  const SequenceOptions o = options(SequenceMode::incremental);
+  const auto grid = make_grid(s.roi(), s.width, s.height, o.dic.icgn.subset_size, o.dic.step);
+  SequenceTracker t(a, grid, o);
+  t.add(b);
+  const std::string c = t.checkpoint();
+  const auto other = make_grid(s.roi(), s.width, s.height, o.dic.icgn.subset_size, o.dic.step + 2);
+  for (const auto& [g, bytes] : {std::pair{other, c}, std::pair{grid, c.substr(0, c.size() / 2)}, std::pair{grid, std::string("x")}}) {
+    try {
+      SequenceTracker r(b, b, g, o, bytes);
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("resume"), std::string::npos) << e.what();
+    }
+  }
+}

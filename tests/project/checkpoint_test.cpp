@@ -70,6 +70,24 @@ TEST(Checkpoint, AnUnknownPhaseIsNamed) {
   }
 }
 
+// A value of the wrong type names the key and shows the value (it was nlohmann's raw type_error).
+TEST(Checkpoint, AValueOfTheWrongTypeNamesItsKey) {
+  const fs::path f = file("wrong_type");
+  write_checkpoint(f, sample(), "fp");
+  std::string text = io::read_text(f);
+  const auto at = text.find("\"iterations\": ") + 14;
+  text.replace(at, text.find(',', at) - at, "\"seven\"");
+  io::write_atomic(f, text);
+  try {
+    read_checkpoint(f, "fp");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "iterations");
+    EXPECT_NE(std::string(e.what()).find("\"seven\""), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("json.exception"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Checkpoint, OneWrittenBeforeThePhaseExistedResumesLm) {
   const fs::path f = file("old");
   write_checkpoint(f, sample(), "fp");

@@ -36,6 +36,10 @@ struct SequenceOptions {
   /// Also correlate the fixed grid between consecutive images (the paper's WIMA-style incremental
   /// fields). Costs a second correlation per frame.
   bool fixed_point_fields = false;
+  /// Keep every frame in SequenceResult::frames (and every increment). false: only the latest frame
+  /// and increment are kept, so that memory stays bounded for any number of frames; the caller writes
+  /// each frame as add() returns it (project::run_dic streams points.csv that way).
+  bool keep_frames = true;
 
   void validate() const;
 };
@@ -58,6 +62,11 @@ struct TrackedFrame {
   int ok = 0;
   double mean_zncc = 0;
   double seconds = 0;
+  /// Where `seconds` went: preparing the image (B-spline coefficients, gradients), correlating the
+  /// tracked points (seeds, propagation, IC-GN), the strain fit, the fixed-point incremental field.
+  struct Stages {
+    double prepare = 0, correlate = 0, strain = 0, increments = 0;
+  } stages;
   std::string message;
 };
 
@@ -84,13 +93,28 @@ struct SequenceResult {
   double seconds = 0;
 };
 
+/// Where a checkpoint (SequenceTracker::checkpoint) stands: the images a resumed tracker needs.
+struct SequenceResumePoint {
+  int next_frame = 1;       ///< the frame the next add() correlates; frames 0..next_frame−1 are done
+  int reference_frame = 0;  ///< the image the tracker correlates against (frame r)
+};
+
 /// Tracks points frame by frame, so that a long sequence never needs every image in memory:
 ///     SequenceTracker t(reference, grid, options);  for (...) t.add(next_image);  t.result();
+/// Only the reference image r and the previous image are held (prepared for IC-GN), whatever the
+/// number of frames; with SequenceOptions::keep_frames = false the results are not accumulated either.
 class SequenceTracker {
  public:
   /// Validates the options. `grid` usually comes from make_grid on the reference image.
   SequenceTracker(const image::Image& reference, std::vector<GridPoint> grid, SequenceOptions options,
                   Reporter reporter = {});
+  /// Resumes from `checkpoint` (checkpoint() of a tracker with the same grid and options):
+  /// `reference` is the image of resume_point(checkpoint).reference_frame, `previous` that of
+  /// next_frame − 1. The frames added afterwards are bit for bit those of the uninterrupted tracker.
+  /// result().frames starts with the checkpoint's last frame. Throws InputError (key `resume`) when
+  /// the checkpoint is unreadable or was made with another grid.
+  SequenceTracker(const image::Image& reference, const image::Image& previous, std::vector<GridPoint> grid,
+                  SequenceOptions options, const std::string& checkpoint, Reporter reporter = {});
   ~SequenceTracker();
   SequenceTracker(const SequenceTracker&) = delete;
   SequenceTracker& operator=(const SequenceTracker&) = delete;
@@ -99,6 +123,12 @@ class SequenceTracker {
   const TrackedFrame& add(const image::Image& next);
   /// Everything so far (termination and message set).
   const SequenceResult& result();
+
+  /// The tracker's whole state after the last add(), binary and exact (doubles as bits): what the
+  /// second constructor needs to go on as if never stopped.
+  std::string checkpoint() const;
+  /// Where `checkpoint` stands. Throws InputError (key `resume`) when it is not a checkpoint.
+  static SequenceResumePoint resume_point(const std::string& checkpoint);
 
  private:
   struct State;

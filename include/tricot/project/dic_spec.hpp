@@ -66,6 +66,8 @@ struct OutputTable {
   int panel_width = 800;
   double zncc_floor = 0.9;
   bool increments = false;
+  bool fields = true;
+  int fields_every = 1;
   Origin origin{"output"};
 };
 
@@ -75,6 +77,8 @@ struct DicOutputs {
   int overlay_every = 10;          ///< of frame 0, every overlay_every-th frame and the last
   dic::OverlayOptions overlay;
   bool increments = false;         ///< DIR/increments.csv (fixed-point incremental fields)
+  bool fields = true;              ///< DIR/fields/frame_NNNN.vtu and DIR/fields.pvd (ParaView)
+  int fields_every = 1;            ///< of frame 0, every fields_every-th frame and the last
   std::optional<dic::PhysicalFrame> physical;  ///< DIR/specimen.csv when [physical] mm_per_px > 0
 };
 
