@@ -404,8 +404,10 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
     for (const auto& t : tests) {
       std::vector<std::string> images;
       for (const auto& f : list_images(out / "raw" / t.name() / kImagesFolder)) images.push_back(f.string());
+      DicRunOptions streamed;
+      streamed.keep_frames = false;  // the tables are written frame by frame; only the last frame is held
       const DicRun run = run_dic(spec, images, out / "dic" / t.name(),
-                                 st.inner([](const Progress& p) { return p.stage == "dic"; }));
+                                 st.inner([](const Progress& p) { return p.stage == "dic"; }), streamed);
       st.close_inner();
       ok += run.result.frames.back().ok, points += int(run.result.grid.size());
     }
