@@ -80,7 +80,7 @@ class Simulation {
   bool factorize(Failure& fail);
   bool newton(const Load& from, const Load& to, StepResult& step, Failure& fail);
   bool solve_step(const Load& target, StepResult& step, Failure& fail);
-  bool set_transverse_dimension(Failure& fail, std::string& where);
+  bool set_transverse_dimension(Failure& fail, std::string& where, std::vector<StepResult>& states);
   void record(const Load& L, StepResult& step);
   std::string describe_element_failure() const;
 
@@ -311,7 +311,7 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
 
 // The rig's first stage (THEORY §6): the guide moves to its setting with the grip at rest, in
 // guide_setting_steps increments (each with its own cutbacks); `where` names the failed increment.
-bool Simulation::set_transverse_dimension(Failure& fail, std::string& where) {
+bool Simulation::set_transverse_dimension(Failure& fail, std::string& where, std::vector<StepResult>& states) {
   const int n = test_.guide_setting_steps;
   for (int i = 1; i <= n; ++i) {
     StepResult scratch;
@@ -323,6 +323,9 @@ bool Simulation::set_transverse_dimension(Failure& fail, std::string& where) {
               ", guide " + fmt("%.6g", to.c) + " mm) failed after " + std::to_string(scratch.cutbacks) + " cutbacks";
       return false;
     }
+    scratch.load = 0;  // the grip at rest
+    record(load_, scratch);
+    states.push_back(std::move(scratch));
   }
   return true;
 }
@@ -395,7 +398,7 @@ SimulationResult Simulation::run() {
   }
   if (result.usable() && test_.guide_setting_steps > 0) {
     std::string where;
-    if (!set_transverse_dimension(fail, where)) {
+    if (!set_transverse_dimension(fail, where, result.setting)) {
       result.termination = termination(fail);
       result.message = "test '" + test_.name + "': " + where + ": " + fail.why;
     }

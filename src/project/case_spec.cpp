@@ -251,7 +251,8 @@ io::SectionSpec test_section() {
           -1e5, 1e5),
       key("loads", Reals{},
           "The step list, strictly increasing (mm or N as `control` says; γ for simple_shear). When\n"
-          "empty, `load_max` and `steps` make a uniform list.",
+          "empty, `load_max` and `steps` make a uniform list. rig: the pull's grip as measured, one per\n"
+          "step (tricot experiment writes them), in place of the uniform list of pull_strain.",
           -1e9, 1e9, {}, true),
       key("load_max", 10.0, "Last load of the uniform list (mm, N or γ), > 0; used when `loads` is empty.", 0, 1e9),
       key("steps", std::int64_t{10},
@@ -538,8 +539,11 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
     // The rig sets its own loads, grip and guide: keys of the other kinds would be ignored, so refuse them.
     if (side && std::holds_alternative<std::string>(*side))
       origin.fail("side", "a rig test's side is the specimen side in mm", side_text(*side), "a number > 0");
-    if (!loads.empty())
-      origin.fail("loads", "a rig test's steps come from pull_strain and steps", io::to_toml(loads), "none");
+    // `loads`: the pull's grip as measured (tricot experiment's forces.csv), one per step, in place
+    // of the uniform list of pull_strain and steps.
+    if (!loads.empty() && loads.size() != static_cast<std::size_t>(steps))
+      origin.fail("loads", "a rig test's measured loads are one per step", fmt::format("{} loads", loads.size()),
+                  fmt::format("{} (steps)", steps));
     if (!guide.empty())
       origin.fail("guide", "a rig test's guide comes from transverse_strain", io::to_toml(guide), "none");
     if (control != "displacement")
@@ -559,7 +563,12 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
     o.clips_follow_guide = rig.clips_follow_guide;
     o.setting_steps = rig.setting_steps;
     try {
-      return fem::make_rig_test(o);  // RigOptions::validate and TestModel::validate: the one check
+      fem::TestModel m = fem::make_rig_test(o);  // RigOptions::validate and TestModel::validate: the one check
+      if (!loads.empty()) {
+        m.loads = loads;
+        m.validate();
+      }
+      return m;
     } catch (const InputError& e) {
       rethrow_fem(e, {.mesh = &case_mesh.origin, .test = &origin, .rig = &rig.origin});
     }

@@ -47,6 +47,9 @@ io::SectionSpec experiment_section() {
            "field, lab::grip_from_field) or auto (crosshead when the log has one).",
            -1e300, 1e300, {"auto", "crosshead", "field"}),
        key("plot", d.plot, "Write DIR/sync.png (gnuplot)."),
+       key("force_sigma", d.force_sigma,
+           "Write the logs' largest spread at rest to project.toml as sigma_edge_force (displacement control);\n"
+           "false: leave it out, so that the force group is scaled by its RMS like the others."),
        key("sigma_edge_displacement", d.sigma_edge_displacement,
            "Written to project.toml's [experiment] when > 0: the grip's σ, mm (half the cross-head's), so that\n"
            "every group has a measurement σ and the covariance is a real one (THEORY §8).",
@@ -66,6 +69,7 @@ ExperimentSpec ExperimentSpec::from_config(const io::Node& n) {
   e.control = n.string("control");
   e.grip = n.string("grip");
   e.plot = n.boolean("plot");
+  e.force_sigma = n.boolean("force_sigma");
   e.sigma_edge_displacement = n.real("sigma_edge_displacement");
   const fs::path t = n.string("project_template");
   e.project_template = t.empty() || t.is_absolute() ? t : fs::path(n.file()).parent_path() / t;
@@ -124,6 +128,14 @@ io::SectionSpec lab_schema() {
        key("free_length_mm", 200.0, "Free length between the clips (full), mm.", 1e-9, 1e6),
        key("direction", std::string("wale"), "Direction loaded: wale or course.", -1e300, 1e300, {"wale", "course"}),
        key("guide_mm", 0.0, "Guide setting of a biaxial-induced test, mm (0 = free edges).", 0, 1e6),
+       key("setting_images", std::int64_t{0},
+           "A rig test's images after image 0 that show the transverse dimension being set, the grip at rest\n"
+           "(`tricot synth` camera.json: phase \"setting\"). They and the hold images are not steps: the steps\n"
+           "are the pull's images. The clock offset comes from the last setting image, the hold and the pull\n"
+           "(the cross-head at rest, then moving), the tare from the log before image 0. Cumulative fields only.",
+           0, 1e6),
+       key("hold_images", std::int64_t{0},
+           "Images of the held setting after the setting images, before the pull (phase \"hold\").", 0, 1e6),
        key("tolerance_mm", 0.0, "DIC points up to this far beyond the outline count as inside, mm.", 0, 1e6),
        key("model", std::string("kind = \"uniaxial\""),
            "TOML lines added to this test's [[test]] in DIR/project.toml (kind, grip_holds_x, mesh, ...).")},
@@ -319,6 +331,45 @@ void plot_sync(const fs::path& out, const std::vector<LabTestResult>& tests, con
   if (!io::run_gnuplot(script, &why)) log.print("  (no sync.png: " + why + ")");
 }
 
+// A rig test's set, hold, pull (lab_schema(): setting_images, hold_images): δ from the pull and the
+// rest before it (the last setting image and the hold images: the cross-head at rest, then moving;
+// the setting images before them move the field but not the cross-head, so they are left out), the
+// tare from the log before image 0 (the setting loads the cell), then every image's force with both.
+lab::SyncResult synchronise_set_hold_pull(const lab::LoadLog& load, const lab::ImageTimes& images, std::size_t last_setting,
+                                          const lab::SyncOptions& options, const io::Node& t) {
+  lab::ImageTimes pull;
+  for (std::size_t k = last_setting; k < images.time.size(); ++k) {
+    pull.time.push_back(images.time[k]);
+    pull.grip.push_back(images.grip[k] - images.grip[last_setting]);
+    if (!images.names.empty()) pull.names.push_back(images.names[k]);
+  }
+  const lab::SyncResult p = lab::synchronise(load, pull, options);
+  lab::SyncOptions given = options;
+  given.clock_offset_s = p.clock_offset_s;
+  int samples = 0;
+  if (!options.tare_N) {
+    const double until = images.time.front() + p.clock_offset_s - options.tare_margin_s;
+    double sum = 0;
+    for (std::size_t i = 0; i < load.time.size() && load.time[i] < until; ++i) sum += load.force[i], ++samples;
+    if (samples == 0)
+      t.fail("log", "the log starts after image 0, so the force at rest before the setting is unknown",
+             num(load.time.front()) + " s", fmt::format("a log from before {} s (image 0), or tare_N", num(until)));
+    given.tare_N = sum / samples;
+  }
+  lab::SyncResult all = lab::synchronise(load, images, given);
+  all.method = p.method;
+  all.termination = p.termination;
+  all.lag_s = p.lag_s;
+  all.correlation = p.correlation;
+  all.peak_correlation = p.peak_correlation;
+  all.motion_onset_log_s = p.motion_onset_log_s;
+  all.motion_onset_camera_s = p.motion_onset_camera_s;
+  all.message = p.message;
+  all.tare_given = options.tare_N.has_value();
+  all.tare_samples = samples;
+  return all;
+}
+
 std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, const std::vector<LabTestResult>& tests,
                              const fs::path& out) {
   std::string s = fmt::format("# Written by `tricot experiment` from {}; then\n#   tricot identify {} -o OUT\n\n", root.file(),
@@ -348,7 +399,7 @@ std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, cons
   s += fmt::format("[experiment]\ndir = \".\"\nfield_kind = \"{}\"\n", e.field_kind);
   double noise = 0;
   for (const auto& t : tests) noise = std::max(noise, t.force_noise_N);
-  if (!e.force_control() && noise > 0)
+  if (!e.force_control() && e.force_sigma && noise > 0)
     s += "sigma_edge_force = " + num(noise) + "   # N: the logs' largest spread at rest (sync.json force_noise_N)\n";
   if (e.sigma_edge_displacement > 0) s += "sigma_edge_displacement = " + num(e.sigma_edge_displacement) + "\n";
   return s;
@@ -521,13 +572,27 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     sync_options.force_degree = static_cast<int>(so.integer("force_degree"));
     sync_options.crosshead_degree = static_cast<int>(so.integer("crosshead_degree"));
     sync_options.tare_margin_s = so.real("tare_margin_s");
-    const lab::SyncResult sync = lab::synchronise(load, images, sync_options);
+    // A rig test's set, hold, pull: the steps are the pull's images only.
+    const int setting = static_cast<int>(t.integer("setting_images")), hold = static_cast<int>(t.integer("hold_images"));
+    const std::size_t first_pull = std::size_t(1 + setting + hold);  // the image of the pull's first step
+    if (first_pull + 1 >= images.time.size())
+      t.fail(setting > 0 ? "setting_images" : "hold_images", "leaves fewer than two images of the pull",
+             fmt::format("{} setting + {} hold of {} images", setting, hold, images.time.size()),
+             fmt::format("at most {}", images.time.size() >= 3 ? images.time.size() - 3 : 0));
+    if (first_pull > 1 && kind == lab::FieldKind::incremental)
+      t.fail("setting_images", "an incremental field of a test with setting images is not supported (its first step "
+             "would count from the held setting, the model's from the reference)", std::to_string(setting + hold),
+             "field_kind = \"cumulative\"");
+    const lab::SyncResult sync = first_pull > 1
+                                     ? synchronise_set_hold_pull(load, images, std::size_t(setting), sync_options, t)
+                                     : lab::synchronise(load, images, sync_options);
 
     // The force's noise σ: the spread of the log at rest (the samples the tare averages).
     double noise = 0;
     {
-      const double until = std::isfinite(sync.motion_onset_log_s) ? sync.motion_onset_log_s - sync_options.tare_margin_s
-                                                                  : load.time.front() + 0.1 * (load.time.back() - load.time.front());
+      const double until = first_pull > 1 ? images.time.front() + sync.clock_offset_s - sync_options.tare_margin_s
+                           : std::isfinite(sync.motion_onset_log_s) ? sync.motion_onset_log_s - sync_options.tare_margin_s
+                                                                    : load.time.front() + 0.1 * (load.time.back() - load.time.front());
       double s1 = 0, s2 = 0;
       int n = 0;
       for (std::size_t i = 0; i < load.time.size() && load.time[i] < until; ++i) s1 += load.force[i], s2 += load.force[i] * load.force[i], ++n;
@@ -539,10 +604,19 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
       e.origin.fail("grip", "grip = \"crosshead\" but the test's log has no cross-head column", name, "crosshead_column set");
     if (grip_source != "field" && load.has_crosshead())
       for (std::size_t k = 0; k < grip.size(); ++k) grip[k] = 0.5 * sync.crosshead[k];
-    const auto steps = lab::force_steps(images, sync, grip, geometry.width_mm);
+    std::vector<lab::ForceStep> steps;
+    for (lab::ForceStep f : lab::force_steps(images, sync, grip, geometry.width_mm))
+      if (f.step >= int(first_pull)) f.step -= int(first_pull) - 1, steps.push_back(f);
     write_forces(tdir / kForcesFile, steps, e.force_control());
 
-    const lab::QuarterField field = kind == lab::FieldKind::cumulative ? cumulative : lab::fold_sequence(seq, frame, geometry, kind);
+    lab::QuarterField field = kind == lab::FieldKind::cumulative ? cumulative : lab::fold_sequence(seq, frame, geometry, kind);
+    if (first_pull > 1) {  // the setting and hold images are not steps (cumulative: from image 0 still)
+      const Eigen::Index keep = field.u.rows() - Eigen::Index(first_pull - 1);
+      field.u = field.u.bottomRows(keep).eval();
+      field.v = field.v.bottomRows(keep).eval();
+      field.sigma_u = field.sigma_u.bottomRows(keep).eval();
+      field.sigma_v = field.sigma_v.bottomRows(keep).eval();
+    }
     write_field(tdir / kFieldFile, field);
     write_sync_data(tdir, load, sync);
 
@@ -556,6 +630,9 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
                        {"peak_correlation", sync.peak_correlation},
                        {"force_noise_N", noise},
                        {"images", images.time.size()},
+                       {"setting_images", setting},
+                       {"hold_images", hold},
+                       {"first_step_image", first_pull},
                        {"grip", load.has_crosshead() && grip_source != "field" ? "crosshead" : "field"},
                        {"points", field.point_ids.size()},
                        {"points_outside", field.outside},

@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "json.hpp"
@@ -53,6 +55,14 @@ io::SectionSpec synth_images_section() {
       key("noise", d.noise, "σ of Gaussian camera noise in gray levels of the output (8 bit: of 255), ≥ 0.", 0, 1e5),
       key("bits", std::int64_t{d.bits}, "Bit depth of the PNG files: 8 or 16.", 8, 16),
       key("every_n_steps", std::int64_t{d.every_n_steps}, "A frame every n steps (frame j shows step j · n).", 1, 100000),
+      key("setting_frames", d.setting_frames,
+          "A rig test: one frame per increment of its transverse setting (the grip at rest), then\n"
+          "hold_frames of the held setting, then the pull's frames (the lab's set, hold, pull; camera.json\n"
+          "gives each frame's phase). false: the pull's frames only (frame 1 holds the whole setting)."),
+      key("hold_frames", std::int64_t{d.hold_frames},
+          "Frames of the held setting before the pull (with setting_frames): the rest the synchronisation\n"
+          "sees before the cross-head moves.",
+          0, 1000),
   };
   return s;
 }
@@ -71,6 +81,8 @@ SynthImagesSpec SynthImagesSpec::from_config(const io::Node& s) {
   m.noise = s.real("noise");
   m.bits = static_cast<int>(s.integer("bits"));
   m.every_n_steps = static_cast<int>(s.integer("every_n_steps"));
+  m.setting_frames = s.boolean("setting_frames");
+  m.hold_frames = static_cast<int>(s.integer("hold_frames"));
   m.origin = Origin(s);
   return m;
 }
@@ -89,6 +101,7 @@ void SynthImagesSpec::validate() const {
   check_key(origin, table, "noise", noise);
   check_key(origin, table, "bits", std::int64_t{bits});
   check_key(origin, table, "every_n_steps", std::int64_t{every_n_steps});
+  check_key(origin, table, "hold_frames", std::int64_t{hold_frames});
   if (bits != 8 && bits != 16) origin.fail("bits", "PNG files are 8 or 16 bit", std::to_string(bits), "8 or 16");
 }
 
@@ -113,23 +126,39 @@ int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fe
   synth::SpecimenImageOptions o = s.options(seed);
   o.speckle.wale_angle_deg = -model.material_angle;  // the wales along the material's axis 1; pixel y is down
   const synth::SpecimenRenderer renderer(model.mesh, o);
-  const int every = s.every_n_steps;
+  // The timeline: frame 0 unloaded; a rig's setting increments and the held setting; the pull.
+  struct Shot {
+    const char* phase;
+    int step, setting;
+    const fem::StepResult* state;  // nullptr = unloaded
+  };
+  std::vector<Shot> shots{{"reference", 0, 0, nullptr}};
+  if (s.setting_frames && !sim.setting.empty()) {
+    const int n = static_cast<int>(sim.setting.size());
+    for (int i = 1; i <= n; ++i) shots.push_back({"setting", 0, i, &sim.setting[std::size_t(i - 1)]});
+    for (int h = 0; h < s.hold_frames; ++h) shots.push_back({"hold", 0, n, &sim.setting.back()});
+  }
   const int steps = static_cast<int>(sim.steps.size());
-  const int frames = 1 + steps / every;
+  for (int step = s.every_n_steps; step <= steps; step += s.every_n_steps)
+    shots.push_back({"pull", step, static_cast<int>(sim.setting.size()), &sim.steps[std::size_t(step - 1)]});
+  const int frames = static_cast<int>(shots.size());
   const fs::path dir = test_dir / kImagesFolder;
 
   json list = json::array();
   const Reporter reporter = log.reporter();
   for (int j = 0; j < frames; ++j) {
-    const int step = j * every;  // 0 = unloaded
-    const fem::StepResult* k = step > 0 ? &sim.steps[step - 1] : nullptr;
+    const Shot& shot = shots[std::size_t(j)];
+    const fem::StepResult* k = shot.state;
     const image::Image img = renderer.render(k ? k->u : Eigen::VectorXd(), seed * 1000003 + std::uint64_t(j));
     io::write_atomic(dir / frame_name(j), image::encode_gray(img, ".png", o.bits));
     list.push_back(json{{"frame", j},
                         {"file", frame_name(j)},
-                        {"step", step},
-                        {"load", k ? k->load : 0.0},
-                        {"edge_displacement", k ? k->edge_displacement : 0.0}});
+                        {"phase", shot.phase},
+                        {"step", shot.step},
+                        {"setting", shot.setting},
+                        {"load", shot.step > 0 ? k->load : 0.0},
+                        {"edge_displacement", k ? k->edge_displacement : 0.0},
+                        {"edge_force", k ? k->edge_force : 0.0}});
     reporter.report({"images " + model.name, std::size_t(j + 1), std::size_t(frames), frame_name(j)});
   }
   io::remove_numbered_files(dir, "frame_", ".png", frames);  // an earlier, longer run's
@@ -155,6 +184,13 @@ int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fe
   return frames;
 }
 
+int CameraFile::setting_frames() const {
+  return static_cast<int>(std::count_if(frames.begin(), frames.end(), [](const Frame& f) { return f.phase == "setting"; }));
+}
+int CameraFile::hold_frames() const {
+  return static_cast<int>(std::count_if(frames.begin(), frames.end(), [](const Frame& f) { return f.phase == "hold"; }));
+}
+
 CameraFile read_camera(const fs::path& images_dir) {
   const fs::path path = images_dir / kCameraFile;
   std::error_code ec;
@@ -168,7 +204,8 @@ CameraFile read_camera(const fs::path& images_dir) {
     at = "height", out.camera.height = j.at(at).get<int>();
     at = "frames";
     for (const json& f : j.at(at))
-      out.frames.push_back({f.at("file").get<std::string>(), f.at("step").get<int>(), f.at("load").get<double>(),
+      out.frames.push_back({f.at("file").get<std::string>(), f.value("phase", std::string(f.at("step").get<int>() > 0 ? "pull" : "reference")),
+                            f.at("step").get<int>(), f.value("setting", 0), f.at("load").get<double>(),
                             f.at("edge_displacement").get<double>()});
   } catch (const json::exception& e) {
     throw InputError({path.string(), 0, at}, "malformed camera file: " + json_problem(e));

@@ -51,10 +51,14 @@ int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, cons
   double peak = 0;
   for (std::size_t j = 0; j < n; ++j) {
     tc[j] = c0 + double(j) / fps;
-    const int step = cam.frames[j].step;
-    if (step > 0) {
-      const fem::StepResult& s = sim.steps.at(std::size_t(step - 1));
+    // A rig's setting and hold frames: the guide moves (or holds) with the grip at rest, and the
+    // knit's shrinkage loads the cell; the cross-head starts at the last of them (set, hold, pull).
+    const CameraFile::Frame& f = cam.frames[j];
+    if (f.step > 0) {
+      const fem::StepResult& s = sim.steps.at(std::size_t(f.step - 1));
       force[j] = s.edge_force, grip[j] = s.edge_displacement;
+    } else if (f.setting > 0) {
+      force[j] = sim.setting.at(std::size_t(f.setting - 1)).edge_force;
     }
     peak = std::max(peak, std::abs(force[j]));
   }
@@ -94,7 +98,8 @@ int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, cons
 
   nlohmann::ordered_json truth = {{"clock_offset_s", delta},  {"tare_N", tare},   {"force_noise_N", sigma_f},
                                   {"crosshead_noise_mm", sigma_c}, {"fps", fps}, {"log_rate_hz", rate},
-                                  {"frame_time_s", tc},       {"force_N", force}, {"grip_mm", grip}};
+                                  {"frame_time_s", tc},       {"force_N", force}, {"grip_mm", grip},
+                                  {"setting_frames", cam.setting_frames()}, {"hold_frames", cam.hold_frames()}};
   if (lab.boolean("relaxation")) {
     synth::RelaxationRecordOptions r;
     r.rate_hz = 1;

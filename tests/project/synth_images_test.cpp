@@ -178,5 +178,65 @@ TEST(SynthImagesSpec, ItsOptionsAreTheRenderersInItsUnits) {
   EXPECT_EQ(o.speckle.seed, 7u);
 }
 
+
+// A rig test (issue 13): the setting in frames of its own, the held setting, then the pull (set, hold,
+// pull), each frame's phase in camera.json; the setting frames show the knit's shrinkage load.
+TEST(SynthImages, ARigTestShowsItsSettingAndHoldBeforeThePull) {
+  const fs::path dir = scratch_dir("synth_images_rig");
+  write_file(dir / "experiment.toml", R"([mesh]
+element = "Q8"
+nx = 3
+ny = 3
+
+[law]
+type = "reference_fabric"
+
+[rig]
+setting_steps = 2
+
+[synth]
+nx = 2
+ny = 2
+
+[synth.images]
+enabled = true
+pixel_size = 0.5
+width = 96
+height = 96
+subsamples = 1
+hold_frames = 1
+
+[[test]]
+name = "rig"
+kind = "rig"
+side = 30.0
+pull = "wale"
+transverse_strain = 0.3
+pull_strain = 0.3
+steps = 3
+)");
+  const auto r = run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "exp").string() + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const CameraFile cam = read_camera(dir / "exp" / "rig" / kImagesFolder);
+  ASSERT_EQ(cam.frames.size(), 7u);  // reference, 2 setting, 1 hold, 3 pull
+  EXPECT_EQ(cam.setting_frames(), 2);
+  EXPECT_EQ(cam.hold_frames(), 1);
+  const std::vector<std::string> phases{"reference", "setting", "setting", "hold", "pull", "pull", "pull"};
+  const std::vector<int> steps{0, 0, 0, 0, 1, 2, 3}, settings{0, 1, 2, 2, 2, 2, 2};
+  const io::Table forces = io::read_csv(dir / "exp" / "rig" / kForcesFile);
+  for (std::size_t j = 0; j < cam.frames.size(); ++j) {
+    EXPECT_EQ(cam.frames[j].phase, phases[j]) << j;
+    EXPECT_EQ(cam.frames[j].step, steps[j]) << j;
+    EXPECT_EQ(cam.frames[j].setting, settings[j]) << j;
+    if (j < 4) EXPECT_EQ(cam.frames[j].edge_displacement, 0.0) << j;  // the grip at rest
+    else EXPECT_EQ(cam.frames[j].edge_displacement, forces.rows[j - 4][2]) << j;
+  }
+  // The hold frame shows the last setting state: the same image but for the camera noise (none here).
+  EXPECT_EQ(io::read_text(dir / "exp" / "rig" / kImagesFolder / "frame_0002.png"),
+            io::read_text(dir / "exp" / "rig" / kImagesFolder / "frame_0003.png"));
+  EXPECT_NE(io::read_text(dir / "exp" / "rig" / kImagesFolder / "frame_0001.png"),
+            io::read_text(dir / "exp" / "rig" / kImagesFolder / "frame_0002.png"));
+}
+
 }  // namespace
 }  // namespace tricot::project

@@ -88,6 +88,9 @@ struct SimulationResult {
   SolveTermination termination = SolveTermination::converged;
   std::string message;            ///< one line: what happened, which step failed and why
   std::vector<StepResult> steps;  ///< one per converged load step, in order
+  /// The rig's setting increments (TestModel::guide_setting_steps), before `steps`: the states with
+  /// the grip at rest as the guide moves to its setting (u and the forces; no sensitivities).
+  std::vector<StepResult> setting;
   double seconds = 0;             ///< wall time
   double factorization_seconds = 0;  ///< of which in numeric factorization
   int factorizations = 0;

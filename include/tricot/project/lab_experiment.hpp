@@ -11,7 +11,9 @@
 //   DIR/sync.png            per test: the log's force against time, the image instants, the criterion
 //   DIR/project.toml        a skeleton for `tricot identify`: one [[test]] per test
 //
-// Steps are images 1..n−1 (image 0 is the unloaded reference). The grip displacement of the quarter
+// Steps are images 1..n−1 (image 0 is the unloaded reference); a rig test's setting and hold images
+// ([[test]] setting_images, hold_images: set, hold, pull) are not steps, and its clock offset comes
+// from the pull and the rest before it, its tare from the log before image 0. The grip displacement of the quarter
 // model is half the synchronised cross-head travel when the log has one (better than the field's
 // estimate), else lab::grip_from_field.
 #pragma once
@@ -39,6 +41,7 @@ struct ExperimentSpec {
   std::string control = "displacement";   ///< forces.csv's load: displacement or force
   std::string grip = "auto";              ///< the grip displacement: auto, crosshead or field
   bool plot = true;                       ///< DIR/sync.png
+  bool force_sigma = true;                ///< project.toml's sigma_edge_force from the logs' spread at rest
   double sigma_edge_displacement = 0;     ///< mm, ≥ 0: written to project.toml when > 0
   /// The project template, relative to the lab file's folder as written in the file ("" = a skeleton);
   /// from_config resolves it against that folder.

@@ -2,7 +2,9 @@
 // beside the test's data when the experiment file has `[synth.images] enabled = true`:
 //
 //   DIR/<test>/images/frame_0000.png   the unloaded reference
-//   DIR/<test>/images/frame_NNNN.png   frame j shows step j · every_n_steps (steps 1..K as forces.csv)
+//   DIR/<test>/images/frame_NNNN.png   frame j shows step j · every_n_steps (steps 1..K as forces.csv);
+//                                      a rig test with setting_frames first shows its setting
+//                                      increments, then hold_frames of the held setting, then the pull
 //   DIR/<test>/images/camera.json      pixel size, centre pixel and axes (the keys of `tricot dic`'s
 //                                      [physical] table) and, per frame, its file, step and load
 //
@@ -45,6 +47,11 @@ struct SynthImagesSpec {
   double noise = 0;           ///< σ of the camera noise, gray levels of the output
   int bits = 8;               ///< 8 or 16
   int every_n_steps = 1;      ///< frame j shows step j · every_n_steps
+  /// A rig test's setting (fem::SimulationResult::setting) in frames of its own, then `hold_frames`
+  /// frames of the held setting, before the pull (the lab's set, hold, pull); false = the pull's
+  /// frames only (frame 1 then holds the whole setting and the first pull increment).
+  bool setting_frames = true;
+  int hold_frames = 2;        ///< frames of the held setting before the pull, 0–1000
   Origin origin{"synth.images"};
 
   static SynthImagesSpec from_config(const io::Node& images);
@@ -67,10 +74,17 @@ struct CameraFile {
   synth::Camera camera;
   struct Frame {
     std::string file;
-    int step = 0;  ///< 0 = unloaded
+    /// "reference" (frame 0, unloaded), "setting" (the rig's transverse setting, increment `setting`),
+    /// "hold" (the setting held, the grip at rest) or "pull" (load step `step`)
+    std::string phase = "pull";
+    int step = 0;     ///< load step shown, 1-based (0 = none: the reference, setting and hold frames)
+    int setting = 0;  ///< setting increment shown, 1-based (the hold frames: the last one)
     double load = 0, edge_displacement = 0;
   };
   std::vector<Frame> frames;
+  /// Frames before the pull's first step, after frame 0: the setting and hold frames.
+  int setting_frames() const;
+  int hold_frames() const;
 };
 /// Reads DIR/camera.json (DIR = the images folder). FileError when missing, InputError when malformed.
 CameraFile read_camera(const std::filesystem::path& images_dir);

@@ -1,0 +1,555 @@
+// tricot demo: the whole chain on the §4 campaign (see campaign_demo.hpp).
+#include "tricot/project/campaign_demo.hpp"
+
+#include <fmt/format.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "tricot/core/error.hpp"
+#include "tricot/io/config.hpp"
+#include "tricot/io/files.hpp"
+#include "tricot/io/log.hpp"
+#include "tricot/project/dic_run.hpp"
+#include "tricot/project/identification.hpp"
+#include "tricot/project/identification_spec.hpp"
+#include "tricot/project/lab_experiment.hpp"
+#include "tricot/project/report.hpp"
+#include "tricot/project/synth_images.hpp"
+#include "tricot/project/synthesis.hpp"
+
+namespace tricot::project {
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+
+// One test of the campaign (paper §4.2: 110 × 110 mm², 5 transverse settings per direction, 21 steps).
+struct CampaignTest {
+  const char* pull;
+  double transverse_strain;
+  double pull_strain;
+  std::string name() const { return fmt::format("s110-{}-{:03d}", pull, int(std::lround(100 * transverse_strain))); }
+};
+
+std::vector<CampaignTest> campaign_tests(const CampaignDemoOptions& o) {
+  if (o.small) return {{"wale", 0.4, 0.65}, {"course", 0.3, 1.0}};
+  std::vector<CampaignTest> t;
+  for (double s : {0.0, 0.2, 0.4, 0.55, 0.7}) t.push_back({"wale", s, 0.65});
+  for (double s : {0.0, 0.15, 0.3, 0.45, 0.6}) t.push_back({"course", s, 1.0});
+  return t;
+}
+
+// The camera: 1280 × 1024 px at 0.2 mm/px holds the 110 mm specimen stretched to 173 % along the
+// pull (190 mm) and 155 % across it; the small demo's 320 × 256 px at 0.8 mm/px the same field.
+struct CameraSetup {
+  int width, height;
+  double mm_per_px;
+  double centre_x() const { return 0.5 * (width - 1); }
+  double centre_y() const { return 0.5 * (height - 1); }
+};
+CameraSetup camera(const CampaignDemoOptions& o) { return o.small ? CameraSetup{320, 256, 0.8} : CameraSetup{1280, 1024, 0.2}; }
+
+int pull_steps(const CampaignDemoOptions& o) { return o.small ? 6 : 21; }
+int setting_steps(const CampaignDemoOptions& o) { return o.small ? 2 : 4; }
+constexpr int kHoldFrames = 2;
+constexpr double kClockOffset = 0.37;  // s, log clock − camera clock (the lab record's truth)
+constexpr double kTare = 0.8;          // N
+
+std::string rig_table(const CampaignDemoOptions& o) {
+  return fmt::format(R"([rig]                    # the rig of every test (fem::RigOptions; docs/theory/fabric.md §5)
+guide_gap = 0.15
+guide_taper = 0.15
+tie_stiffness = 2.0
+clip_tie_stiffness = 2.0
+clip_taper = 0.15
+clips_follow_guide = true
+setting_steps = {}        # increments that set the transverse dimension before the pull
+)",
+                     setting_steps(o));
+}
+
+std::string test_lines(const CampaignTest& t, const CampaignDemoOptions& o) {
+  return fmt::format("kind = \"rig\"\nside = 110.0\npull = \"{}\"\ntransverse_strain = {}\npull_strain = {}\nsteps = {}\n",
+                     t.pull, io::to_toml(t.transverse_strain), io::to_toml(t.pull_strain), pull_steps(o));
+}
+
+// User + system CPU seconds of the process, every thread.
+double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// One stage: a progress line of its own (the engines' progress is counted into it), its timing.
+class Stage {
+ public:
+  Stage(const Log& log, std::string name, std::size_t total)
+      : log_(log), name_(std::move(name)), total_(total), wall0_(std::chrono::steady_clock::now()), cpu0_(cpu_seconds()) {
+    log_.reporter().report({name_, 0, total_, ""});
+  }
+  // A Log for the stage's pipeline: `count` says which engine reports count toward the stage's total
+  // (the engine's stage name), each by its `done`; the pipeline's lines go to the verbose log.
+  Log inner(std::function<bool(const Progress&)> count) {
+    Reporter r;
+    r.progress = [this, count](const Progress& p) {
+      if (!count(p)) return;
+      std::size_t& d = done_by_[p.stage];
+      d = std::max(d, p.done);
+      std::size_t done = finished_;
+      for (const auto& [k, v] : done_by_) done += v;
+      if (total_ > 0) done = std::min(done, total_ - 1);  // the stage is done when finish() says so
+      log_.reporter().report({name_, done, total_, p.stage + (p.detail.empty() ? "" : ": " + p.detail)});
+    };
+    const Reporter outer = log_.reporter();
+    r.log = [outer](const std::string& l) { outer.info(l); };
+    return Log(r, [outer](const std::string& l) { outer.info(l); });
+  }
+  // An engine stage ended: its count stays (a later one may reuse its name).
+  void close_inner() {
+    for (const auto& [k, v] : done_by_) finished_ += v;
+    done_by_.clear();
+  }
+  StageTime finish(const std::string& detail) {
+    StageTime t{name_, std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0_).count(), cpu_seconds() - cpu0_};
+    log_.reporter().report({name_, total_ > 0 ? total_ : 1, total_ > 0 ? total_ : 1, detail});
+    return t;
+  }
+
+ private:
+  const Log& log_;
+  std::string name_;
+  std::size_t total_;
+  std::chrono::steady_clock::time_point wall0_;
+  double cpu0_;
+  std::map<std::string, std::size_t> done_by_;
+  std::size_t finished_ = 0;
+};
+
+double number(const json& j, const char* key) { return j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN; }
+
+json read_json_file(const fs::path& f) { return json::parse(io::read_text(f)); }
+
+// The DIC quality of every test over its last frame: each point at its place in the image, coloured
+// by its ZNCC; lost points as black crosses. One panel per test (plots/dic_quality.png).
+struct DicQuality {
+  std::string name;
+  int grid = 0, ok_last = 0, kept = 0;
+  double mean_zncc = NAN, min_zncc = NAN;
+};
+std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& experiment, const std::vector<CampaignTest>& tests,
+                                    const CameraSetup& cam, const fs::path& plots, const Log& log) {
+  std::vector<DicQuality> q;
+  const json sync = read_json_file(experiment / "sync.json");
+  std::string panels;
+  double floor = 0.99;  // the colour scale spans [floor, 1]: the worst point's ZNCC, at most 0.99
+  for (const auto& t : tests) {
+    const dic::SequenceResult seq = read_dic_folder(dic_dir / t.name());
+    const auto& last = seq.frames.back();
+    DicQuality d;
+    d.name = t.name();
+    d.grid = int(seq.grid.size());
+    std::string ok = "x,y,zncc\n", lost = "x,y\n";
+    double sum = 0, lo = 1;
+    for (std::size_t p = 0; p < seq.grid.size(); ++p) {
+      if (last.status[p] == dic::PointStatus::ok) {
+        ++d.ok_last, sum += last.zncc[p], lo = std::min(lo, last.zncc[p]);
+        ok += fmt::format("{},{},{}\n", last.x[p](0), last.x[p](1), last.zncc[p]);
+      } else {
+        lost += fmt::format("{},{}\n", seq.grid[p].x(0), seq.grid[p].x(1));
+      }
+    }
+    if (d.ok_last > 0) d.mean_zncc = sum / d.ok_last, d.min_zncc = lo;
+    if (sync.contains(d.name)) d.kept = sync[d.name].value("points", 0);
+    q.push_back(d);
+    const fs::path a = plots / ("dic_" + d.name + "_ok.csv"), b = plots / ("dic_" + d.name + "_lost.csv");
+    io::write_atomic(a, ok);
+    io::write_atomic(b, lost);
+    if (d.ok_last > 0) floor = std::min(floor, std::floor(100 * d.min_zncc) / 100);
+    panels += fmt::format("set title \"{} ({} of {} ok)\" noenhanced\nplot {} skip 1 using 1:2:3 with points pt 7 ps 0.6 palette",
+                          d.name, d.ok_last, d.grid, io::gnuplot_quote(a));
+    if (d.ok_last < d.grid) panels += fmt::format(", {} skip 1 using 1:2 with points pt 2 ps 0.8 lc rgb \"black\"", io::gnuplot_quote(b));
+    panels += "\n";
+  }
+  const std::string script = fmt::format(
+      "set terminal pngcairo size 1500,{} font \",10\"\nset output {}\nset datafile separator \",\"\n"
+      "set multiplot layout {},5 title \"DIC quality at the last frame: ZNCC of each point (lost points: black ×)\"\n"
+      "set size ratio -1\nset xrange [0:{}]\nset yrange [{}:0]\nunset key\nset cbrange [{}:1]\n"
+      "set palette defined (0 \"#b2182b\", 0.7 \"#fddbc7\", 1 \"#2166ac\")\nset format x \"\"\nset format y \"\"\n{}"
+      "unset multiplot\n",
+      tests.size() > 5 ? 700 : 380, io::gnuplot_quote(plots / "dic_quality.png"), tests.size() > 5 ? 2 : 1, cam.width,
+      cam.height, floor, panels);
+  std::string why;
+  if (!io::run_gnuplot(script, &why)) log.reporter().info("no dic_quality.png: " + why);
+  return q;
+}
+
+// The paper's Table 5 (110 × 110 mm², 14 coefficients): eq. 9 whole and practical, course and wale.
+constexpr double kPaperWhole[2] = {0.218, 0.313}, kPaperPractical[2] = {0.084, 0.079};
+
+}  // namespace
+
+std::string campaign_experiment_toml(const CampaignDemoOptions& o) {
+  const CameraSetup cam = camera(o);
+  std::string s = fmt::format(R"(# tricot demo (issue 13): the paper's §4 campaign of the reference knit, 110 × 110 mm², as a lab
+# would record it: camera images (the knit's own stitches as tracers) and a load-cell log per test.
+# Each test sets its transverse dimension ({} increments, one image each), holds it ({} images), then
+# pulls in {} steps (one image each). Written by src/project/campaign_demo.cpp; rerun by hand with
+#   tricot synth experiment.toml -o raw
+
+[mesh]                   # generating mesh, finer than the identification's 12 × 10 Q8
+element = "Q8"
+nx = {}
+ny = {}
+grading = 0.5
+grading_x = 0.5
+
+[law]
+type = "reference_fabric"   # the truth: the reference knit (docs/theory/fabric.md §4), default coefficients
+
+{}
+[synth]
+seed = 20070412
+field = true             # the FE data too (raw/<test>/field.csv): the same identification without images
+field_kind = "cumulative"
+nx = 6
+ny = 6
+inset = 2.75
+
+[synth.images]
+enabled = true
+pixel_size = {}          # mm/px
+width = {}
+height = {}
+texture = "knit"         # the knit's natural tracers (paper §3.2)
+speckle_size = 5.0       # px: stitches 10 px (2 mm) apart across the wales
+subsamples = 2
+noise = 1.0              # gray levels of 255
+setting_frames = true    # set, hold, pull
+hold_frames = {}
+
+[synth.lab]
+enabled = true
+fps = 1.0
+log_rate_hz = 100.0
+clock_offset_s = {}
+tare_N = {}
+noise = 0.002            # σ = 0.2 % of the peak force
+crosshead = true
+crosshead_noise_mm = 0.001
+relaxation = false
+)",
+                              setting_steps(o), kHoldFrames, pull_steps(o), o.small ? 12 : 24, o.small ? 10 : 20,
+                              rig_table(o), io::to_toml(cam.mm_per_px), cam.width, cam.height, kHoldFrames,
+                              io::to_toml(kClockOffset), io::to_toml(kTare));
+  for (const auto& t : campaign_tests(o)) s += fmt::format("\n[[test]]\nname = \"{}\"\n{}", t.name(), test_lines(t, o));
+  return s;
+}
+
+std::string campaign_dic_toml(const CampaignDemoOptions& o) {
+  const CameraSetup cam = camera(o);
+  // A coarse grid over ±45 mm of the reference specimen (clear of the guides and the clips): the
+  // identification needs a few dozen field points per test, not a dense field. 6 × 6 points, as many
+  // as the FE data's grid (docs/validation.md, issue 13: with 10 × 10 the LM run stopped on an FE
+  // failure of wale-070).
+  const double half = 45 / cam.mm_per_px;
+  return fmt::format(R"(# tricot dic of every test's images (tricot demo):
+#   tricot dic dic.toml raw/<test>/images/frame_*.png -o dic/<test>
+[dic]
+subset_size = {}
+step = {}
+roi = [{}, {}, {}, {}]
+mode = "incremental"     # frame to frame, as the paper
+order = "second"
+
+[output]
+overlays = false
+increments = false
+)",
+                     o.small ? 21 : 31, o.small ? 20 : 90, std::floor(cam.centre_x() - half), std::floor(cam.centre_y() - half),
+                     std::ceil(cam.centre_x() + half), std::ceil(cam.centre_y() + half));
+}
+
+std::string campaign_lab_toml(const CampaignDemoOptions& o) {
+  const CameraSetup cam = camera(o);
+  std::string s = fmt::format(R"(# tricot experiment of the demo's raw record:
+#   tricot experiment lab.toml -o experiment
+[experiment]
+field_kind = "cumulative"
+control = "displacement"
+project_template = "project-template.toml"
+force_sigma = false      # weights as the FE-data identification: every group scaled by its RMS
+
+[physical]
+mm_per_px = {}
+centre_px = [{}, {}]
+)",
+                              io::to_toml(cam.mm_per_px), io::to_toml(cam.centre_x()), io::to_toml(cam.centre_y()));
+  for (const auto& t : campaign_tests(o)) {
+    const std::string n = t.name();
+    std::string model = test_lines(t, o);
+    std::string escaped;
+    for (char c : model) escaped += c == '"' ? std::string("\\\"") : c == '\n' ? std::string("\\n") : std::string(1, c);
+    s += fmt::format(R"(
+[[test]]
+name = "{0}"
+dic = "dic/{0}"
+frame_times = "camera_log"
+camera_log = "raw/{0}/lab/camera.csv"
+log = "raw/{0}/lab/load.txt"
+time_column = "Temps"
+force_column = "Force"
+crosshead_column = "Traverse"
+width_mm = 110.0
+free_length_mm = 110.0
+direction = "{1}"
+setting_images = {2}
+hold_images = {3}
+model = "{4}"
+)",
+                     n, t.pull, setting_steps(o), kHoldFrames, escaped);
+  }
+  return s;
+}
+
+std::string campaign_project_template(const CampaignDemoOptions& o) {
+  std::string s = fmt::format(R"(# The identification of tricot demo: `paper14` (THEORY §5) from the field and the grip force of every
+# test together, on the paper's 120 Q8 elements, as examples/knit-campaign/project-110.toml.
+
+[mesh]
+element = "Q8"
+nx = 12
+ny = 10
+grading = 0.5
+grading_x = 0.5
+
+[law]
+type = "response_surface"
+
+[law.response_surface]
+preset = "paper14"
+coefficients = [0.39279, -0.000371527, 4.64332e-05, 0.000466978, 0.00083818, 0.00115181, 0.00620026, 0.0147041, 0.226856, -0.0025306, -0.00514861, 0, 0.00627933, 0.0119436]
+shear_stiffness = 0.05
+
+{}
+[data]
+edge_force = 1.0
+field = 1.0
+
+[identify]
+epsilon = 1e-12
+delta = 1e-5
+jacobian = "exact"
+{}
+[eq9]
+{}
+
+[identifiability]
+pinned_relative_error = 0.1
+
+[stability]
+enabled = {}
+)",
+                              rig_table(o), o.small ? "max_iterations = 2\nstability_test = false\n" : "",
+                              o.small ? "practical_course = [0.0, 1.2]   # two tests: the whole range they span\n"
+                                        "practical_wale = [0.0, 0.7]"
+                                      : "practical_course = [0.6, 1.0]\npractical_wale = [0.2, 0.4]",
+                              o.small ? "false" : "true");
+  const std::pair<const char*, double> parameters[] = {
+      {"a1", 0.39279},     {"a2", 0.001},       {"a3", 0.001},     {"a4", 0.001},      {"a5", 0.001},
+      {"a6", 0.00115181},  {"b1", 0.00620026},  {"b2", 0.0147041}, {"c1", 0.226856},   {"c2", 0.0025306},
+      {"c3", 0.00514861},  {"c4", 0.00898148},  {"d1", 0.00627933}, {"d2", 0.0119436}};
+  for (const auto& [name, scale] : parameters) {
+    s += fmt::format("\n[[parameter]]\nname = \"{}\"\nscale = {}\n", name, io::to_toml(scale));
+    if (std::string(name) == "a6" || std::string(name) == "c4")
+      s += "bounds = [0.0, 10.0]        # a knit locks, it never softens in tension\n";
+  }
+  return s;
+}
+
+CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::path& out, const Log& log) {
+  CampaignDemoResult result;
+  const auto tests = campaign_tests(o);
+  const std::size_t n = tests.size();
+  const CameraSetup cam = camera(o);
+  fs::create_directories(out);
+  io::write_atomic(out / "experiment.toml", campaign_experiment_toml(o));
+  io::write_atomic(out / "dic.toml", campaign_dic_toml(o));
+  io::write_atomic(out / "lab.toml", campaign_lab_toml(o));
+  io::write_atomic(out / "project-template.toml", campaign_project_template(o));
+  const std::size_t frames = std::size_t(1 + setting_steps(o) + kHoldFrames + pull_steps(o));
+  log.print(fmt::format("tricot demo: the §4 campaign of the reference knit, 110 × 110 mm², {} tests × {} images of {} × {} px "
+                        "(knit texture), load-cell logs at 100 Hz (clock offset {} s, tare {} N) → DIC → experiment → "
+                        "identify paper14 → report, in {}",
+                        n, frames, cam.width, cam.height, kClockOffset, kTare, out.string()));
+
+  // 1. Render: FE of every test with the reference knit, its images and its lab record.
+  {
+    Stage st(log, "1/5 render", n * frames);
+    const io::Node root = io::read_config(synth_schema(), (out / "experiment.toml").string());
+    synthesize(root, out / "raw", st.inner([](const Progress& p) { return p.stage.rfind("images ", 0) == 0; }));
+    result.stages.push_back(st.finish(fmt::format("{} images and {} lab logs in {}", n * frames, n, (out / "raw").string())));
+  }
+
+  // 2. DIC of every test (tricot dic), incremental.
+  {
+    Stage st(log, "2/5 dic", n * (frames - 1));
+    const DicSpec spec = dic_spec((out / "dic.toml").string(), {});
+    int ok = 0, points = 0;
+    for (const auto& t : tests) {
+      std::vector<std::string> images;
+      for (const auto& f : list_images(out / "raw" / t.name() / kImagesFolder)) images.push_back(f.string());
+      DicRunOptions streamed;
+      streamed.keep_frames = false;  // the tables are written frame by frame; only the last frame is held
+      const DicRun run = run_dic(spec, images, out / "dic" / t.name(),
+                                 st.inner([](const Progress& p) { return p.stage == "dic"; }), streamed);
+      st.close_inner();
+      ok += run.result.frames.back().ok, points += int(run.result.grid.size());
+    }
+    result.stages.push_back(st.finish(fmt::format("{} of {} points ok at the last frames", ok, points)));
+  }
+
+  // 3. Sync and specimen coordinates (tricot experiment, reading the DIC folders).
+  {
+    Stage st(log, "3/5 sync", n);
+    const io::Node root = io::read_config(lab_schema(), (out / "lab.toml").string());
+    const LabExperimentResult lab = run_lab_experiment(
+        root, out / "experiment", st.inner([](const Progress& p) { return p.stage == "experiment"; }));
+    double worst = 0;
+    for (const auto& t : lab.tests) worst = std::max(worst, std::abs(t.sync.clock_offset_s - kClockOffset));
+    result.stages.push_back(st.finish(fmt::format("{} tests; clock offsets within {:.1f} ms of the truth", lab.tests.size(), 1e3 * worst)));
+  }
+
+  // 4. Identification (tricot identify of the experiment's project.toml).
+  IdentifyOutcome outcome;
+  {
+    Stage st(log, "4/5 identify", 0);
+    const io::Node root = io::read_config(identify_schema(), (out / "experiment" / "project.toml").string());
+    IdentifyRequest req;
+    req.base = out / "experiment";
+    req.out = out / "identify";
+    req.print_summary = false;
+    outcome = run_identification(root, req, st.inner([](const Progress& p) { return p.stage == "identify"; }));
+    result.converged = outcome.result.converged();
+    result.stages.push_back(st.finish(outcome.result.brief_report()));
+  }
+
+  // 5. The chain's sections of the report.
+  {
+    Stage st(log, "5/5 report", 1);
+    const fs::path id = out / "identify";
+    const fs::path plots = id / "plots";
+    fs::create_directories(plots);
+    const auto quality = dic_quality(out / "dic", out / "experiment", tests, cam, plots, log);
+    std::error_code ec;
+    fs::copy_file(out / "experiment" / "sync.png", plots / "sync.png", fs::copy_options::overwrite_existing, ec);
+    const json sync = read_json_file(out / "experiment" / "sync.json");
+    const json res = read_json_file(id / "result.json");
+    // Forces recovered: each pull image's synchronised force against the lab record's truth.
+    struct SyncRow {
+      double offset, error_ms, tare, force_rms, force_max, peak;
+    };
+    std::vector<SyncRow> rows;
+    for (const auto& t : tests) {
+      const json truth = read_json_file(out / "raw" / t.name() / "lab" / "truth.json");
+      const json& s = sync[t.name()];
+      const io::LogTable f = io::read_log(out / "experiment" / t.name() / "forces.csv", io::LogFormat{',', false, 1});
+      const auto measured = f.numbers("edge_force");
+      const auto& true_force = truth["force_N"];
+      const std::size_t first = std::size_t(1 + setting_steps(o) + kHoldFrames);
+      double s2 = 0, worst = 0, peak = 0;
+      for (std::size_t k = 0; k < measured.size(); ++k) {
+        const double e = measured[k] - true_force[first + k].get<double>();
+        s2 += e * e, worst = std::max(worst, std::abs(e));
+        peak = std::max(peak, std::abs(true_force[first + k].get<double>()));
+      }
+      rows.push_back({number(s, "clock_offset_s"), 1e3 * (number(s, "clock_offset_s") - kClockOffset), number(s, "tare_N"),
+                      std::sqrt(s2 / double(std::max<std::size_t>(1, measured.size()))), worst, peak});
+    }
+    report::append(id, [&](report::Document& d) {
+      using namespace report;
+      d.title = "tricot demo: the §4 campaign from images and load-cell logs to the knit's law";
+      d.subtitle = fmt::format("{} tests of 110 × 110 mm² · {} images each of {} × {} px · paper14 · {}", n, frames, cam.width,
+                               cam.height, result.converged ? "converged" : "NOT converged");
+      {
+        Section& s = d.section(kDic, "DIC quality per test");
+        s.paragraph(fmt::format("tricot dic, incremental, second-order subsets ({}; dic.toml) on every test's {} images. The "
+                                "points kept are those inside the specimen and measured in every image (the field of "
+                                "experiment/<test>/field.csv).",
+                                o.small ? "21 px subsets every 20 px" : "31 px subsets every 90 px", frames));
+        s.figure(fs::path("plots") / "dic_quality.png", "Every test's DIC points at its last frame, coloured by ZNCC; lost points as black crosses.");
+        NumericTable t{"Points per test", "test", {"grid", "ok at the last frame", "kept in the field", "mean ZNCC", "min ZNCC"}, {}, {}, 6, {}};
+        t.column_digits = {4, 4, 4, 5, 4};
+        for (const auto& q : quality) {
+          t.labels.push_back(q.name);
+          t.rows.push_back({double(q.grid), double(q.ok_last), double(q.kept), q.mean_zncc, q.min_zncc});
+        }
+        s.table(std::move(t));
+      }
+      {
+        Section& s = d.section(kSync, "Synchronisation of the load cell with the camera");
+        s.paragraph(fmt::format("The clock offset δ (log − camera) from the cross-head and the DIC grip motion over the last "
+                                "setting image, the {} hold images and the pull (set, hold, pull); the tare from the log "
+                                "before image 0. Truth: δ = {} s, tare {} N.",
+                                kHoldFrames, kClockOffset, kTare));
+        s.figure(fs::path("plots") / "sync.png", "Per test: the log's force (tare removed) with the image instants, and the criterion near its optimum.");
+        NumericTable t{"Clock offset, tare and force per test against the lab record's truth", "test",
+                       {"δ found (s)", "δ error (ms)", "tare (N)", "force RMS error (N)", "force max error (N)", "peak force (N)"},
+                       {}, {}, 6, {}};
+        t.column_digits = {6, 3, 4, 3, 3, 4};
+        for (std::size_t i = 0; i < n; ++i) {
+          t.labels.push_back(tests[i].name());
+          t.rows.push_back({rows[i].offset, rows[i].error_ms, rows[i].tare, rows[i].force_rms, rows[i].force_max, rows[i].peak});
+        }
+        s.table(std::move(t));
+      }
+      {
+        Section& s = d.section(kEq9);
+        NumericTable t4{"Table 4 (paper §4.3): the identification", "", {"value"}, {}, {}, 5, {}};
+        t4.labels = {"objective f", "LM iterations", "evaluations", "wall time (s)", "condition number"};
+        t4.rows = {{number(res, "objective")}, {number(res, "iterations")}, {number(res, "evaluations")},
+                   {number(res, "wall_seconds")}, {outcome.result.uncertainty.condition_number}};
+        s.table(std::move(t4));
+        NumericTable t5{"Table 5: eq. 9 error, this chain beside the paper (110 × 110 mm², 14 coefficients)", "force",
+                        {"whole", "paper whole", "practical", "paper practical"}, {}, {}, 3, {}};
+        const char* forces[2] = {"course", "wale"};
+        for (int f = 0; f < 2; ++f) {
+          const json e = res.contains("eq9") && res["eq9"].contains(forces[f]) ? res["eq9"][forces[f]] : json::object();
+          t5.labels.push_back(forces[f]);
+          t5.rows.push_back({number(e, "whole"), kPaperWhole[f], number(e, "practical"), kPaperPractical[f]});
+        }
+        s.table(std::move(t5));
+      }
+      {
+        NumericTable t{"Wall and CPU time per stage of the chain (CPU: user + system, every thread)", "stage",
+                       {"wall (s)", "CPU (s)"}, {}, {}, 4, {}};
+        double wall = 0, cpu = 0;
+        for (const auto& x : result.stages) {
+          t.labels.push_back(x.name);
+          t.rows.push_back({x.wall_s, x.cpu_s});
+          wall += x.wall_s, cpu += x.cpu_s;
+        }
+        t.labels.push_back("chain from images on disk (dic + sync + identify)");
+        double chain_wall = 0, chain_cpu = 0;
+        for (std::size_t k = 1; k < result.stages.size(); ++k) chain_wall += result.stages[k].wall_s, chain_cpu += result.stages[k].cpu_s;
+        t.rows.push_back({chain_wall, chain_cpu});
+        t.labels.push_back("total, rendering included");
+        t.rows.push_back({wall, cpu});
+        d.section(kTiming).note("The report stage's own time is in stages.json (it is written after this table).").table(std::move(t));
+      }
+    });
+    result.stages.push_back(st.finish((id / "report.html").string()));
+  }
+  result.report = out / "identify" / "report.html";
+  json stages = json::array();
+  for (const auto& x : result.stages) stages.push_back({{"stage", x.name}, {"wall_s", x.wall_s}, {"cpu_s", x.cpu_s}});
+  io::write_atomic(out / "stages.json", json{{"stages", stages}, {"converged", result.converged}}.dump(2) + "\n");
+  return result;
+}
+
+}  // namespace tricot::project
