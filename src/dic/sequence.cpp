@@ -40,6 +40,14 @@ const Vec2 nowhere(nan, nan);
 }  // namespace
 
 struct SequenceTracker::State {
+  State(SequenceOptions options, Reporter rep, std::vector<GridPoint> grid, const image::Image& reference)
+      : o(std::move(options)), reporter(std::move(rep)) {
+    o.validate();
+    result.grid = std::move(grid);
+    neighbours = grid_neighbours(result.grid);
+    ref = std::make_shared<const Frame>(prepare_frame(reference, o.dic.prefilter_sigma));
+  }
+
   SequenceOptions o;
   Reporter reporter;
   SequenceResult result;
@@ -84,16 +92,10 @@ struct SequenceTracker::State {
 
 SequenceTracker::SequenceTracker(const image::Image& reference, std::vector<GridPoint> grid, SequenceOptions options,
                                  Reporter reporter)
-    : s_(std::make_unique<State>()) {
-  options.validate();
+    : s_(std::make_unique<State>(std::move(options), std::move(reporter), std::move(grid), reference)) {
   State& s = *s_;
-  s.o = std::move(options);
-  s.reporter = std::move(reporter);
-  s.result.grid = std::move(grid);
   const auto& g = s.result.grid;
   const int n = static_cast<int>(g.size());
-  s.neighbours = grid_neighbours(g);
-  s.ref = std::make_shared<const Frame>(prepare_frame(reference, s.o.dic.prefilter_sigma));
   s.prev = s.ref;
   s.ref_x.resize(n);
   s.ref_sigma.assign(n, Vec2::Zero());
@@ -393,12 +395,8 @@ SequenceResumePoint SequenceTracker::resume_point(const std::string& checkpoint)
 SequenceTracker::SequenceTracker(const image::Image& reference, const image::Image& previous,
                                  std::vector<GridPoint> grid, SequenceOptions options, const std::string& checkpoint,
                                  Reporter reporter)
-    : s_(std::make_unique<State>()) {
-  options.validate();
+    : s_(std::make_unique<State>(std::move(options), std::move(reporter), std::move(grid), reference)) {
   State& s = *s_;
-  s.o = std::move(options);
-  s.reporter = std::move(reporter);
-  s.result.grid = std::move(grid);
   Reader in{checkpoint};
   const SequenceResumePoint at = read_header(in);
   s.next = at.next_frame;
@@ -407,7 +405,6 @@ SequenceTracker::SequenceTracker(const image::Image& reference, const image::Ima
   if (in.get<std::uint64_t>() != n) in.fail();
   for (const GridPoint& g : s.result.grid)
     if (in.get<double>() != g.x(0) || in.get<double>() != g.x(1)) in.fail();
-  s.neighbours = grid_neighbours(s.result.grid);
   s.ref_x = in.get_vec2s(n);
   s.ref_sigma = in.get_vec2s(n);
   s.alive.resize(n);
@@ -437,7 +434,6 @@ SequenceTracker::SequenceTracker(const image::Image& reference, const image::Ima
   f.message = in.get_string();
   if (in.at != checkpoint.size() || f.frame != s.next - 1) in.fail();
   s.result.frames.push_back(std::move(f));
-  s.ref = std::make_shared<const Frame>(prepare_frame(reference, s.o.dic.prefilter_sigma));
   s.prev = s.r == s.next - 1 ? s.ref : std::make_shared<const Frame>(prepare_frame(previous, s.o.dic.prefilter_sigma));
 }
 
