@@ -82,6 +82,7 @@ void IdentifyOptions::validate() const {
   check(max_iterations >= 1 && max_iterations <= 100000, "max_iterations", max_iterations, "1 to 100000");
   check(stability_eta > 0 && stability_eta < 1, "stability_eta", stability_eta, "(0, 1)");
   check(max_restarts >= 0 && max_restarts <= 1000, "max_restarts", max_restarts, "0 to 1000");
+  check(line_search_trials >= 1 && line_search_trials <= 100, "line_search_trials", line_search_trials, "1 to 100");
   check(initial_trust_region_radius > 0 && initial_trust_region_radius <= 1e16, "initial_trust_region_radius",
         initial_trust_region_radius, "(0, 1e16]");
   jacobian_options().validate();
@@ -435,7 +436,7 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
       so.gradient_tolerance = options.gradient_tolerance;
       so.parameter_tolerance = options.delta;
       so.initial_trust_region_radius = state.trust_region_radius;
-      if (!options.bounds_line_search) so.max_num_line_search_step_size_iterations = 0;
+      so.max_num_line_search_step_size_iterations = options.bounds_line_search ? options.line_search_trials : 0;
       so.logging_type = ceres::SILENT;
       so.minimizer_progress_to_stdout = false;
       so.update_state_every_iteration = true;

@@ -113,6 +113,10 @@ SectionSpec identify_section() {
       key("threads", std::int64_t{o.threads}, "Threads for tests and finite-difference columns; 0 = all cores; more than the cores run as many as the cores.", 0, 1024),
       key("initial_trust_region_radius", o.initial_trust_region_radius, "LM's first trust-region radius (1/μ₀, LM units), > 0.",
           0, 1e16),
+      key("line_search_trials", std::int64_t{o.line_search_trials},
+          "With bounds: the most trial points of the projected line search along each LM step (each one\n"
+          "FE evaluation with the Jacobian).",
+          1, 100),
   };
   return s;
 }
@@ -223,6 +227,7 @@ IdentifyTable IdentifyTable::from_config(const io::Node& s) {
   t.fd_step = s.real("fd_step");
   t.threads = static_cast<int>(s.integer("threads"));
   t.initial_trust_region_radius = s.real("initial_trust_region_radius");
+  t.line_search_trials = static_cast<int>(s.integer("line_search_trials"));
   return t;
 }
 
@@ -245,6 +250,7 @@ ident::IdentifyOptions IdentifyTable::options() const {
   o.fd_step = fd_step;
   o.threads = threads;
   o.initial_trust_region_radius = initial_trust_region_radius;
+  o.line_search_trials = line_search_trials;
   try {
     o.validate();
   } catch (const InputError& e) {

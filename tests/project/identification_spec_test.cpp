@@ -26,6 +26,7 @@ TEST(IdentifyTable, TheSchemasDefaultsAreTheEnginesDefaults) {
   EXPECT_EQ(read.fd_step, engine.fd_step);
   EXPECT_EQ(read.jacobian, engine.jacobian);
   EXPECT_EQ(read.initial_trust_region_radius, engine.initial_trust_region_radius);
+  EXPECT_EQ(read.line_search_trials, engine.line_search_trials);
 }
 
 TEST(IdentifyTable, AnEnginesErrorNamesTheConfigKey) {

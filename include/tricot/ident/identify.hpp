@@ -102,10 +102,15 @@ struct IdentifyOptions {
   double initial_trust_region_radius = 10;
   /// With bounds on the parameters, Ceres's projected Armijo line search along each LM step (its
   /// `max_num_line_search_step_size_iterations`). Each of its trials is an FE evaluation with the
-  /// Jacobian, but it is what lets LM leave a start on a bound: on the §4 campaign (c4 = 0 at its
-  /// bound) LM without it was still at f = 1.59 after 74 iterations, with it at 0.39 after 2
-  /// (docs/validation.md, issue 12).
+  /// Jacobian, but its backtracking is what saves LM's long steps that fail in the FE: on the §4
+  /// campaign LM without it was still at f = 1.59 after 74 iterations (each failure shrinks the radius,
+  /// and the short damped steps run into cliffs of f), with it at 0.39 after 2 (docs/validation.md,
+  /// issue 12).
   bool bounds_line_search = true;
+  /// The most trial points of that line search per LM step, 1–100 (Ceres's default 20). Each is an
+  /// FE evaluation with the Jacobian: on the §4 campaign a step LM rejects in the end cost 12–13 of
+  /// them at 20, 5 at 4, with the same accepted points (docs/validation.md, issue 12 "Speed").
+  int line_search_trials = 20;
   /// Called with the state to save after every accepted step (and at the start), once its ε and δ
   /// tests are made, when LM stops (phase stability or done) and after each stability test; may be
   /// empty.

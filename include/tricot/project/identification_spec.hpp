@@ -42,6 +42,7 @@ struct IdentifyTable {
   double fd_step = ident::IdentifyOptions{}.fd_step;
   int threads = ident::IdentifyOptions{}.threads;
   double initial_trust_region_radius = ident::IdentifyOptions{}.initial_trust_region_radius;
+  int line_search_trials = ident::IdentifyOptions{}.line_search_trials;
   Origin origin{"identify"};
 
   /// From the [identify] table of a file read with identify_schema().
