@@ -355,7 +355,9 @@ pinned_relative_error = 0.1
 [stability]
 enabled = {}
 )",
-                              rig_table(o), o.small ? "max_iterations = 2\nstability_test = false\n" : "",
+                              rig_table(o), o.small ? "max_iterations = 2\nstability_test = false\n"
+                                      : "initial_trust_region_radius = 100  # as examples/knit-campaign/project-110.toml\n"
+                                        "line_search_trials = 4\n",
                               o.small ? "practical_course = [0.0, 1.2]   # two tests: the whole range they span\n"
                                         "practical_wale = [0.0, 0.7]"
                                       : "practical_course = [0.6, 1.0]\npractical_wale = [0.2, 0.4]",
