@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # libFuzzer (issue 14): builds the harnesses of fuzz/ with clang in build-fuzz/ (-fsanitize=fuzzer,
 # address,undefined; the rest of tricot linked from the ordinary build/) and runs each for
-# FUZZ_SECONDS (default 600) from the seed corpus fuzz/corpus/<name>/. New inputs go to
+# FUZZ_SECONDS (default 600; wall time, the CPU time is reported beside it) from the seed corpus fuzz/corpus/<name>/. New inputs go to
 # build-fuzz/corpus/<name>/, crashes to build-fuzz/artifacts/<name>/. `make fuzz` runs this; CI does not.
 #   scripts/fuzz.sh                      # every harness, 10 minutes each
 #   FUZZ_SECONDS=60 scripts/fuzz.sh csv log
@@ -25,16 +25,17 @@ cmake --build "$BUILD" -j "$JOBS" --target "${harnesses[@]/%/_fuzz}"
 
 export OPENCV_IO_MAX_IMAGE_PIXELS=16777216  # a header claiming a huge image is refused, not an OOM
 status=0
-printf '%-8s %8s %12s %10s %8s %s\n' harness seconds executions exec/s corpus result
+printf '%-8s %8s %8s %12s %10s %8s %s\n' harness seconds cpu_s executions exec/s corpus result
 for h in "${harnesses[@]}"; do
   corpus="$BUILD/corpus/$h" artifacts="$BUILD/artifacts/$h/"
   mkdir -p "$corpus" "$artifacts"
   log="$BUILD/$h.log"
   result=ok
-  "$BUILD/fuzz/${h}_fuzz" -max_total_time="$SECONDS_EACH" -max_len=4096 -rss_limit_mb=2048 -timeout=10 \
+  /usr/bin/time -f '%U %S' -o "$BUILD/$h.time" "$BUILD/fuzz/${h}_fuzz" -max_total_time="$SECONDS_EACH" -max_len=4096 -rss_limit_mb=2048 -timeout=10 \
     -print_final_stats=1 -artifact_prefix="$artifacts" "$corpus" "fuzz/corpus/$h" >"$log" 2>&1 || { result="CRASH (see $log)"; status=1; }
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
-  printf '%-8s %8s %12s %10s %8s %s\n' "$h" "$SECONDS_EACH" "${execs:-?}" "${rate:-?}" "$(ls "$corpus" | wc -l)" "$result"
+  cpu=$(tail -1 "$BUILD/$h.time" | awk '{printf "%.0f", $1 + $2}')  # the harness's own CPU time, user + sys
+  printf '%-8s %8s %8s %12s %10s %8s %s\n' "$h" "$SECONDS_EACH" "${cpu:-?}" "${execs:-?}" "${rate:-?}" "$(ls "$corpus" | wc -l)" "$result"
 done
 exit $status
