@@ -5,6 +5,7 @@
 # build-fuzz/corpus/<name>/, crashes to build-fuzz/artifacts/<name>/. `make fuzz` runs this; CI does not.
 #   scripts/fuzz.sh                      # every harness, 10 minutes each
 #   FUZZ_SECONDS=60 scripts/fuzz.sh csv log
+#   FUZZ_CPU_SECONDS=600 scripts/fuzz.sh  # each harness until it has had 600 s of CPU (a busy machine)
 # A crash fails the run; reproduce with build-fuzz/fuzz/<name>_fuzz ARTIFACT and add it as a regression
 # test in the unit tests (tests/project/fuzz_regression_test.cpp).
 set -euo pipefail
@@ -25,17 +26,26 @@ cmake --build "$BUILD" -j "$JOBS" --target "${harnesses[@]/%/_fuzz}"
 
 export OPENCV_IO_MAX_IMAGE_PIXELS=16777216  # a header claiming a huge image is refused, not an OOM
 status=0
-printf '%-8s %8s %8s %12s %10s %8s %s\n' harness seconds cpu_s executions exec/s corpus result
+printf '%-8s %8s %8s %7s %12s %10s %8s %s\n' harness wall_s cpu_s rounds executions exec/cpu_s corpus result
 for h in "${harnesses[@]}"; do
   corpus="$BUILD/corpus/$h" artifacts="$BUILD/artifacts/$h/"
   mkdir -p "$corpus" "$artifacts"
   log="$BUILD/$h.log"
   result=ok
-  /usr/bin/time -f '%U %S' -o "$BUILD/$h.time" "$BUILD/fuzz/${h}_fuzz" -max_total_time="$SECONDS_EACH" -max_len=4096 -rss_limit_mb=2048 -timeout=10 \
-    -print_final_stats=1 -artifact_prefix="$artifacts" "$corpus" "fuzz/corpus/$h" >"$log" 2>&1 || { result="CRASH (see $log)"; status=1; }
-  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
-  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
-  cpu=$(tail -1 "$BUILD/$h.time" | awk '{printf "%.0f", $1 + $2}')  # the harness's own CPU time, user + sys
-  printf '%-8s %8s %8s %12s %10s %8s %s\n' "$h" "$SECONDS_EACH" "${cpu:-?}" "${execs:-?}" "${rate:-?}" "$(ls "$corpus" | wc -l)" "$result"
+  # In rounds of FUZZ_SECONDS (wall) until the harness has had FUZZ_CPU_SECONDS of CPU (default: one
+  # round); each round goes on from the corpus the last one left.
+  cpu=0 execs=0 wall=0 rounds=0
+  while :; do
+    start=$(date +%s)
+    /usr/bin/time -f '%U %S' -o "$BUILD/$h.time" "$BUILD/fuzz/${h}_fuzz" -max_total_time="$SECONDS_EACH" -max_len=4096 -rss_limit_mb=2048 -timeout=10 \
+      -print_final_stats=1 -artifact_prefix="$artifacts" "$corpus" "fuzz/corpus/$h" >"$log" 2>&1 || { result="CRASH (see $log)"; status=1; }
+    wall=$((wall + $(date +%s) - start)) rounds=$((rounds + 1))
+    n=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+    execs=$((execs + ${n:-0}))
+    cpu=$(tail -1 "$BUILD/$h.time" | awk -v c="$cpu" '{printf "%.0f", c + $1 + $2}')  # the harness's own CPU, user + sys
+    [ "$result" = ok ] && [ "$cpu" -lt "${FUZZ_CPU_SECONDS:-0}" ] || break
+  done
+  rate=$(awk -v e="$execs" -v c="$cpu" 'BEGIN {printf "%.0f", c > 0 ? e / c : 0}')  # per CPU second
+  printf '%-8s %8s %8s %7s %12s %10s %8s %s\n' "$h" "$wall" "$cpu" "$rounds" "$execs" "$rate" "$(ls "$corpus" | wc -l)" "$result"
 done
 exit $status

@@ -86,4 +86,50 @@ std::optional<TestSurfacePoints> test_surface_points(const fem::TestModel& model
   return out;
 }
 
+Restriction restrict_to_domain(const std::vector<fem::TestModel>& models, const Experiment& experiment,
+                               const StrainDomain& domain, int nearest) {
+  const Location key{"", 0, "data.domain"};
+  Restriction out;
+  for (std::size_t t = 0; t < experiment.tests.size() && t < models.size(); ++t) {
+    const TestData& data = experiment.tests[t];
+    const auto p = test_surface_points(models[t], data, nearest);
+    if (!p || p->points.empty())
+      throw InputError(key, "test '" + data.name + "' has no centre strains to restrict by",
+                       "material_angle " + format_number(models[t].material_angle),
+                       "a test pulled along wale (0) or course (90) with a grip force and a cumulative field of >= 3 points");
+    const bool course_pulled = p->force == SurfaceForce::course;
+    const auto pulled_of = [&](const SurfacePoint& q) { return course_pulled ? q.eC : q.eW; };
+    RestrictedTest r{data.name, data.steps(), 0, course_pulled ? p->points[0].eW : p->points[0].eC, pulled_of(p->points[0])};
+    const double held_min = course_pulled ? domain.eW_min : domain.eC_min, held_max = course_pulled ? domain.eW_max : domain.eC_max;
+    const double pulled_max = course_pulled ? domain.eC_max : domain.eW_max;
+    if (r.held >= held_min && r.held <= held_max)
+      while (r.kept < r.steps && pulled_of(p->points[r.kept]) <= pulled_max) r.pulled = pulled_of(p->points[r.kept++]);
+    out.tests.push_back(r);
+    if (r.kept == 0) continue;
+    fem::TestModel m = models[t];
+    TestData d = data;
+    const int n = r.kept;
+    // A single guide value without a setting moves with the load (c · load / last load): keep its path.
+    if (m.guide.size() == 1 && m.guide_setting_steps == 0 && !m.loads.empty() && n < static_cast<int>(m.loads.size())) {
+      const double c = m.guide[0], last = m.loads.back();
+      m.guide.assign(m.loads.begin(), m.loads.end());
+      for (double& g : m.guide) g = c * g / last;
+    }
+    if (m.guide.size() == m.loads.size() && m.guide.size() > 1) m.guide.resize(n);
+    m.loads.resize(n), d.loads.resize(n);
+    for (auto* v : {&d.edge_displacement, &d.edge_force})
+      if (!v->empty()) v->resize(n);
+    for (auto* M : {&d.u, &d.v, &d.sigma_u, &d.sigma_v})
+      if (M->rows() > 0) M->conservativeResize(n, Eigen::NoChange);
+    out.models.push_back(std::move(m));
+    out.experiment.tests.push_back(std::move(d));
+  }
+  if (out.models.empty())
+    throw InputError(key, "the domain keeps no test",
+                     "course [" + format_number(domain.eC_min) + ", " + format_number(domain.eC_max) + "] x wale [" +
+                         format_number(domain.eW_min) + ", " + format_number(domain.eW_max) + "]",
+                     "a domain that holds the held strain and the first step of some test");
+  return out;
+}
+
 }  // namespace tricot::ident

@@ -116,13 +116,24 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
                             ident::to_string(options.jacobian),
                             req.resume ? fmt::format(", resumed at iteration {}", options.resume_from->iterations) : ""));
   if (P.stability) log.print(fmt::format("identify: with the stability barrier ({} rows)", P.stability->barrier_rows()));
+  for (const ident::RestrictedTest& t : P.restriction)
+    log.print(t.kept > 0 ? fmt::format("identify: domain: {} keeps steps 1–{} of {} (held {:.3f}, pulled to {:.3f})", t.name,
+                                       t.kept, t.steps, t.held, t.pulled)
+                         : fmt::format("identify: domain: {} left out (held {:.3f}, pulled {:.3f} at step 1)", t.name,
+                                       t.held, t.pulled));
   outcome.result = ident::identify(killer, options, log.reporter());
 
   // Outputs.
   json result = result_json(outcome, *objective, req.resume);
-  const auto eq9_points_found = eq9_points(*objective, P.eq9_nearest);
-  if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
-    result["eq9"] = eq9_json(*objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest);
+  const bool eq9 = !P.eq9_points[0].empty() || !P.eq9_points[1].empty();
+  const std::unique_ptr<fem::Law> identified = objective->law_at(outcome.result.parameters);
+  if (eq9) result["eq9"] = eq9_json(P.eq9_points, *identified, P.eq9_practical);
+  if (!P.restriction.empty()) {  // [data] domain_course, domain_wale: what each test kept
+    json tests = json::object();
+    for (const ident::RestrictedTest& t : P.restriction)
+      tests[t.name] = {{"steps", t.steps}, {"kept", t.kept}, {"held", t.held}, {"pulled", t.pulled}};
+    result["domain"] = {{"tests", tests}};
+  }
   result["identifiability"] = identifiability_json(*objective, outcome.result, P.identifiability);
   io::write_atomic(dir / "result.json", result.dump(2) + "\n");
   write_history(dir / "history.csv", outcome.result);
@@ -130,8 +141,7 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   if (outcome.result.termination != ident::Termination::fe_failure)
     write_fit(dir, *objective, outcome.result, solver, req.plots, log);
   if (req.plots) plot_history(dir, outcome, log);
-  if (!eq9_points_found[0].empty() || !eq9_points_found[1].empty())
-    write_eq9(dir, *objective, outcome.result.parameters, P.eq9_practical, P.eq9_nearest, req.plots, log);
+  if (eq9) write_eq9(dir, P.eq9_points, *identified, P.eq9_practical, req.plots, log);
   if (req.print_summary) print_summary(outcome, req.out, log);
   write_identification_report(spec, P, outcome, dir,
                               std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());

@@ -90,11 +90,8 @@ double identified_force(const fem::Law& law, int i, double eC, double eW) {
 
 }  // namespace
 
-json eq9_json(const ident::Objective& objective, const Eigen::VectorXd& J, const ident::StrainDomain& practical,
-              int nearest) {
-  const auto points = eq9_points(objective, nearest);
-  const std::unique_ptr<fem::Law> law = objective.law_at(J);
-  auto force = [&](int i) { return [&law, i](double eC, double eW) { return identified_force(*law, i, eC, eW); }; };
+json eq9_json(const SurfacePoints& points, const fem::Law& law, const ident::StrainDomain& practical) {
+  auto force = [&](int i) { return [&law, i](double eC, double eW) { return identified_force(law, i, eC, eW); }; };
   json j;
   for (int f = 0; f < 2; ++f) {
     const char* name = f == 0 ? "course" : "wale";
@@ -120,10 +117,8 @@ json eq9_json(const ident::Objective& objective, const Eigen::VectorXd& J, const
   return j;
 }
 
-void write_eq9(const fs::path& dir, const ident::Objective& objective, const Eigen::VectorXd& J,
-               const ident::StrainDomain& practical, int nearest, bool plots, const Log& log) {
-  const auto points = eq9_points(objective, nearest);
-  const std::unique_ptr<fem::Law> law = objective.law_at(J);
+void write_eq9(const fs::path& dir, const SurfacePoints& points, const fem::Law& law,
+               const ident::StrainDomain& practical, bool plots, const Log& log) {
   for (int f = 0; f < 2; ++f) {
     if (points[f].empty()) continue;
     const std::string name = f == 0 ? "course" : "wale";
@@ -131,7 +126,7 @@ void write_eq9(const fs::path& dir, const ident::Objective& objective, const Eig
     t.columns = {"eC", "eW", "force_exp", "force_id", "relative_error", "practical"};
     double c0 = 1e300, c1 = -1e300, w0 = 1e300, w1 = -1e300;
     for (const auto& p : points[f]) {
-      const double id = identified_force(*law, f, p.eC, p.eW);
+      const double id = identified_force(law, f, p.eC, p.eW);
       t.rows.push_back({p.eC, p.eW, p.force, id, p.force != 0 ? std::abs(id - p.force) / std::abs(p.force) : 0.0,
                         practical.contains(p.eC, p.eW) ? 1.0 : 0.0});
       c0 = std::min(c0, p.eC), c1 = std::max(c1, p.eC), w0 = std::min(w0, p.eW), w1 = std::max(w1, p.eW);
@@ -142,7 +137,7 @@ void write_eq9(const fs::path& dir, const ident::Objective& objective, const Eig
     for (int a = 0; a <= 24; ++a) {
       for (int b = 0; b <= 24; ++b) {
         const double eC = c0 + (c1 - c0) * a / 24, eW = w0 + (w1 - w0) * b / 24;
-        grid += fmt::format("{:.9g},{:.9g},{:.9g}\n", eC, eW, identified_force(*law, f, eC, eW));
+        grid += fmt::format("{:.9g},{:.9g},{:.9g}\n", eC, eW, identified_force(law, f, eC, eW));
       }
       grid += "\n";
     }

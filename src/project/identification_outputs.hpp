@@ -14,16 +14,14 @@ namespace tricot::project {
 json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bool resumed);
 /// result.json's "eq9" (THEORY §9, paper Table 5): {"course": {"whole", "practical", "points_whole",
 /// "points_practical"}, "wale": {…}, "practical": {"course": [min, max], "wale": [min, max]}}, the
-/// identified law (the objective's law at J) against the data's experimental points; a force
-/// without points is null.
-json eq9_json(const ident::Objective& objective, const Eigen::VectorXd& J, const ident::StrainDomain& practical,
-              int nearest);
+/// identified law against the experimental points; a force without points is null.
+json eq9_json(const SurfacePoints& points, const fem::Law& law, const ident::StrainDomain& practical);
 /// DIR/eq9_<force>.csv (eC, eW, force_exp, force_id, relative_error, practical per point),
 /// DIR/eq9_surface_<force>.csv (the identified surface on a grid over the points' range) and, with
 /// `plots`, DIR/plots/eq9_<force>.png: the surface with the experimental points (paper Figs 11–14)
 /// and the error map with the practical domain outlined (Figs 15–16).
-void write_eq9(const std::filesystem::path& dir, const ident::Objective& objective, const Eigen::VectorXd& J,
-               const ident::StrainDomain& practical, int nearest, bool plots, const Log& log);
+void write_eq9(const std::filesystem::path& dir, const SurfacePoints& points, const fem::Law& law,
+               const ident::StrainDomain& practical, bool plots, const Log& log);
 /// result.json's "identifiability" (ident::identifiability at the answer, rows grouped by test):
 /// {"relative_std_error": {name: …}, "pinned": {name: bool}, "least_identifiable": {name: …},
 /// "smallest_eigenvalue", "largest_eigenvalue", "tests": {test: {"trace_share", "weak_direction_share"}}};

@@ -80,6 +80,13 @@ SectionSpec data_section() {
           "sigma_v columns of field.csv (tricot experiment writes the DIC's σ), so that the covariance\n"
           "reflects the DIC noise (THEORY §8).",
           -kInf, kInf, {"group", "per_point"}),
+      key("domain_course", io::Reals{},
+          "[min, max] Green–Lagrange εC of a domain-restricted identification (paper §4.3.2): a test pulled\n"
+          "along wale is kept when its held εC (centre, first step) is in it; a test pulled along course\n"
+          "keeps its steps up to the last with centre εC <= max. Unset: no restriction across/along course.",
+          -1, 100),
+      key("domain_wale", io::Reals{}, "[min, max] εW of the restriction, as domain_course with the two directions swapped.",
+          -1, 100),
   };
   return s;
 }
@@ -206,6 +213,7 @@ Model check_model(const IdentificationSpec& spec) {
   check_key(d.origin, data, "field", d.field);
   check_key(d.origin, data, "field_sigma", d.field_sigma);
   m.practical = spec.eq9.practical();
+  (void)d.domain();
   return m;
 }
 
@@ -326,7 +334,7 @@ namespace {
 // "practical" is null): an error located at its key, naming the data's strain range.
 void check_eq9(const Eq9Spec& eq9, const Project& P) {
   if (!eq9.practical_course && !eq9.practical_wale) return;
-  const auto points = eq9_points(*P.objective, P.eq9_nearest);
+  const SurfacePoints& points = P.eq9_points;
   for (int f = 0; f < 2; ++f) {
     if (points[f].empty()) continue;
     try {
@@ -377,10 +385,9 @@ void check_tests_match_data(const CaseSpec& spec, const std::vector<fem::TestMod
 
 }  // namespace
 
-std::array<std::vector<ident::SurfacePoint>, 2> eq9_points(const ident::Objective& objective, int nearest) {
-  std::array<std::vector<ident::SurfacePoint>, 2> out;
-  const auto& models = objective.models();
-  const auto& tests = objective.experiment().tests;
+SurfacePoints eq9_points(const std::vector<fem::TestModel>& models, const ident::Experiment& experiment, int nearest) {
+  SurfacePoints out;
+  const auto& tests = experiment.tests;
   for (std::size_t t = 0; t < tests.size() && t < models.size(); ++t) {
     const auto p = ident::test_surface_points(models[t], tests[t], nearest);
     if (!p) continue;
@@ -424,7 +431,27 @@ DataSpec DataSpec::from_config(const io::Node& n) {
   d.field = n.real("field");
   d.field_uv = n.boolean("field_uv");
   d.field_sigma = n.string("field_sigma");
+  if (n.given("domain_course")) d.domain_course = n.reals("domain_course");
+  if (n.given("domain_wale")) d.domain_wale = n.reals("domain_wale");
   d.origin = Origin(n);
+  return d;
+}
+
+std::optional<ident::StrainDomain> DataSpec::domain() const {
+  if (!domain_course && !domain_wale) return std::nullopt;
+  ident::StrainDomain d;
+  d.eC_min = d.eW_min = -1e300, d.eC_max = d.eW_max = 1e300;
+  const SectionSpec table = data_section();
+  for (const char* k : {"domain_course", "domain_wale"}) {
+    const auto& given = std::string(k) == "domain_course" ? domain_course : domain_wale;
+    if (!given) continue;
+    const io::Reals& r = *given;
+    if (r.size() != 2 || !(r[0] <= r[1]))
+      origin.fail(k, "not a strain interval", fmt::format("{} values", r.size()), "[min, max] with min <= max");
+    check_key(origin, table, k, r);
+    (std::string(k) == "domain_course" ? d.eC_min : d.eW_min) = r[0];
+    (std::string(k) == "domain_course" ? d.eC_max : d.eW_max) = r[1];
+  }
   return d;
 }
 
@@ -529,6 +556,18 @@ Project build_project(const IdentificationSpec& spec, const fs::path& base) {
       dn.origin.fail("field_sigma", "field.csv of test '" + d.name + "' has no sigma_u, sigma_v columns", "\"per_point\"",
                      "a field.csv written by tricot experiment");
     }
+  P.eq9_points = eq9_points(P.models, experiment, P.eq9_nearest);
+  if (const auto domain = dn.domain()) {
+    ident::Restriction r;
+    try {
+      r = ident::restrict_to_domain(P.models, experiment, *domain, P.eq9_nearest);
+    } catch (const InputError& e) {
+      throw InputError(dn.origin.where(dn.domain_course ? "domain_course" : "domain_wale"), problem_of(e));
+    }
+    P.models = std::move(r.models);
+    experiment = std::move(r.experiment);
+    P.restriction = std::move(r.tests);
+  }
   ident::ObjectiveOptions oo;
   oo.weights.edge_displacement = dn.edge_displacement;
   oo.weights.edge_force = dn.edge_force;

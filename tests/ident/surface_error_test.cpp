@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "tricot/core/error.hpp"
@@ -93,4 +95,74 @@ TEST(TestSurfacePoints, AreTheGripForcePerWidthAgainstTheCentreStrainOfTheMeasur
   EXPECT_NEAR(course->points[0].eW, E_of(G1)(0, 0), kFit);
   model.material_angle = 45;  // neither surface
   EXPECT_FALSE(test_surface_points(model, data).has_value());
+}
+
+namespace {
+// A wale-pulled test (material_angle 0: course along x) whose field is homogeneous: εC held at `held`,
+// εW = 0.1 k at step k = 1…5 (Green–Lagrange, exact), a single guide value without a setting.
+std::pair<fem::TestModel, TestData> held_and_pulled(const std::string& name, double held) {
+  fem::TestModel model;
+  fem::MeshOptions mo;
+  mo.width = 50, mo.height = 50, mo.nx = 2, mo.ny = 2;
+  model.mesh = fem::make_quarter_mesh(mo);
+  model.name = name;
+  model.guide = {4.0};
+  TestData data;
+  data.name = name;
+  data.points.resize(2, 4);
+  data.points << 1, 10, 3, 20, 2, 4, 15, 30;
+  data.point_ids = {1, 2, 3, 4};
+  const double gC = std::sqrt(1 + 2 * held) - 1;
+  data.u.resize(5, 4), data.v.resize(5, 4);
+  for (int k = 0; k < 5; ++k) {
+    const double gW = std::sqrt(1 + 2 * 0.1 * (k + 1)) - 1;
+    model.loads.push_back(k + 1.0), data.loads.push_back(k + 1.0), data.edge_force.push_back(10.0 * (k + 1));
+    for (int i = 0; i < 4; ++i) data.u(k, i) = gC * data.points(0, i), data.v(k, i) = gW * data.points(1, i);
+  }
+  return {model, data};
+}
+}  // namespace
+
+// The restriction keeps the test whose held εC lies in the domain, cut at the last step whose pulled
+// εW is within the domain's maximum, and leaves out the one held outside (paper §4.3.2).
+TEST(RestrictToDomain, KeepsTheTestsHeldInsideCutAtThePulledMaximum) {
+  constexpr double kFit = 1e-12;  // exact homogeneous fields
+  auto [m1, d1] = held_and_pulled("inside", 0.6);
+  auto [m2, d2] = held_and_pulled("outside", 0.2);
+  Experiment e;
+  e.tests = {d1, d2};
+  StrainDomain domain;
+  domain.eC_min = 0.5, domain.eC_max = 1.1, domain.eW_min = 0.1, domain.eW_max = 0.35;
+  const Restriction r = restrict_to_domain({m1, m2}, e, domain);
+  ASSERT_EQ(r.tests.size(), 2u);
+  EXPECT_EQ(r.tests[0].kept, 3);  // εW 0.1, 0.2, 0.3 ≤ 0.35 < 0.4
+  EXPECT_EQ(r.tests[0].steps, 5);
+  EXPECT_NEAR(r.tests[0].held, 0.6, kFit);
+  EXPECT_NEAR(r.tests[0].pulled, 0.3, kFit);
+  EXPECT_EQ(r.tests[1].kept, 0);
+  EXPECT_NEAR(r.tests[1].held, 0.2, kFit);
+  ASSERT_EQ(r.models.size(), 1u);
+  ASSERT_EQ(r.experiment.tests.size(), 1u);
+  const TestData& d = r.experiment.tests[0];
+  EXPECT_EQ(d.name, "inside");
+  EXPECT_EQ(d.steps(), 3);
+  EXPECT_EQ(d.edge_force.size(), 3u);
+  EXPECT_EQ(d.u.rows(), 3);
+  EXPECT_EQ(d.v.rows(), 3);
+  EXPECT_NO_THROW(d.validate());
+  EXPECT_EQ(r.models[0].loads, (std::vector<double>{1, 2, 3}));
+  // The guide moved with the load (4 · load / 5): the cut keeps its path, not 4 · load / 3.
+  ASSERT_EQ(r.models[0].guide.size(), 3u);
+  EXPECT_NEAR(r.models[0].guide[2], 4.0 * 3 / 5, kFit);
+
+  // A domain that keeps nothing, and a test without centre strains, are errors naming data.domain.
+  domain.eC_min = 2, domain.eC_max = 3;
+  try {
+    (void)restrict_to_domain({m1, m2}, e, domain);
+    FAIL() << "no error";
+  } catch (const InputError& err) {
+    EXPECT_EQ(err.where().key, "data.domain");
+  }
+  m1.material_angle = 45;
+  EXPECT_THROW((void)restrict_to_domain({m1, m2}, e, domain), InputError);
 }

@@ -6,6 +6,7 @@
 #include <functional>
 #include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "tricot/fem/model.hpp"
@@ -59,5 +60,33 @@ struct TestSurfacePoints {
   std::vector<SurfacePoint> points;  ///< one per step
 };
 std::optional<TestSurfacePoints> test_surface_points(const fem::TestModel& model, const TestData& data, int nearest = 6);
+
+}  // namespace tricot::ident
+
+namespace tricot::ident {
+
+/// The identification on a restricted strain domain (paper §4.3.2: "identification of the surface
+/// response on a more restrained experimental domain"; THEORY §9 [choice]). From each test's centre
+/// strains (test_surface_points, `nearest` points): a test is kept when its held strain — across the
+/// pull, at its first step — lies in the domain's interval for that direction; its steps are kept up
+/// to the last whose pulled strain is ≤ the domain's upper bound for the pulled direction (the steps
+/// below the lower bound stay: the FE path goes through them). The later steps are neither simulated
+/// nor compared.
+struct RestrictedTest {
+  std::string name;
+  int steps = 0;      ///< in the data
+  int kept = 0;       ///< 0: the test is left out
+  double held = 0;    ///< the centre strain across the pull at the first step
+  double pulled = 0;  ///< the pulled centre strain at the last kept step (at the first when none)
+};
+struct Restriction {
+  std::vector<fem::TestModel> models;  ///< the kept tests, their loads cut
+  Experiment experiment;               ///< their data, cut at the same step
+  std::vector<RestrictedTest> tests;   ///< every test, in the experiment's order
+};
+/// Throws InputError, key `data.domain`, for a test without centre strains (see
+/// test_surface_points) and when no test is kept. models[i] belongs to experiment.tests[i].
+Restriction restrict_to_domain(const std::vector<fem::TestModel>& models, const Experiment& experiment,
+                               const StrainDomain& domain, int nearest = 6);
 
 }  // namespace tricot::ident

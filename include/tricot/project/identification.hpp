@@ -24,6 +24,9 @@
 namespace tricot::project {
 
 /// A project's model of its experiment, ready for ident::identify.
+/// Eq. 9's points: [0] course, [1] wale.
+using SurfacePoints = std::array<std::vector<ident::SurfacePoint>, 2>;
+
 struct Project {
   std::unique_ptr<fem::Law> law;
   fem::SolveOptions solver;
@@ -33,14 +36,19 @@ struct Project {
   std::unique_ptr<ident::Objective> objective;
   ident::StrainDomain eq9_practical;  ///< [eq9] practical_course, practical_wale
   int eq9_nearest = 6;                ///< [eq9] nearest
+  /// Eq. 9's experimental points of every test of the experiment (a restricted run included).
+  SurfacePoints eq9_points;
+  /// [data] domain_course, domain_wale given: what the restriction kept of each test (the models
+  /// and the objective hold the kept tests only); empty otherwise.
+  std::vector<ident::RestrictedTest> restriction;
   ident::IdentifiabilityOptions identifiability;  ///< [identifiability] (sigma2 from the run)
   /// [stability] enabled: the objective with the material-stability barrier; LM minimises it.
   std::unique_ptr<ident::StabilizedObjective> stability;
 };
 
-/// Eq. 9's experimental points of an objective's data (THEORY §9 [choice]): [0] course (tests with
+/// Eq. 9's experimental points of tests and their data (THEORY §9 [choice]): [0] course (tests with
 /// material_angle 90), [1] wale (angle 0), one per step, from ident::test_surface_points.
-std::array<std::vector<ident::SurfacePoint>, 2> eq9_points(const ident::Objective& objective, int nearest);
+SurfacePoints eq9_points(const std::vector<fem::TestModel>& models, const ident::Experiment& experiment, int nearest);
 /// Checks the spec (its validate()), reads its experiment (relative to `base`) and builds its
 /// objective. Throws InputError located at the spec's keys (FileError for a missing file or folder).
 Project build_project(const IdentificationSpec& spec, const std::filesystem::path& base);

@@ -83,9 +83,14 @@ struct DataSpec {
   double field = ident::DataWeights{}.field;
   bool field_uv = ident::DataWeights{}.field_uv;
   std::string field_sigma = "group";  ///< group or per_point
+  /// [min, max] εC and εW of a domain-restricted identification (ident::restrict_to_domain); both
+  /// unset: every step of every test. One unset: that direction is not restricted.
+  std::optional<io::Reals> domain_course, domain_wale;
   Origin origin{"data"};
 
   static DataSpec from_config(const io::Node& table);
+  /// The restriction's domain (validated), or nullopt when neither key is given.
+  std::optional<ident::StrainDomain> domain() const;
 };
 
 /// [eq9]: the practical domain and the centre-strain fit of eq. 9 (THEORY §9).
