@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <utility>
 
 namespace tricot::cli {
 
@@ -41,9 +42,18 @@ void Console::on_log(const std::string& line) {
   std::fputs((line + "\n").c_str(), stderr);
 }
 
+void Console::line_per_step(std::string stage) {
+  std::lock_guard lock(mutex_);
+  per_step_stage_ = std::move(stage);
+}
+
 void Console::on_progress(const Progress& p) {
   if (quiet_) return;
   std::lock_guard lock(mutex_);
+  if (!tty_ && !per_step_stage_.empty() && p.stage == per_step_stage_) {
+    if (!p.detail.empty()) std::fprintf(stderr, "%s: %s (%zu/%zu)\n", p.stage.c_str(), p.detail.c_str(), p.done, p.total);
+    return;
+  }
   const auto now = std::chrono::steady_clock::now();
   if (p.stage != stage_) {
     clear_line();

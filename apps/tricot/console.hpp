@@ -21,6 +21,10 @@ class Console {
   project::Log log();
   /// Prints a line to stdout (results, tables), finishing any progress line first.
   void print(const std::string& line);
+  /// Off a terminal (a log file, a batch job), each progress report of `stage` that carries a detail
+  /// gets a line of its own, "stage: detail (done/total)", instead of one line every few seconds:
+  /// for a long job whose every step is worth a line (tricot dic's frames). On a terminal, unchanged.
+  void line_per_step(std::string stage);
 
  private:
   void on_progress(const Progress& p);
@@ -29,7 +33,7 @@ class Console {
 
   bool verbose_, quiet_, tty_;
   std::mutex mutex_;
-  std::string stage_;
+  std::string stage_, per_step_stage_;
   std::chrono::steady_clock::time_point stage_start_, last_print_;
   bool line_open_ = false;
 };

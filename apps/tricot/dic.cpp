@@ -7,8 +7,6 @@
 #include <filesystem>
 #include <memory>
 
-#include <unistd.h>
-
 #include "console.hpp"
 #include "tricot/project/dic_run.hpp"
 #include "verbs.hpp"
@@ -82,19 +80,8 @@ ExitCode run_dic(const DicArgs& a) {
     throw InputError({"command line", 0, "IMAGE"}, "no image given", {}, "the reference image, then the frames");
   const project::DicSpec spec = project::dic_spec(config, a.flags);
   Console console(a.verbose, a.quiet);
-  project::Log log = console.log();
-  // Off a terminal (a log file, a batch job), one line per correlated frame instead of the console's
-  // throttled progress line; on a terminal, the progress line alone.
-  if (!a.quiet && isatty(fileno(stderr)) == 0) {
-    const Reporter console_reporter = log.reporter();
-    Reporter per_frame{[console_reporter](const Progress& p) {
-                         if (p.stage != "dic") return console_reporter.report(p);
-                         if (!p.detail.empty())
-                           std::fprintf(stderr, "dic: %s (%zu/%zu)\n", p.detail.c_str(), p.done, p.total);
-                       },
-                       console_reporter.log};
-    log = project::Log(per_frame, [&console](const std::string& l) { console.print(l); });
-  }
+  console.line_per_step("dic");  // off a terminal, one line per correlated frame
+  const project::Log log = console.log();
   project::DicRunOptions options;
   options.resume = a.resume;
   options.keep_frames = false;  // streamed: the files hold the frames
