@@ -134,7 +134,12 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
       tests[t.name] = {{"steps", t.steps}, {"kept", t.kept}, {"held", t.held}, {"pulled", t.pulled}};
     result["domain"] = {{"tests", tests}};
   }
-  result["identifiability"] = identifiability_json(*objective, outcome.result, P.identifiability);
+  // ∂r/∂J at the answer, for the identifiability report and the design suggestion.
+  const ident::Evaluation at_answer = outcome.result.termination == ident::Termination::fe_failure
+                                          ? ident::Evaluation{}
+                                          : objective->evaluate(outcome.result.parameters, true);
+  result["identifiability"] = identifiability_json(*objective, outcome.result, at_answer, P.identifiability);
+  if (spec.design) result["design"] = design_json(spec, P, outcome.result, at_answer, log);
   io::write_atomic(dir / "result.json", result.dump(2) + "\n");
   write_history(dir / "history.csv", outcome.result);
   if (req.plots) fs::create_directories(dir / "plots");

@@ -3,11 +3,16 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "json.hpp"
+#include "tricot/core/error.hpp"
+#include "tricot/core/format.hpp"
 #include "tricot/fem/solver.hpp"
+#include "tricot/ident/identifiability.hpp"
+#include "tricot/ident/synthetic.hpp"
 #include "tricot/io/files.hpp"
 
 namespace tricot::project {
@@ -174,9 +179,7 @@ unset multiplot
 }
 
 json identifiability_json(const ident::Objective& objective, const ident::IdentifyResult& r,
-                          ident::IdentifiabilityOptions options) {
-  if (r.termination == ident::Termination::fe_failure) return nullptr;
-  const ident::Evaluation e = objective.evaluate(r.parameters, true);
+                          const ident::Evaluation& e, ident::IdentifiabilityOptions options) {
   if (!e.ok || e.jacobian.cols() != r.parameters.size()) return nullptr;
   const auto& tests = objective.experiment().tests;
   std::vector<std::vector<int>> rows(tests.size());
@@ -198,6 +201,76 @@ json identifiability_json(const ident::Objective& objective, const ident::Identi
           {"smallest_eigenvalue", id.smallest_eigenvalue},
           {"largest_eigenvalue", id.largest_eigenvalue},
           {"tests", per_test}};
+}
+
+json design_json(const IdentificationSpec& spec, const Project& P, const ident::IdentifyResult& r,
+                 const ident::Evaluation& at_answer, const Log& log) {
+  if (!spec.design || !at_answer.ok || at_answer.jacobian.cols() != r.parameters.size()) return nullptr;
+  const ident::Objective& objective = *P.objective;
+  const std::unique_ptr<fem::Law> law = objective.law_at(r.parameters);
+  json rows = json::array();
+  std::vector<ident::DesignCandidate> candidates;
+  std::vector<std::size_t> row_of;  // candidates[i] is rows[row_of[i]]
+  for (const char* pull : {"wale", "course"}) {
+    // The first rig test of this pull with data in the objective: the template of the candidates.
+    const TestSpec* tpl = nullptr;
+    const ident::TestData* data = nullptr;
+    std::vector<double> held;
+    for (const TestSpec& t : spec.test) {
+      if (t.test_kind() != TestKind::rig || t.pull != pull) continue;
+      held.push_back(t.transverse_strain);
+      const ident::TestData* d = objective.experiment().find(t.name);
+      if (!tpl && d) tpl = &t, data = d;
+    }
+    if (!tpl) continue;
+    for (double v : spec.design->transverse_strains) {
+      if (std::any_of(held.begin(), held.end(), [v](double h) { return std::abs(h - v) < 1e-9; })) continue;
+      TestSpec c = *tpl;
+      c.name = fmt::format("{}-held-{}", pull, format_number(v));
+      c.transverse_strain = v;
+      json row = {{"name", c.name}, {"pull", pull}, {"transverse_strain", v}};
+      try {
+        fem::TestModel model = c.model(spec.mesh, spec.rig);
+        const fem::SimulationResult sim = fem::simulate(model, *law, P.solver);
+        if (!sim.usable()) throw InputError({}, sim.message);
+        ident::TestData d = ident::measure(model, sim, data->points, data->point_ids, data->field_kind);
+        if (data->edge_displacement.empty()) d.edge_displacement.clear();
+        if (data->edge_force.empty()) d.edge_force.clear();
+        if (!data->has_field()) d.points.resize(2, 0), d.point_ids.clear(), d.u.resize(0, 0), d.v.resize(0, 0);
+        d.sigma = data->sigma;
+        d.sigma_u = data->sigma_u, d.sigma_v = data->sigma_v;  // same steps and points as the template
+        ident::Experiment e;
+        e.tests.push_back(std::move(d));
+        const ident::Objective one({model}, e, *law, objective.parameters(), P.objective_options);
+        const ident::Evaluation ec = one.evaluate(r.parameters, true);
+        if (!ec.ok) throw InputError({}, ec.message);
+        candidates.push_back({c.name, ec.jacobian});
+        row_of.push_back(rows.size());
+      } catch (const std::exception& ex) {
+        row["failed"] = ex.what();
+      }
+      rows.push_back(row);
+    }
+  }
+  if (candidates.empty()) return nullptr;
+  Eigen::VectorXd scale(r.parameters.size());
+  for (Eigen::Index k = 0; k < scale.size(); ++k) scale(k) = objective.parameters()[k].resolved_scale();
+  const auto criterion = spec.design->criterion == "a_optimal" ? ident::DesignCriterion::a_optimal
+                                                                : ident::DesignCriterion::d_optimal;
+  const ident::DesignSuggestion s = ident::suggest_test(at_answer.jacobian, r.parameters, scale, candidates, criterion);
+  const double sigma = r.uncertainty.sigma2 > 0 && std::isfinite(r.uncertainty.sigma2) ? std::sqrt(r.uncertainty.sigma2) : 1.0;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    rows[row_of[i]]["score"] = s.score[i];
+    rows[row_of[i]]["worst_relative_std_error_with"] = sigma * s.worst_std_error_with[i];
+  }
+  const std::string& best = candidates[static_cast<std::size_t>(s.best)].name;
+  log.print(fmt::format("identify: design ({}): the added test that helps most: {} (worst relative standard error {:.3g} -> {:.3g})",
+                        spec.design->criterion, best, sigma * s.worst_std_error_now,
+                        sigma * s.worst_std_error_with[static_cast<std::size_t>(s.best)]));
+  return {{"criterion", spec.design->criterion},
+          {"worst_relative_std_error_now", sigma * s.worst_std_error_now},
+          {"best", best},
+          {"candidates", rows}};
 }
 
 void write_history(const fs::path& file, const ident::IdentifyResult& r) {

@@ -25,9 +25,16 @@ void write_eq9(const std::filesystem::path& dir, const SurfacePoints& points, co
 /// result.json's "identifiability" (ident::identifiability at the answer, rows grouped by test):
 /// {"relative_std_error": {name: …}, "pinned": {name: bool}, "least_identifiable": {name: …},
 /// "smallest_eigenvalue", "largest_eigenvalue", "tests": {test: {"trace_share", "weak_direction_share"}}};
-/// null when the model cannot give ∂r/∂J there.
+/// null when `at_answer` (the objective's evaluation at the answer, with ∂r/∂J) is not usable.
 json identifiability_json(const ident::Objective& objective, const ident::IdentifyResult& r,
-                          ident::IdentifiabilityOptions options);
+                          const ident::Evaluation& at_answer, ident::IdentifiabilityOptions options);
+/// result.json's "design" ([design]; ident::suggest_test): {"criterion", "worst_relative_std_error_now",
+/// "best", "candidates": [{"name", "pull", "transverse_strain", "score", "worst_relative_std_error_with"}
+/// or {…, "failed": message}]}. Each candidate is the first rig test of its pull held at another strain,
+/// measured at that test's field points from the identified law, its rows scaled as the data's. Null
+/// when `at_answer` is not usable or no candidate could be simulated.
+json design_json(const IdentificationSpec& spec, const Project& P, const ident::IdentifyResult& r,
+                 const ident::Evaluation& at_answer, const Log& log);
 /// DIR/history.csv: iteration, objective, one column per coefficient.
 void write_history(const std::filesystem::path& file, const ident::IdentifyResult& r);
 /// DIR/plots/history.png: f and every coefficient (over the truth or the identified value) per iteration.

@@ -230,6 +230,26 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
     }
   }
 
+  // [design]: result.json's "design", the added test that would help most.
+  try {
+    const json result = json::parse(io::read_text(out / "result.json"));
+    if (result.contains("design") && result["design"].is_object()) {
+      const json& g = result["design"];
+      NumericTable t{fmt::format("Which added test would help most ({}; best: {}): worst relative standard error now {:.3g}",
+                                 g.value("criterion", ""), g.value("best", ""),
+                                 g.value("worst_relative_std_error_now", std::nan(""))),
+                     "candidate", {"held strain", "score", "worst rel. s.e. with it"}, {}, {}, 4, {}};
+      for (const json& c : g["candidates"]) {
+        if (c.contains("failed")) continue;
+        t.labels.push_back(c.value("name", ""));
+        t.rows.push_back({c.value("transverse_strain", std::nan("")), c.value("score", std::nan("")),
+                          c.value("worst_relative_std_error_with", std::nan(""))});
+      }
+      d.section(kIdentifiability).table(std::move(t));
+    }
+  } catch (const std::exception&) {  // the report shows what it can
+  }
+
   // Fits.
   {
     for (const auto& m : P.models) {

@@ -91,6 +91,19 @@ SectionSpec data_section() {
   return s;
 }
 
+SectionSpec design_section() {
+  SectionSpec s{"design",
+                "result.json's \"design\" (beyond the paper): which added test would help most. For each pull\n"
+                "direction of the rig tests, the first such test held at each candidate transverse strain is\n"
+                "simulated with the identified law; its sensitivities are added to the information matrix, and\n"
+                "the candidates are ranked (D-optimal: the largest det; A-optimal: the smallest mean variance).",
+                false, {}, {}};
+  s.keys = {key("transverse_strains", io::Reals{}, "Candidate held strains across the pull (Green–Lagrange), e.g. [0.1, 0.3, 0.85].",
+                -0.4, 10),
+            key("criterion", std::string("d_optimal"), "d_optimal or a_optimal.", -kInf, kInf, {"d_optimal", "a_optimal"})};
+  return s;
+}
+
 SectionSpec identify_section() {
   const ident::IdentifyOptions o;
   SectionSpec s{"identify", "Levenberg–Marquardt and its stopping criteria (THEORY §3, paper eqs. 2 and 3).", false, {},
@@ -212,6 +225,13 @@ Model check_model(const IdentificationSpec& spec) {
   check_key(d.origin, data, "edge_force", d.edge_force);
   check_key(d.origin, data, "field", d.field);
   check_key(d.origin, data, "field_sigma", d.field_sigma);
+  if (spec.design) {
+    const SectionSpec table = design_section();
+    check_key(spec.design->origin, table, "transverse_strains", spec.design->transverse_strains);
+    check_key(spec.design->origin, table, "criterion", spec.design->criterion);
+    if (spec.design->transverse_strains.empty())
+      spec.design->origin.fail("transverse_strains", "no candidate", "[]", "at least one held strain");
+  }
   m.practical = spec.eq9.practical();
   (void)d.domain();
   return m;
@@ -323,6 +343,7 @@ io::SectionSpec identify_schema() {
   root.sections.push_back(data_section());
   root.sections.push_back(identify_section());
   root.sections.push_back(eq9_section());
+  root.sections.push_back(design_section());
   root.sections.push_back(identifiability_section());
   root.sections.push_back(stability_section());
   return root;
@@ -499,6 +520,13 @@ IdentificationSpec read_identification_spec(const io::Node& root) {
     b.weight = root.section("stability").real("weight");
     s.stability = b;
   }
+  if (const Node& d = root.section("design"); d.given("transverse_strains")) {
+    DesignSpec ds;
+    ds.transverse_strains = d.reals("transverse_strains");
+    ds.criterion = d.string("criterion");
+    ds.origin = Origin(d);
+    s.design = ds;
+  }
   s.file = root.file();
   return s;
 }
@@ -575,6 +603,7 @@ Project build_project(const IdentificationSpec& spec, const fs::path& base) {
   oo.weights.field_uv = dn.field_uv;
   oo.solver = P.solver;
   oo.threads = P.options.threads;
+  P.objective_options = oo;
   try {
     P.objective = std::make_unique<ident::Objective>(P.models, experiment, *P.law, m.parameters, oo);
   } catch (const InputError& e) {

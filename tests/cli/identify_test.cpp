@@ -364,5 +364,81 @@ TEST_F(Identify, AStabilityBarrierOnALawThatIsNotAResponseSurfaceNamesTheLawType
   EXPECT_NE(r.err.find("needs a response surface"), std::string::npos) << r.err;
 }
 
+// [design] (beyond the paper): each pull's first rig test held at the candidate strains not already
+// tested, ranked by D-optimality. Adding a test's information can only shrink the covariance
+// ((M + M_c)⁻¹ ≤ M⁻¹), so no candidate raises the worst relative standard error.
+TEST(IdentifyDesign, RanksTheAddedRigTestsAndNoneRaisesTheWorstError) {
+  const fs::path dir = scratch_dir("identify_design_" + std::to_string(::getpid()));
+  const std::string rig = R"([mesh]
+element = "Q8"
+nx = 4
+ny = 4
+[rig]
+guide_gap = 0.15
+guide_taper = 0.15
+tie_stiffness = 2.0
+clip_tie_stiffness = 2.0
+clip_taper = 0.15
+clips_follow_guide = true
+setting_steps = 2
+[[test]]
+name = "wale-000"
+kind = "rig"
+side = 110.0
+pull = "wale"
+transverse_strain = 0.0
+pull_strain = 0.2
+steps = 3
+[[test]]
+name = "course-000"
+kind = "rig"
+side = 110.0
+pull = "course"
+transverse_strain = 0.0
+pull_strain = 0.3
+steps = 3
+)";
+  write_file(dir / "experiment.toml", rig + "[law]\ntype = \"reference_fabric\"\n[synth]\nfield = true\nnx = 3\nny = 3\ninset = 2.75\n");
+  const auto s = run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "exp").string() + " -q");
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  write_file(dir / "project.toml",
+             rig + R"([law]
+type = "response_surface"
+[law.response_surface]
+preset = "paper14"
+coefficients = [0.25, 0, 0, 0, 0, 0.01, 0.05, 0, 0.06, 0, 0, 0.01, 0.05, 0]
+shear_stiffness = 0.05
+[experiment]
+dir = "exp"
+[[parameter]]
+name = "a1"
+[[parameter]]
+name = "c1"
+[identify]
+max_iterations = 3
+stability_test = false
+[design]
+transverse_strains = [0.0, 0.2]
+)");
+  const auto r = run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " --no-plots");
+  ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 4) << r.err;  // 4: LM stopped at max_iterations
+  const json d = json::parse(io::read_text(dir / "out" / "result.json"))["design"];
+  ASSERT_TRUE(d.is_object()) << d;
+  EXPECT_EQ(d["criterion"], "d_optimal");
+  // 0.0 is tested in both pulls already: one candidate per pull, held at 0.2.
+  ASSERT_EQ(d["candidates"].size(), 2u) << d;
+  const double now = d["worst_relative_std_error_now"].get<double>();
+  double best_score = -1e300;
+  std::string best;
+  for (const json& c : d["candidates"]) {
+    ASSERT_FALSE(c.contains("failed")) << c;
+    EXPECT_EQ(c["transverse_strain"].get<double>(), 0.2);
+    EXPECT_LE(c["worst_relative_std_error_with"].get<double>(), now * (1 + 1e-9)) << c;
+    if (c["score"].get<double>() > best_score) best_score = c["score"].get<double>(), best = c["name"].get<std::string>();
+  }
+  EXPECT_EQ(d["best"].get<std::string>(), best);
+  EXPECT_NE(r.out.find("the added test that helps most"), std::string::npos) << r.out;
+}
+
 }  // namespace
 }  // namespace tricot::project

@@ -34,6 +34,7 @@ struct Project {
   ident::IdentifyOptions options;  ///< from [identify]
   std::optional<Truth> truth;      ///< the experiment's truth.json, when it has one
   std::unique_ptr<ident::Objective> objective;
+  ident::ObjectiveOptions objective_options;  ///< the objective's ([data] weights, solver, threads)
   ident::StrainDomain eq9_practical;  ///< [eq9] practical_course, practical_wale
   int eq9_nearest = 6;                ///< [eq9] nearest
   /// Eq. 9's experimental points of every test of the experiment (a restricted run included).

@@ -111,6 +111,14 @@ struct IdentifiabilitySpec {
   Origin origin{"identifiability"};
 };
 
+/// [design]: the next test to run (beyond the paper; ident::suggest_test): for each pull of the rig
+/// tests, the first such test held at each candidate transverse strain, ranked by the criterion.
+struct DesignSpec {
+  io::Reals transverse_strains;            ///< the candidate held strains (Green–Lagrange)
+  std::string criterion = "d_optimal";     ///< d_optimal or a_optimal
+  Origin origin{"design"};
+};
+
 /// The whole project file. The case's tables are the base's fields (mesh, law, solver, rig, test).
 struct IdentificationSpec : CaseSpec {
   ProjectExperimentSpec experiment;
@@ -121,6 +129,8 @@ struct IdentificationSpec : CaseSpec {
   IdentifiabilitySpec identifiability;
   /// [stability] enabled: the material-stability barrier's options (ident/stability_barrier.hpp).
   std::optional<ident::StabilityBarrierOptions> stability;
+  /// [design] with transverse_strains: result.json's "design".
+  std::optional<DesignSpec> design;
   /// The project file ("" when built in code): errors of the objective name it; the report shows it.
   std::filesystem::path file;
 
