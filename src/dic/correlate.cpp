@@ -91,7 +91,10 @@ class Propagation {
           if (n >= 0 && open(n) && !claimed[n]) claimed[n] = 1, tasks.emplace_back(n, parent);
       }
       out.resize(tasks.size());
-#pragma omp parallel for schedule(dynamic, 4)
+      result_.round_tasks.push_back(static_cast<int>(tasks.size()));
+      // one task at a time: a round holds ~40 subsets of ~35 µs, and chunks of 4 left a thread idle for
+      // up to 4 subsets at each round's barrier (issue 16)
+#pragma omp parallel for schedule(dynamic, 1)
       for (int t = 0; t < static_cast<int>(tasks.size()); ++t) {
         const auto [k, parent] = tasks[t];
         out[t] = icgn(reference_, current_, centres_[k], shift_shape(result_.points[parent].p, centres_[k] - centres_[parent]), options_.icgn);

@@ -36,6 +36,8 @@ void IcgnOptions::validate() const {
   if (!(tolerance > 0) || !std::isfinite(tolerance)) bad("dic.tolerance", std::to_string(tolerance), "> 0 px");
   if (!(min_zncc >= 0 && min_zncc <= 1)) bad("dic.min_zncc", std::to_string(min_zncc), "0 to 1");
   if (!(min_texture >= 0 && min_texture < 1)) bad("dic.min_texture", std::to_string(min_texture), "0 to 1");
+  if (!(weight_sigma == 0 || (weight_sigma >= 1 && weight_sigma <= 1000)))
+    bad("dic.weight_sigma", std::to_string(weight_sigma), "0 (uniform weights) or 1 to 1000 px");
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -110,9 +112,17 @@ template <int NP>
 struct Reference {
   using VecP = Eigen::Matrix<double, NP, 1>;
   using MatP = Eigen::Matrix<double, NP, NP>;
-  std::vector<float> fc;  ///< f − f̄, n values, row-major over the subset
-  std::vector<float> J;   ///< NP planes of n values: J[a·n + k]
-  double df = 0;          ///< √Σ (f − f̄)²
+  std::vector<float> fc;  ///< f − f̄, n values, row-major over the subset (× w when weighted)
+  std::vector<float> J;   ///< NP planes of n values: J[a·n + k] (× w when weighted)
+  double df = 0;          ///< √Σ w (f − f̄)²
+  /// Gaussian window (IcgnOptions::weight_sigma > 0): w over the subset, row-major, for the size and σ
+  /// in w_N, w_sigma; empty for uniform weights. sw = Σ w (n when uniform).
+  std::vector<float> w;
+  int w_N = 0;
+  double w_sigma = 0;
+  double sw = 0;
+  double sw2 = 0;         ///< Σ w² (n when uniform)
+  MatP H2;                ///< Σ w² J Jᵀ (weighted only: the middle of the covariance sandwich)
   std::vector<float> row; ///< g − f̄ over the warped subset, row-major (n values)
   float fm = 0;           ///< f̄: subtracted from g too, so that the single-precision row sums stay well conditioned
   MatP H;
@@ -152,6 +162,21 @@ bool read_reference(const Frame& ref, const Vec2& c, const IcgnOptions& o, Refer
   R.fc.resize(n);
   R.J.resize(std::size_t(n) * NP);
   R.row.resize(n);
+  const bool weighted = o.weight_sigma > 0;
+  if (!weighted) {
+    R.w.clear();
+    R.sw = R.sw2 = n;
+  } else if (R.w_N != N || R.w_sigma != o.weight_sigma || R.w.size() != std::size_t(n)) {
+    R.w.resize(n);
+    const double a = -0.5 / (o.weight_sigma * o.weight_sigma);
+    double sw = 0, sw2 = 0;
+    for (int dy = -M, k = 0; dy <= M; ++dy)
+      for (int dx = -M; dx <= M; ++dx, ++k) {
+        const float w = R.w[k] = static_cast<float>(std::exp(a * (dx * dx + dy * dy)));
+        sw += w, sw2 += double(w) * w;
+      }
+    R.w_N = N, R.w_sigma = o.weight_sigma, R.sw = sw, R.sw2 = sw2;
+  }
   const bool on_pixels = is_integer(c(0)) && is_integer(c(1));
   double sum = 0;
   int k = 0;
@@ -169,36 +194,80 @@ bool read_reference(const Frame& ref, const Vec2& c, const IcgnOptions& o, Refer
       sum += f;
       steepest<NP>(fx, fy, float(dx), float(dy), R.J.data(), std::size_t(n), std::size_t(k));
     }
-  const double fm = sum / n;
+  if (weighted) {  // the weighted mean f̄_w
+    sum = 0;
+    for (int k = 0; k < n; ++k) sum += double(R.w[k]) * R.fc[k];
+  }
+  const double fm = sum / R.sw;
   R.fm = static_cast<float>(fm);
   double ss = 0;
-  for (float& v : R.fc) {
-    v = static_cast<float>(v - fm);
-    ss += double(v) * v;
+  if (!weighted) {
+    for (float& v : R.fc) {
+      v = static_cast<float>(v - fm);
+      ss += double(v) * v;
+    }
+  } else {
+    for (int k = 0; k < n; ++k) {
+      R.fc[k] = static_cast<float>(R.fc[k] - fm);
+      ss += double(R.w[k]) * R.fc[k] * R.fc[k];
+    }
   }
   R.df = std::sqrt(ss);
   // H = Σ J Jᵀ, Σ J and Σ (f − f̄) J: dot products of the planes (a small GEMM costs more in set-up)
   const float* fc = R.fc.data();
-  for (int a = 0; a < NP; ++a) {
-    const float* Ja = R.J.data() + std::size_t(a) * n;
-    float sj = 0, sfj = 0;
+  if (!weighted) {
+    for (int a = 0; a < NP; ++a) {
+      const float* Ja = R.J.data() + std::size_t(a) * n;
+      float sj = 0, sfj = 0;
 #pragma omp simd reduction(+ : sj, sfj)
-    for (int k = 0; k < n; ++k) sj += Ja[k], sfj += fc[k] * Ja[k];
-    R.sum_J(a) = sj, R.sum_fJ(a) = sfj;
-    for (int b = a; b < NP; ++b) {
-      const float* Jb = R.J.data() + std::size_t(b) * n;
-      float hab = 0;
+      for (int k = 0; k < n; ++k) sj += Ja[k], sfj += fc[k] * Ja[k];
+      R.sum_J(a) = sj, R.sum_fJ(a) = sfj;
+      for (int b = a; b < NP; ++b) {
+        const float* Jb = R.J.data() + std::size_t(b) * n;
+        float hab = 0;
 #pragma omp simd reduction(+ : hab)
-      for (int k = 0; k < n; ++k) hab += Ja[k] * Jb[k];
-      R.H(a, b) = R.H(b, a) = hab;
+        for (int k = 0; k < n; ++k) hab += Ja[k] * Jb[k];
+        R.H(a, b) = R.H(b, a) = hab;
+      }
     }
+  } else {
+    // H = Σ w J Jᵀ, Σ w J, Σ w (f − f̄_w) J; then fc and J are stored times w, so that the iterations'
+    // sums Σ (w fc) h and Σ h (w J) are the weighted ones with the same loops; H2 = Σ (wJ)(wJ)ᵀ
+    const float* w = R.w.data();
+    for (int a = 0; a < NP; ++a) {
+      const float* Ja = R.J.data() + std::size_t(a) * n;
+      float sj = 0, sfj = 0;
+#pragma omp simd reduction(+ : sj, sfj)
+      for (int k = 0; k < n; ++k) sj += w[k] * Ja[k], sfj += w[k] * fc[k] * Ja[k];
+      R.sum_J(a) = sj, R.sum_fJ(a) = sfj;
+      for (int b = a; b < NP; ++b) {
+        const float* Jb = R.J.data() + std::size_t(b) * n;
+        float hab = 0;
+#pragma omp simd reduction(+ : hab)
+        for (int k = 0; k < n; ++k) hab += w[k] * Ja[k] * Jb[k];
+        R.H(a, b) = R.H(b, a) = hab;
+      }
+    }
+    for (int k = 0; k < n; ++k) R.fc[k] *= w[k];
+    for (int a = 0; a < NP; ++a)
+      for (int k = 0; k < n; ++k) R.J[std::size_t(a) * n + k] *= w[k];
+    for (int a = 0; a < NP; ++a)
+      for (int b = a; b < NP; ++b) {
+        const float* Ja = R.J.data() + std::size_t(a) * n;
+        const float* Jb = R.J.data() + std::size_t(b) * n;
+        float hab = 0;
+#pragma omp simd reduction(+ : hab)
+        for (int k = 0; k < n; ++k) hab += Ja[k] * Jb[k];
+        R.H2(a, b) = R.H2(b, a) = hab;
+      }
   }
   // texture: gray-level spread and the weakest direction of the gradient's second moment
   constexpr int iy = NP == 6 ? 3 : 6;
   const double sxx = R.H(0, 0), syy = R.H(iy, iy), sxy = R.H(0, iy);
   const double level = o.min_texture * ref.image.full_scale;
   const double lambda_min = 0.5 * (sxx + syy) - std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
-  if (R.df / std::sqrt(double(n)) < level || lambda_min / n < (level / 10) * (level / 10) || R.df == 0) {
+  const double nw = weighted ? R.sw : double(n);  // the weighted count
+  if (R.df / std::sqrt(nw) < level || lambda_min / nw < (level / 10) * (level / 10) || R.df == 0) {
     status = PointStatus::no_texture;
     return false;
   }
@@ -274,25 +343,34 @@ inline void spline_row(const float* origin, int stride, double X0, double Y0, do
 /// N = k σ_f² Σ_ξ blockdiag(ξ ξᵀ, ξ ξᵀ), ξ the shape function's monomials, σ_f² ≈ s²/2 and
 /// k = 6√3 − 9 ≈ 1.392 the white-noise power gain of the cubic B-spline derivative at a node. At the
 /// converged point Σ J r = 0, so δp = H0⁻¹ Σ J (n_f − n_g) and Cov(p) = s² H0⁻¹ H H0⁻¹.
+///
+/// With a Gaussian window w (IcgnOptions::weight_sigma), Σ w r² = 2 Δf_w² (1 − ZNCC) gives
+/// s² = Σ w r² / (Σw (n − P)/n), N = k σ_f² Σ_ξ w blockdiag(ξ ξᵀ, ξ ξᵀ), and δp = H0⁻¹ Σ w J (n_f − n_g), so
+/// Cov(p) = s² H0⁻¹ H2 H0⁻¹ with H2 = Σ w² J Jᵀ (which holds the noise gradient too, like H above).
 template <int NP>
 Vec2 match_sigma(const Reference<NP>& R, int N, double zncc) {
   using MatP = Eigen::Matrix<double, NP, NP>;
   constexpr int K = NP / 2, iv = K;
   const int M = N / 2, n = N * N;
-  const double s2 = std::max(0.0, 2 * R.df * R.df * (1 - zncc)) / std::max(1, n - NP);
-  // Σ ξ ξᵀ over the subset, cached per subset size
+  const bool weighted = !R.w.empty();
+  const double s2 = weighted ? std::max(0.0, 2 * R.df * R.df * (1 - zncc)) / (R.sw * std::max(1, n - NP) / n)
+                             : std::max(0.0, 2 * R.df * R.df * (1 - zncc)) / std::max(1, n - NP);
+  // Σ w ξ ξᵀ over the subset (w = 1 when uniform), cached per subset size and window
   thread_local int cached_N = 0;
+  thread_local double cached_sigma = -1;
   thread_local Eigen::Matrix<double, K, K> Xi;
-  if (cached_N != N) {
+  const double sigma_w = weighted ? R.w_sigma : 0;
+  if (cached_N != N || cached_sigma != sigma_w) {
     Xi.setZero();
-    for (int y = -M; y <= M; ++y)
-      for (int x = -M; x <= M; ++x) {
+    for (int y = -M, k = 0; y <= M; ++y)
+      for (int x = -M; x <= M; ++x, ++k) {
         Eigen::Matrix<double, K, 1> xi;
         if constexpr (K == 3) xi << 1, x, y;
         else xi << 1, x, y, 0.5 * x * x, double(x) * y, 0.5 * y * y;
-        Xi.noalias() += xi * xi.transpose();
+        if (weighted) Xi.noalias() += double(R.w[k]) * xi * xi.transpose();
+        else Xi.noalias() += xi * xi.transpose();
       }
-    cached_N = N;
+    cached_N = N, cached_sigma = sigma_w;
   }
   constexpr double k = 1.3923048454132637;  // 6√3 − 9
   MatP H0 = R.H;
@@ -302,9 +380,12 @@ Vec2 match_sigma(const Reference<NP>& R, int N, double zncc) {
   MatP cov;
   if (H0_ldlt.info() == Eigen::Success && H0_ldlt.isPositive() && H0_ldlt.rcond() > 1e-12) {
     const MatP A = H0_ldlt.solve(MatP::Identity());
-    cov = s2 * A * R.H * A;
-  } else {  // noise comparable with the texture: no correction
+    cov = s2 * A * (weighted ? R.H2 : R.H) * A;
+  } else if (!weighted) {  // noise comparable with the texture: no correction
     cov = s2 * R.H_ldlt.solve(MatP::Identity());
+  } else {
+    const MatP A = R.H_ldlt.solve(MatP::Identity());
+    cov = s2 * A * R.H2 * A;
   }
   return {std::sqrt(std::max(0.0, cov(0, 0))), std::sqrt(std::max(0.0, cov(iv, iv)))};
 }
@@ -349,6 +430,8 @@ PointMatch icgn_order(const Frame& ref, const Frame& cur, const Vec2& c, const S
     const float* const J = R.J.data();
     const float* const fc = R.fc.data();
     const float fm = R.fm;  // locals: the compiler cannot keep thread-local members in registers across stores to h
+    const float* const weights = R.w.empty() ? nullptr : R.w.data();
+    const double sw = R.sw;
     for (int y = -M, row = 0; y <= M; ++y, row += N) {
       float* const h = h0 + row;
       // first-order part of the warp along the row: X = X0 + (1 + ux)·x, Y = Y0 + vx·x
@@ -371,8 +454,16 @@ PointMatch icgn_order(const Frame& ref, const Frame& cur, const Vec2& c, const S
     }
     const float* const h = h0;
     float rg = 0, rgg = 0, rfg = 0;
+    if (weights == nullptr) {
 #pragma omp simd reduction(+ : rg, rgg, rfg)
-    for (int k = 0; k < n; ++k) rg += h[k], rgg += h[k] * h[k], rfg += fc[k] * h[k];
+      for (int k = 0; k < n; ++k) rg += h[k], rgg += h[k] * h[k], rfg += fc[k] * h[k];
+    } else {  // fc and J are stored times w already
+#pragma omp simd reduction(+ : rg, rgg, rfg)
+      for (int k = 0; k < n; ++k) {
+        const float wh = weights[k] * h[k];
+        rg += wh, rgg += wh * h[k], rfg += fc[k] * h[k];
+      }
+    }
     const double sg = rg, sgg = rgg, sfg = rfg;
     VecP sgJ;
     for (int a = 0; a < NP; ++a) {
@@ -382,7 +473,7 @@ PointMatch icgn_order(const Frame& ref, const Frame& cur, const Vec2& c, const S
       for (int k = 0; k < n; ++k) sa += h[k] * Ja[k];
       sgJ(a) = sa;
     }
-    const double hm = sg / n;  // ḡ − f̄
+    const double hm = sg / sw;  // ḡ − f̄ (weighted means when weighted)
     const double dg = std::sqrt(std::max(0.0, sgg - sg * hm));
     if (!(dg > 1e-6 * R.df)) {  // the warped subset is blank
       out.status = PointStatus::low_correlation;
@@ -424,8 +515,27 @@ PointMatch icgn_order(const Frame& ref, const Frame& cur, const Vec2& c, const S
 PointMatch icgn(const Frame& reference, const Frame& current, const Vec2& centre, const Shape& guess,
                 const IcgnOptions& options) {
   options.validate();
-  return options.order == ShapeOrder::first ? icgn_order<6>(reference, current, centre, guess, options)
-                                            : icgn_order<12>(reference, current, centre, guess, options);
+  if (options.order == ShapeOrder::first) return icgn_order<6>(reference, current, centre, guess, options);
+  if (options.order == ShapeOrder::second) return icgn_order<12>(reference, current, centre, guess, options);
+  // automatic: first order, then second order from it, kept when the F-test says it pays (icgn.hpp)
+  const PointMatch first = icgn_order<6>(reference, current, centre, guess, options);
+  if (first.status != PointStatus::ok && first.status != PointStatus::low_correlation) return first;
+  PointMatch second = icgn_order<12>(reference, current, centre, first.p, options);
+  second.iterations += first.iterations;
+  if (second.status != PointStatus::ok && second.status != PointStatus::low_correlation) return first;
+  const Reference<12>& R = reference_scratch<12>();
+  const double n = R.w.empty() ? double(options.subset_size) * options.subset_size : R.sw * R.sw / R.sw2;
+  // F₀.₉₉₉(6, ν) → χ²₆ quantile / 6 = 22.458/6 = 3.743 as ν → ∞; used for every ν (ν ≥ 37 here, where the
+  // exact quantile is higher, so small subsets test at a level somewhat above 0.1 %). The pixels'
+  // residuals are not quite independent (interpolation), so the level is nominal anyway.
+  const double nu = std::max(1.0, n - 12);
+  constexpr double f_crit = 22.4577 / 6;
+  const double ssr1 = std::max(0.0, 1 - first.zncc), ssr2 = std::max(1e-300, 1 - second.zncc);
+  const double F = (ssr1 - ssr2) / 6 / (ssr2 / nu);
+  if (F > f_crit) return second;
+  PointMatch out = first;
+  out.iterations = second.iterations;
+  return out;
 }
 
 bool has_texture(const Frame& reference, const Vec2& centre, const IcgnOptions& options) {

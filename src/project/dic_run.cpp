@@ -309,14 +309,14 @@ std::string fingerprint(const DicSpec& spec, const std::vector<std::string>& ima
   std::string s = fmt::format(
       "subset {} step {} mode {} order {} roi [{}] polygon [{}] mask {} seeds [{}] radius {} max_seeds {} seed_zncc {} "
       "iterations {} tolerance {} min_zncc {} texture {} prefilter {} update {} {} batch {}; strain {} {}; "
-      "physical {} [{}] {} {}; overlays {} {} [{}] {} {} increments {} fields {} {}; points {}\n",
+      "physical {} [{}] {} {}; overlays {} {} [{}] {} {} increments {} fields {} {}; points {}; weight {}\n",
       d.subset_size, d.step, d.mode, d.order, fmt::join(d.roi, ","), fmt::join(d.roi_polygon, ","), d.roi_mask,
       fmt::join(d.seeds, ","), d.search_radius, d.max_seeds, d.seed_min_zncc, d.max_iterations, d.tolerance,
       d.min_zncc, d.min_texture, d.prefilter_sigma, d.update_zncc, d.update_loss, d.batch, spec.strain.window,
       spec.strain.min_fraction, spec.physical.mm_per_px, fmt::join(spec.physical.centre_px, ","),
       spec.physical.angle_deg, spec.physical.y_up, spec.output.overlays, spec.output.overlay_every,
       fmt::join(spec.output.panels, ","), spec.output.panel_width, spec.output.zncc_floor, spec.output.increments,
-      spec.output.fields, spec.output.fields_every, points);
+      spec.output.fields, spec.output.fields_every, points, d.weight_sigma);
   for (const std::string& i : images) s += i + "\n";
   return s;
 }

@@ -36,7 +36,10 @@ io::SectionSpec dic_schema() {
           "reference: every image against the first. auto: keep the reference until the correlation drops,\n"
           "then move it to the previous image (Ncorr's step analysis).",
           -kInf, kInf, {"incremental", "reference", "auto"}),
-      key("order", d0.order, "Shape function: first (affine) or second order.", -kInf, kInf, {"first", "second"}),
+      key("order", d0.order,
+          "Shape function: first (affine) or second order; auto: second order only where an F-test on the\n"
+          "residual says it pays (steep gradients), first order elsewhere (less noise).",
+          -kInf, kInf, {"first", "second", "auto"}),
       key("roi", Reals{}, "Region of interest: [x0, y0, x1, y1] px, a rectangle; [] = the whole image."),
       key("roi_polygon", Reals{}, "Region of interest as a polygon: [x0, y0, x1, y1, x2, y2, ...] px (at least 3 vertices)."),
       key("roi_mask", std::string(""), "Region of interest as a mask image (same size as the reference; white = inside), relative to this file."),
@@ -49,6 +52,9 @@ io::SectionSpec dic_schema() {
       key("min_zncc", d0.min_zncc, "A point whose ZNCC is below this is `low_correlation` (not ok).", 0, 1),
       key("min_texture", d0.min_texture, "Fraction of full scale: a subset whose gray-level spread is below it is `no_texture`.", 0, 0.99),
       key("prefilter_sigma", d0.prefilter_sigma, "px: Gaussian pre-filter of every image (0 = none; 0.5–1 lowers the noise-induced bias).", 0, 5),
+      key("weight_sigma", d0.weight_sigma,
+          "px: Gaussian weighting window of each subset, exp(-r²/2σ²) (0 = uniform weights). N/4–N/6 keeps the\n"
+          "noise of a smaller subset's neighbour but follows steep gradients better (see docs/validation.md).", 0, 1000),
       key("update_zncc", d0.update_zncc, "auto mode: update the reference when a frame's mean ZNCC drops below this.", 0, 1),
       key("update_loss", d0.update_loss, "auto mode: ... or when more than this fraction of the points fail.", 0, 1),
       key("batch", std::int64_t{d0.batch}, "Points propagated per round (1 = strict highest-ZNCC-first order).", 1, 4096),
@@ -131,6 +137,7 @@ DicSpec DicSpec::from_config(const io::Node& root, std::filesystem::path dir) {
   t.min_zncc = d.real("min_zncc");
   t.min_texture = d.real("min_texture");
   t.prefilter_sigma = d.real("prefilter_sigma");
+  t.weight_sigma = d.real("weight_sigma");
   t.update_zncc = d.real("update_zncc");
   t.update_loss = d.real("update_loss");
   t.batch = static_cast<int>(d.integer("batch"));
@@ -166,11 +173,14 @@ DicSettings DicSpec::settings(const image::Image& reference) const {
     // [dic]
     dic::IcgnOptions& icgn = s.sequence.dic.icgn;
     icgn.subset_size = dic.subset_size;
-    icgn.order = dic.order == "second" ? dic::ShapeOrder::second : dic::ShapeOrder::first;
+    icgn.order = dic.order == "second" ? dic::ShapeOrder::second
+                 : dic.order == "auto" ? dic::ShapeOrder::automatic
+                                       : dic::ShapeOrder::first;
     icgn.max_iterations = dic.max_iterations;
     icgn.tolerance = dic.tolerance;
     icgn.min_zncc = dic.min_zncc;
     icgn.min_texture = dic.min_texture;
+    icgn.weight_sigma = dic.weight_sigma;
     dic::DicOptions& o = s.sequence.dic;
     o.step = dic.step;
     o.search_radius = dic.search_radius;

@@ -186,3 +186,106 @@ TEST(Icgn, SigmaIsZeroWithoutNoiseAndNanWhenNotConverged) {
   const PointMatch out = icgn(f, g, Vec2(5, 5), Shape::Zero(), IcgnOptions{});
   EXPECT_TRUE(std::isnan(out.sigma(0)));
 }
+
+TEST(Icgn, AGaussianWindowRecoversAUniformStrainAndAQuadraticDisplacementLikeUniformWeights) {
+  // Issue 16: the weighted ZNSSD (IcgnOptions::weight_sigma) has the same noise-free accuracy.
+  IcgnOptions o;
+  o.weight_sigma = 7;
+  {
+    const Vec2 c(60, 60);
+    auto [f, g] = frames(140, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / 1.05, c(1) + (x(1) - c(1)) / 0.97); });
+    const Vec2 X(75, 50);
+    const PointMatch m = icgn(f, g, X, Shape::Zero(), o);
+    ASSERT_EQ(m.status, PointStatus::ok);
+    EXPECT_NEAR(m.p(0), 0.05 * (X(0) - c(0)), kNoiseFreeTol);
+    EXPECT_NEAR(m.p(6), -0.03 * (X(1) - c(1)), kNoiseFreeTol);
+    EXPECT_NEAR(m.p(1), 0.05, kGradientTol);
+    EXPECT_NEAR(m.p(8), -0.03, kGradientTol);
+  }
+  {
+    const Vec2 c(70, 70);
+    const double a = 0.002;
+    auto [f, g] = frames(140, [&](const Vec2& x) {
+      double X = x(0);
+      for (int k = 0; k < 30; ++k) X -= (X + a * (X - c(0)) * (X - c(0)) - x(0)) / (1 + 2 * a * (X - c(0)));
+      return Vec2(X, x(1));
+    });
+    o.order = ShapeOrder::second;
+    const PointMatch m = icgn(f, g, Vec2(80, 70), Shape::Zero(), o);
+    ASSERT_EQ(m.status, PointStatus::ok);
+    EXPECT_NEAR(m.p(0), a * 100, kNoiseFreeTol);
+    EXPECT_NEAR(m.p(1), 2 * a * 10, kGradientTol);
+    EXPECT_NEAR(m.p(3), 2 * a, 2e-4);  // the window weighs the subset's rim, where p(3) shows, less
+  }
+}
+
+TEST(Icgn, AGaussianWindowsPredictedSigmaMatchesTheScatterAndExceedsTheUniformOnes) {
+  // Same set-up as PredictedSigmaMatchesTheScatterOnNoisyImages, one shift, σ_w = 6 px in a 31 px box:
+  // the effective subset (Σw)²/Σw² = 4πσ_w² ≈ (21 px)² is smaller, so the noise is larger than uniform 31.
+  const int size = 200;
+  const auto P = pattern(size);
+  const image::Image ref = synth::render(P, size, size, synth::no_motion);
+  const image::Image cur = synth::render(P, size, size, [&](const Vec2& x) { return Vec2(x(0) - 0.3, x(1) + 0.25); });
+  IcgnOptions weighted;
+  weighted.weight_sigma = 6;
+  double s2_pred = 0, e = 0, e2 = 0, e2_uniform = 0;
+  int n = 0;
+  for (std::uint64_t draw = 0; draw < 3; ++draw) {
+    const Frame f = prepare_frame(synth::add_noise(ref, 0.02, 100 + 2 * draw));
+    const Frame g = prepare_frame(synth::add_noise(cur, 0.02, 101 + 2 * draw));
+    for (int y = 20; y <= 180; y += 10)
+      for (int x = 20; x <= 180; x += 10) {
+        const PointMatch m = icgn(f, g, Vec2(x, y), Shape::Zero(), weighted);
+        const PointMatch u = icgn(f, g, Vec2(x, y), Shape::Zero(), IcgnOptions{});
+        ASSERT_EQ(m.status, PointStatus::ok);
+        ASSERT_EQ(u.status, PointStatus::ok);
+        const double d = m.p(0) - 0.3;
+        e += d, e2 += d * d, e2_uniform += (u.p(0) - 0.3) * (u.p(0) - 0.3);
+        s2_pred += m.sigma(0) * m.sigma(0);
+        ++n;
+      }
+  }
+  const double sd = std::sqrt(e2 / n - (e / n) * (e / n)), pred = std::sqrt(s2_pred / n);
+  std::printf("Gaussian window 6 px: sd_u %.5f predicted %.5f (uniform 31 px: RMS %.5f) px, %d matches\n", sd, pred,
+              std::sqrt(e2_uniform / n), n);
+  EXPECT_NEAR(pred / sd, 1.0, kSigmaRatioTol);
+  EXPECT_GT(sd, std::sqrt(e2_uniform / n));
+}
+
+TEST(Icgn, AutomaticOrderKeepsFirstOrderOnAnAffineFieldAndTakesSecondOrderOnAQuadraticOne) {
+  // dic.order = "auto": the F-test at the nominal 0.1 % level keeps first order where the field is affine
+  // (5 % strain, 2 % noise: at most a few of 49 subsets may switch), and takes second order where
+  // u = 0.002 (X − c)² bends the subset by 0.22 px at its edge.
+  IcgnOptions o;
+  o.order = ShapeOrder::automatic;
+  const int size = 160;
+  const Vec2 c(80, 80);
+  const double a = 0.002;
+  const auto P = pattern(size);
+  const image::Image ref = synth::add_noise(synth::render(P, size, size, synth::no_motion), 0.02, 7);
+  const image::Image affine = synth::add_noise(
+      synth::render(P, size, size, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / 1.05, c(1) + (x(1) - c(1)) / 0.97); }),
+      0.02, 8);
+  const image::Image quadratic = synth::add_noise(synth::render(P, size, size, [&](const Vec2& x) {
+                                                    double X = x(0);
+                                                    for (int k = 0; k < 30; ++k)
+                                                      X -= (X + a * (X - c(0)) * (X - c(0)) - x(0)) / (1 + 2 * a * (X - c(0)));
+                                                    return Vec2(X, x(1));
+                                                  }),
+                                                  0.02, 9);
+  const Frame f = prepare_frame(ref), ga = prepare_frame(affine), gq = prepare_frame(quadratic);
+  int second_affine = 0, second_quadratic = 0, n = 0;
+  for (int y = 50; y <= 110; y += 10)
+    for (int x = 50; x <= 110; x += 10, ++n) {
+      const PointMatch ma = icgn(f, ga, Vec2(x, y), Shape::Zero(), o);
+      const PointMatch mq = icgn(f, gq, Vec2(x, y), Shape::Zero(), o);
+      ASSERT_EQ(ma.status, PointStatus::ok);
+      ASSERT_EQ(mq.status, PointStatus::ok);
+      second_affine += ma.p.segment<3>(3).squaredNorm() + ma.p.segment<3>(9).squaredNorm() > 0;
+      second_quadratic += mq.p.segment<3>(3).squaredNorm() + mq.p.segment<3>(9).squaredNorm() > 0;
+    }
+  std::printf("order auto: second order at %d/%d subsets of the affine field, %d/%d of the quadratic one\n",
+              second_affine, n, second_quadratic, n);
+  EXPECT_LE(second_affine, 3);
+  EXPECT_EQ(second_quadratic, n);
+}

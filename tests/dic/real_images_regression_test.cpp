@@ -102,6 +102,43 @@ TEST(Sample15, RmsErrorOfVAgainstTheImposedDisplacementIsBelowFiveHundredthsOfAP
   }
 }
 
+TEST(Sample15, SecondOrderWhereItPaysKeepsK50WithinTwoHundredthsOfAPixelAtStepTen) {
+  REQUIRE_DATA("dic-challenge-15");
+  // Issue 16's goal: RMS v error <= 0.02 px over all points of K50 at step 10 (31 px subsets), the
+  // truth read at the deformed row. First order gives 0.030 (0.052 in the 300-600 px transition, where
+  // v's slope jumps at three kinks); dic.order = "auto" (second order where the F-test says it pays)
+  // measured 0.0178 (0.0277 in the transition, 0.0106 outside it, the first-order noise floor).
+  // Bounds: the goal, and ~10 % above the measured transition and flat-zone figures.
+  constexpr double kRmsAllTol = 0.020, kRmsTransitionTol = 0.030, kRmsFlatTol = 0.0115;
+  const auto table = command_table();
+  const Frame f = prepare_frame(image::load_image(data("dic-challenge-15") / "reference.tif").image);
+  const Frame g = prepare_frame(image::load_image(data("dic-challenge-15") / "p200_k50_n2.tif").image);
+  DicOptions o;
+  o.icgn.order = ShapeOrder::automatic;
+  const auto grid = make_grid(Roi::whole_image(), f.image.width, f.image.height, o.icgn.subset_size, 10);
+  std::vector<Vec2> centres;
+  for (const auto& q : grid) centres.push_back(q.x);
+  const PairResult r = correlate_pair(f, g, centres, grid_neighbours(grid), o);
+  double all = 0, transition = 0, flat = 0;
+  int n = 0, nt = 0, second = 0;
+  for (std::size_t k = 0; k < centres.size(); ++k) {
+    const PointMatch& m = r.points[k];
+    if (m.status != PointStatus::ok) continue;
+    const double e = m.p(6) - imposed_v(table, 1, centres[k](1) + m.p(6));
+    all += e * e, ++n;
+    if (centres[k](1) >= 300 && centres[k](1) <= 600) transition += e * e, ++nt;
+    else flat += e * e;
+    second += m.p.segment<3>(9).squaredNorm() > 0;
+  }
+  const double rms = std::sqrt(all / n), rms_t = std::sqrt(transition / nt), rms_f = std::sqrt(flat / (n - nt));
+  std::printf("K50, step 10, order auto: %d/%zu ok (%d second order), RMS v %.4f px, 300-600 px %.4f, outside %.4f\n",
+              n, centres.size(), second, rms, rms_t, rms_f);
+  EXPECT_GT(n, static_cast<int>(0.95 * centres.size())) << r.message;
+  EXPECT_LT(rms, kRmsAllTol);
+  EXPECT_LT(rms_t, kRmsTransitionTol);
+  EXPECT_LT(rms_f, kRmsFlatTol);
+}
+
 TEST(Sample14, CorrelatesAtHighZnccWithNoVerticalMotionAndAStillLeftEdge) {
   REQUIRE_DATA("dic-challenge-14");
   // The README: u(x) is a 0.1 px sinusoid, v = 0, and x < 100 px does not move. The noise floor of

@@ -46,6 +46,18 @@ TEST(DicSpec, BuildsTheEnginesSettings) {
   EXPECT_EQ(s.outputs.physical->centre_px, Vec2(99.5, 49.5));  // the image centre
 }
 
+TEST(DicSpec, OrderAutoAndAGaussianWindowReachTheEngineAndAWindowBelowOnePixelIsNamedByItsLine) {
+  // Issue 16: dic.order = "auto" and dic.weight_sigma (0 = uniform, else 1 to 1000 px).
+  const io::Node root = io::parse_config(dic_schema(), "[dic]\norder = \"auto\"\nweight_sigma = 7.5\n", "dic.toml");
+  const DicSettings s = DicSpec::from_config(root).settings(image::Image(200, 100));
+  EXPECT_EQ(s.sequence.dic.icgn.order, dic::ShapeOrder::automatic);
+  EXPECT_EQ(s.sequence.dic.icgn.weight_sigma, 7.5);
+  EXPECT_EQ(DicSpec{}.settings(image::Image(200, 100)).sequence.dic.icgn.weight_sigma, 0.0);
+  const io::Node bad = io::parse_config(dic_schema(), "[dic]\nweight_sigma = 0.5\n", "dic.toml");
+  EXPECT_EQ(message_of(DicSpec::from_config(bad)),
+            "dic.toml:2: dic.weight_sigma: out of range (got 0.500000, expected 0 (uniform weights) or 1 to 1000 px)");
+}
+
 TEST(DicSpec, AnEvenSubsetIsNamedOnceByTheEnginesKey) {
   DicSpec spec;
   spec.dic.subset_size = 30;

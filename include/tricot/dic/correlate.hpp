@@ -39,6 +39,9 @@ struct PairResult {
   int seeds_tried = 0;     ///< seed attempts (0 when every point had a guess)
   double seconds = 0;      ///< wall time
   std::string message;     ///< one line: what happened (seeds, fall-backs)
+  /// Subsets computed in each round of reliability-guided propagation (each round ends at a barrier):
+  /// how parallel the propagation can be (bench/dic_benchmark.cpp models the 2-thread speed-up from it).
+  std::vector<int> round_tasks;
 };
 
 /// Correlates subsets centred at `centres` in `reference` with `current`. `neighbours[k]` lists the

@@ -35,8 +35,14 @@ enum class PointStatus {
 /// The lowercase word written in points.csv (`ok`, `max_iterations`, ...).
 const char* to_string(PointStatus s);
 
-/// Order of the shape function: first (6 parameters, affine) or second (12 parameters).
-enum class ShapeOrder { first = 1, second = 2 };
+/// Order of the shape function: first (6 parameters, affine) or second (12 parameters). `automatic`
+/// (issue 16): second order only where it pays. Each subset is matched to first order, then refined to
+/// second order from there; the second-order match is kept when its six extra parameters lower the
+/// residual significantly by the nested-model F-test (extra sum of squares),
+///     F = [(SSR₁ − SSR₂)/6] / [SSR₂/(n − 12)] > 3.74 (F₀.₉₉₉(6, ∞) = χ²₆ 99.9 % / 6),  SSR = 2 Δf² (1 − ZNCC),
+/// n the subset's pixels (with a Gaussian window, its effective count (Σw)²/Σw²). Elsewhere the
+/// first-order match stands, with its lower noise.
+enum class ShapeOrder { first = 1, second = 2, automatic = 3 };
 
 /// Shape-function parameters p, in this order:
 ///   0 u, 1 ux, 2 uy, 3 uxx, 4 uxy, 5 uyy, 6 v, 7 vx, 8 vy, 9 vxx, 10 vxy, 11 vyy.
@@ -70,6 +76,13 @@ struct IcgnOptions {
   /// below min_texture × full_scale (or whose mean squared gradient is below (min_texture × full_scale / 10)²
   /// per px² along its weakest direction) is `no_texture`.
   double min_texture = 0.005;
+  /// px, 0 or 1–1000: the weighting window of the ZNSSD (issue 16). 0 = uniform weights, the plain ZNSSD
+  /// above. σ > 0 weights each pixel by w(ξ) = exp(−|ξ|²/(2σ²)) within the N×N box (a Gaussian window, as in
+  /// the weighted ZNSSD of Yuan, Huang, Peng, Xiong, Fang & Yuan, Optics and Lasers in Engineering, 2014), so that
+  ///     C(p) = Σ_ξ w [ (f − f̄_w)/Δf_w − (g − ḡ_w)/Δg_w ]²,  f̄_w = Σ w f / Σ w,  Δf_w² = Σ w (f − f̄_w)²:
+  /// the subset's centre dominates, which narrows the smoothing kernel of a steep displacement gradient for
+  /// the same noise (docs/validation.md, "Gaussian-weighted subsets"). Sensible σ: N/4 to N/6.
+  double weight_sigma = 0;
 
   /// Throws InputError naming the key (`dic.subset_size`, ...) when a field is out of range.
   void validate() const;
