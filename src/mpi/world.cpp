@@ -1,0 +1,324 @@
+// MPI_COMM_WORLD for `mpirun -np N tricot identify …` (issue 15). Rank 0 runs LM; every evaluation of
+// the objective is one round: rank 0 broadcasts the parameters (and whether a Jacobian is wanted),
+// every rank simulates its tests (test t on rank t mod N), and rank 0 receives the others' rows of y
+// and ∂y/∂J, rank by rank. Each test's arithmetic is the one of a one-process run, so the answer is the
+// same bit for bit.
+#include "tricot/mpi/world.hpp"
+
+#include <mpi.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <new>
+#include <vector>
+
+#include "tricot/core/error.hpp"
+
+namespace tricot::mpi {
+
+namespace {
+
+constexpr int kReadyTag = 1;   // a rank's error message when it could not build the objective
+constexpr int kValuesTag = 2;  // a rank's test values of one round
+enum Command : int { stop = 0, evaluate = 1 };
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Started by an MPI launcher: Open MPI's mpirun, or a PMI/PMIx one (Slurm's srun, MPICH's hydra).
+bool launched_by_mpi() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+    if (std::getenv(v)) return true;
+  return false;
+}
+
+// A rank's error, as rank 0 rethrows it: the rank's own one-line message and exit code.
+class RankError final : public InputError {
+ public:
+  RankError(const std::string& line, int code) : InputError(Location{}, line), code_(code) {}
+  ExitCode exit_code() const override { return static_cast<ExitCode>(code_); }
+
+ private:
+  int code_;
+};
+
+// The exception in flight as the CLI would show it: exit code and one line.
+std::pair<int, std::string> describe(const std::exception_ptr& error) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const InputError& e) {
+    return {static_cast<int>(e.exit_code()), e.what()};
+  } catch (const std::filesystem::filesystem_error& e) {
+    return {static_cast<int>(ExitCode::input_missing),
+            format_error({e.path1().empty() ? "filesystem" : e.path1().string(), 0, ""}, e.code().message(), {}, {})};
+  } catch (const std::bad_alloc&) {
+    return {static_cast<int>(ExitCode::usage), format_error({"memory", 0, ""}, "out of memory", {}, {})};
+  } catch (const std::exception& e) {
+    return {static_cast<int>(ExitCode::usage), e.what()};
+  } catch (...) {
+    return {static_cast<int>(ExitCode::usage), "unknown error"};
+  }
+}
+
+// The byte stream of one rank's reply: its compute time, then each of its tests.
+class Writer {
+ public:
+  template <class T>
+  void put(const T& v) {
+    put_bytes(&v, sizeof(T));
+  }
+  void put_bytes(const void* p, size_t n) {
+    const size_t at = bytes.size();
+    bytes.resize(at + n);
+    if (n > 0) std::memcpy(bytes.data() + at, p, n);
+  }
+  std::vector<char> bytes;
+};
+
+class Reader {
+ public:
+  explicit Reader(const std::vector<char>& b) : b_(b) {}
+  template <class T>
+  T get() {
+    T v;
+    get_bytes(&v, sizeof(T));
+    return v;
+  }
+  void get_bytes(void* p, size_t n) {
+    if (at_ + n > b_.size()) throw std::runtime_error("mpi: a rank's message is shorter than its contents");
+    if (n > 0) std::memcpy(p, b_.data() + at_, n);
+    at_ += n;
+  }
+
+ private:
+  const std::vector<char>& b_;
+  size_t at_ = 0;
+};
+
+void pack(const ident::TestValues& v, Writer& w) {
+  w.put<std::int32_t>(v.ok ? 1 : 0);
+  w.put<std::int64_t>(static_cast<std::int64_t>(v.message.size()));
+  w.put_bytes(v.message.data(), v.message.size());
+  w.put<std::int64_t>(v.y.size());
+  w.put_bytes(v.y.data(), sizeof(double) * static_cast<size_t>(v.y.size()));
+  w.put<std::int64_t>(v.dy.rows());
+  w.put<std::int64_t>(v.dy.cols());
+  w.put_bytes(v.dy.data(), sizeof(double) * static_cast<size_t>(v.dy.size()));
+}
+
+void unpack(Reader& r, ident::TestValues& v) {
+  v.ok = r.get<std::int32_t>() != 0;
+  v.message.resize(static_cast<size_t>(r.get<std::int64_t>()));
+  r.get_bytes(v.message.data(), v.message.size());
+  v.y.resize(r.get<std::int64_t>());
+  r.get_bytes(v.y.data(), sizeof(double) * static_cast<size_t>(v.y.size()));
+  const auto rows = r.get<std::int64_t>();
+  const auto cols = r.get<std::int64_t>();
+  v.dy.resize(rows, cols);
+  r.get_bytes(v.dy.data(), sizeof(double) * static_cast<size_t>(v.dy.size()));
+}
+
+std::vector<int> tests_of(int rank, int size, int tests) {
+  std::vector<int> mine;
+  for (int t = rank; t < tests; t += size) mine.push_back(t);
+  return mine;
+}
+
+std::vector<char> receive(int source, int tag) {
+  MPI_Status status;
+  MPI_Probe(source, tag, MPI_COMM_WORLD, &status);
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  std::vector<char> b(static_cast<size_t>(count));
+  MPI_Recv(b.data(), count, MPI_BYTE, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return b;
+}
+
+// Rank 0's side of the rounds: the objective's TestSplit.
+class RankSplit final : public ident::TestSplit {
+ public:
+  explicit RankSplit(int size) : size_(size) {}
+
+  std::vector<ident::TestValues> evaluate(
+      const Eigen::VectorXd& J, bool jacobian, int tests,
+      const std::function<std::vector<ident::TestValues>(const std::vector<int>&)>& local) const override {
+    // One round at a time: LM's finite-difference columns and the stability test call evaluate()
+    // from several threads, and the replies of two rounds must not be mixed.
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto round_start = Clock::now();
+    int header[2] = {Command::evaluate, jacobian ? 1 : 0};
+    MPI_Bcast(header, 2, MPI_INT, 0, MPI_COMM_WORLD);
+    Eigen::VectorXd x = J;
+    MPI_Bcast(x.data(), static_cast<int>(x.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    const double bcast_seconds = seconds_since(round_start);
+
+    // The replies are received even when the own share throws (out of memory): the other ranks
+    // must not be left blocked in a send.
+    std::vector<ident::TestValues> values;
+    std::exception_ptr error;
+    const auto local_start = Clock::now();
+    try {
+      values = local(tests_of(0, size_, tests));
+    } catch (...) {
+      error = std::current_exception();
+      values.assign(tests, {});
+    }
+    const double local_seconds = seconds_since(local_start);
+
+    double slowest = local_seconds, received = 0, largest = 0;
+    const auto recv_start = Clock::now();
+    for (int r = 1; r < size_; ++r) {
+      const std::vector<char> b = receive(r, kValuesTag);
+      received += static_cast<double>(b.size());
+      largest = std::max(largest, static_cast<double>(b.size()));
+      Reader reader(b);
+      slowest = std::max(slowest, reader.get<double>());
+      for (int t : tests_of(r, size_, tests)) unpack(reader, values[t]);
+    }
+    const double recv_seconds = seconds_since(recv_start);
+
+    Traffic& s = traffic_;
+    ++s.rounds;
+    if (jacobian) ++s.jacobian_rounds;
+    s.bytes_sent += static_cast<double>((size_ - 1) * (sizeof(header) + sizeof(double) * x.size()));
+    s.bytes_received += received;
+    s.largest_message = std::max(s.largest_message, largest);
+    s.mpi_seconds += bcast_seconds + recv_seconds;
+    s.local_seconds += local_seconds;
+    s.overhead_seconds += std::max(0.0, seconds_since(round_start) - slowest);
+    if (error) std::rethrow_exception(error);
+    return values;
+  }
+
+  Traffic traffic() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return traffic_;
+  }
+
+ private:
+  int size_;
+  mutable std::mutex mutex_;
+  mutable Traffic traffic_;
+};
+
+// Rank 0 waits for every rank's ready message (MPI_Gather of exit codes); the first failed rank's
+// error, or none.
+std::exception_ptr gather_ready(int size) {
+  int mine = 0;
+  std::vector<int> codes(static_cast<size_t>(size), 0);
+  MPI_Gather(&mine, 1, MPI_INT, codes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::exception_ptr first;
+  for (int r = 1; r < size; ++r) {
+    if (codes[r] == 0) continue;
+    const std::vector<char> b = receive(r, kReadyTag);
+    if (!first)
+      first = std::make_exception_ptr(
+          RankError(std::string(b.begin(), b.end()) + " (on MPI rank " + std::to_string(r) + ")", codes[r]));
+  }
+  return first;
+}
+
+void broadcast_stop() {
+  int header[2] = {Command::stop, 0};
+  MPI_Bcast(header, 2, MPI_INT, 0, MPI_COMM_WORLD);
+}
+
+}  // namespace
+
+struct World::Impl {
+  bool initialized = false;
+  bool ready = false;    // rank 0: the ready messages were gathered
+  std::shared_ptr<RankSplit> split;
+};
+
+std::string Traffic::brief_report() const {
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "mpi: %d rounds (%d with the Jacobian), %.3g MB received (largest message %.3g kB), %.3g kB sent; "
+                "rank 0: %.3g s in MPI calls, %.3g s on its own tests, %.3g s overhead beyond the slowest rank",
+                rounds, jacobian_rounds, bytes_received / 1e6, largest_message / 1e3, bytes_sent / 1e3, mpi_seconds,
+                local_seconds, overhead_seconds);
+  return line;
+}
+
+World::World() : impl_(std::make_shared<Impl>()) {
+  if (!launched_by_mpi()) return;
+  int provided = 0;
+  // Serialized: rank 0 calls MPI from whichever thread evaluates (one at a time, RankSplit's lock).
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
+  impl_->initialized = true;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  if (provided < MPI_THREAD_SERIALIZED && size_ > 1) {
+    if (rank_ == 0)
+      std::fprintf(stderr, "tricot: error: %s\n",
+                   format_error({"mpi", 0, ""}, "this MPI library cannot be called from several threads", "", "MPI_THREAD_SERIALIZED").c_str());
+    MPI_Abort(MPI_COMM_WORLD, static_cast<int>(ExitCode::usage));
+  }
+}
+
+World::~World() {
+  if (!impl_->initialized) return;
+  if (rank_ == 0 && size_ > 1) {
+    if (!impl_->ready) gather_ready(size_);  // an error before lead(): the others still say ready
+    broadcast_stop();
+  }
+  MPI_Finalize();
+}
+
+void World::lead(ident::Objective& objective) {
+  if (size_ == 1 || rank_ != 0) return;
+  impl_->ready = true;
+  if (const std::exception_ptr error = gather_ready(size_)) std::rethrow_exception(error);
+  impl_->split = std::make_shared<RankSplit>(size_);
+  objective.set_split(impl_->split);
+}
+
+Traffic World::traffic() const { return impl_->split ? impl_->split->traffic() : Traffic{}; }
+
+void World::serve(const std::function<const ident::Objective*()>& build) {
+  if (rank_ == 0) return;
+  const ident::Objective* objective = nullptr;
+  int code = 0;
+  std::string message;
+  try {
+    objective = build();
+  } catch (...) {
+    std::tie(code, message) = describe(std::current_exception());
+    if (code == 0) code = static_cast<int>(ExitCode::usage);
+  }
+  MPI_Gather(&code, 1, MPI_INT, nullptr, 0, MPI_INT, 0, MPI_COMM_WORLD);
+  if (code != 0)
+    MPI_Send(message.data(), static_cast<int>(message.size()), MPI_BYTE, 0, kReadyTag, MPI_COMM_WORLD);
+
+  try {
+    for (;;) {
+      int header[2] = {Command::stop, 0};
+      MPI_Bcast(header, 2, MPI_INT, 0, MPI_COMM_WORLD);
+      if (header[0] == Command::stop) return;
+      if (!objective) throw std::logic_error("asked to evaluate without an objective");
+      Eigen::VectorXd J(static_cast<Eigen::Index>(objective->parameters().size()));
+      MPI_Bcast(J.data(), static_cast<int>(J.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+      const bool jacobian = header[1] != 0;
+      const auto start = Clock::now();
+      const int T = static_cast<int>(objective->models().size());
+      const std::vector<int> mine = tests_of(rank_, size_, T);
+      const std::vector<ident::TestValues> values = objective->evaluate_tests(J, jacobian, mine);
+      Writer w;
+      w.put<double>(seconds_since(start));
+      for (int t : mine) pack(values[t], w);
+      MPI_Send(w.bytes.data(), static_cast<int>(w.bytes.size()), MPI_BYTE, 0, kValuesTag, MPI_COMM_WORLD);
+    }
+  } catch (...) {
+    const auto [c, line] = describe(std::current_exception());
+    std::fprintf(stderr, "tricot: error: %s (on MPI rank %d)\n", line.c_str(), rank_);
+    MPI_Abort(MPI_COMM_WORLD, c == 0 ? static_cast<int>(ExitCode::usage) : c);
+  }
+}
+
+}  // namespace tricot::mpi
