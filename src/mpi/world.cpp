@@ -1,7 +1,7 @@
 // MPI_COMM_WORLD for `mpirun -np N tricot identify …` (issue 15). Rank 0 runs LM; every evaluation of
-// the objective is one round: rank 0 broadcasts the parameters (and whether a Jacobian is wanted),
-// every rank simulates its tests (test t on rank t mod N), and rank 0 receives the others' rows of y
-// and ∂y/∂J, rank by rank. Each test's arithmetic is the one of a one-process run, so the answer is the
+// the objective is one round: rank 0 sends every rank the parameters (and whether a Jacobian is
+// wanted), every rank simulates its tests (test t on rank t mod N), and rank 0 receives the others'
+// rows of y and ∂y/∂J as they arrive. Each test's arithmetic is the one of a one-process run, so the answer is the
 // same bit for bit.
 #include "tricot/mpi/world.hpp"
 
@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <mutex>
 #include <new>
+#include <thread>
 #include <vector>
 
 #include "tricot/core/error.hpp"
@@ -23,8 +24,9 @@ namespace tricot::mpi {
 
 namespace {
 
-constexpr int kReadyTag = 1;   // a rank's error message when it could not build the objective
-constexpr int kValuesTag = 2;  // a rank's test values of one round
+constexpr int kReadyTag = 1;    // a rank's exit code (0 = ready) and, when it failed, its error
+constexpr int kValuesTag = 2;   // a rank's test values of one round
+constexpr int kCommandTag = 3;  // rank 0's command: stop, or evaluate with the parameters
 enum Command : int { stop = 0, evaluate = 1 };
 
 using Clock = std::chrono::steady_clock;
@@ -129,14 +131,38 @@ std::vector<int> tests_of(int rank, int size, int tests) {
   return mine;
 }
 
-std::vector<char> receive(int source, int tag) {
+// Waits for a message without spinning: Open MPI's blocking calls poll a core at 100 % while they
+// wait, which on a machine running more ranks than cores (or a worker idle while rank 0 writes its
+// outputs) takes the CPU from the ranks that compute. Polling with sleeps from 50 µs up to 2 ms adds
+// at most ~2 ms to a round that takes a second. Returns the source.
+int wait_for(int source, int tag, MPI_Status& status) {
+  auto pause = std::chrono::microseconds(50);
+  for (;;) {
+    int arrived = 0;
+    MPI_Iprobe(source, tag, MPI_COMM_WORLD, &arrived, &status);
+    if (arrived) return status.MPI_SOURCE;
+    std::this_thread::sleep_for(pause);
+    pause = std::min(2 * pause, std::chrono::microseconds(2000));
+  }
+}
+
+template <class T>
+std::vector<T> receive(int source, int tag, MPI_Datatype type, int* from = nullptr) {
   MPI_Status status;
-  MPI_Probe(source, tag, MPI_COMM_WORLD, &status);
+  const int sender = wait_for(source, tag, status);
+  if (from) *from = sender;
   int count = 0;
-  MPI_Get_count(&status, MPI_BYTE, &count);
-  std::vector<char> b(static_cast<size_t>(count));
-  MPI_Recv(b.data(), count, MPI_BYTE, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  MPI_Get_count(&status, type, &count);
+  std::vector<T> b(static_cast<size_t>(count));
+  MPI_Recv(b.data(), count, type, sender, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   return b;
+}
+
+void send_command(int size, Command command, bool jacobian, const Eigen::VectorXd& J) {
+  std::vector<double> m{static_cast<double>(command), jacobian ? 1.0 : 0.0};
+  m.insert(m.end(), J.data(), J.data() + J.size());
+  for (int r = 1; r < size; ++r)
+    MPI_Send(m.data(), static_cast<int>(m.size()), MPI_DOUBLE, r, kCommandTag, MPI_COMM_WORLD);
 }
 
 // Rank 0's side of the rounds: the objective's TestSplit.
@@ -151,11 +177,8 @@ class RankSplit final : public ident::TestSplit {
     // from several threads, and the replies of two rounds must not be mixed.
     std::lock_guard<std::mutex> lock(mutex_);
     const auto round_start = Clock::now();
-    int header[2] = {Command::evaluate, jacobian ? 1 : 0};
-    MPI_Bcast(header, 2, MPI_INT, 0, MPI_COMM_WORLD);
-    Eigen::VectorXd x = J;
-    MPI_Bcast(x.data(), static_cast<int>(x.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
-    const double bcast_seconds = seconds_since(round_start);
+    send_command(size_, Command::evaluate, jacobian, J);
+    const double send_seconds = seconds_since(round_start);
 
     // The replies are received even when the own share throws (out of memory): the other ranks
     // must not be left blocked in a send.
@@ -172,8 +195,9 @@ class RankSplit final : public ident::TestSplit {
 
     double slowest = local_seconds, received = 0, largest = 0;
     const auto recv_start = Clock::now();
-    for (int r = 1; r < size_; ++r) {
-      const std::vector<char> b = receive(r, kValuesTag);
+    for (int k = 1; k < size_; ++k) {  // in the order they arrive: each test has its own slot
+      int r = 0;
+      const std::vector<char> b = receive<char>(MPI_ANY_SOURCE, kValuesTag, MPI_BYTE, &r);
       received += static_cast<double>(b.size());
       largest = std::max(largest, static_cast<double>(b.size()));
       Reader reader(b);
@@ -185,10 +209,10 @@ class RankSplit final : public ident::TestSplit {
     Traffic& s = traffic_;
     ++s.rounds;
     if (jacobian) ++s.jacobian_rounds;
-    s.bytes_sent += static_cast<double>((size_ - 1) * (sizeof(header) + sizeof(double) * x.size()));
+    s.bytes_sent += static_cast<double>((size_ - 1) * sizeof(double) * (2 + J.size()));
     s.bytes_received += received;
     s.largest_message = std::max(s.largest_message, largest);
-    s.mpi_seconds += bcast_seconds + recv_seconds;
+    s.mpi_seconds += send_seconds + recv_seconds;
     s.local_seconds += local_seconds;
     s.overhead_seconds += std::max(0.0, seconds_since(round_start) - slowest);
     if (error) std::rethrow_exception(error);
@@ -206,26 +230,18 @@ class RankSplit final : public ident::TestSplit {
   mutable Traffic traffic_;
 };
 
-// Rank 0 waits for every rank's ready message (MPI_Gather of exit codes); the first failed rank's
-// error, or none.
+// Rank 0 waits for every rank's ready message: the first failed rank's error, or none.
 std::exception_ptr gather_ready(int size) {
-  int mine = 0;
-  std::vector<int> codes(static_cast<size_t>(size), 0);
-  MPI_Gather(&mine, 1, MPI_INT, codes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
   std::exception_ptr first;
   for (int r = 1; r < size; ++r) {
-    if (codes[r] == 0) continue;
-    const std::vector<char> b = receive(r, kReadyTag);
-    if (!first)
-      first = std::make_exception_ptr(
-          RankError(std::string(b.begin(), b.end()) + " (on MPI rank " + std::to_string(r) + ")", codes[r]));
+    const std::vector<char> b = receive<char>(r, kReadyTag, MPI_BYTE);
+    Reader reader(b);
+    const auto code = reader.get<std::int32_t>();
+    if (code == 0 || first) continue;
+    const std::string line(b.begin() + sizeof(std::int32_t), b.end());
+    first = std::make_exception_ptr(RankError(line + " (on MPI rank " + std::to_string(r) + ")", code));
   }
   return first;
-}
-
-void broadcast_stop() {
-  int header[2] = {Command::stop, 0};
-  MPI_Bcast(header, 2, MPI_INT, 0, MPI_COMM_WORLD);
 }
 
 }  // namespace
@@ -240,7 +256,7 @@ std::string Traffic::brief_report() const {
   char line[400];
   std::snprintf(line, sizeof line,
                 "mpi: %d rounds (%d with the Jacobian), %.3g MB received (largest message %.3g kB), %.3g kB sent; "
-                "rank 0: %.3g s in MPI calls, %.3g s on its own tests, %.3g s overhead beyond the slowest rank",
+                "rank 0: %.3g s in MPI calls (waits included), %.3g s on its own tests, %.3g s overhead beyond the slowest rank",
                 rounds, jacobian_rounds, bytes_received / 1e6, largest_message / 1e3, bytes_sent / 1e3, mpi_seconds,
                 local_seconds, overhead_seconds);
   return line;
@@ -266,7 +282,7 @@ World::~World() {
   if (!impl_->initialized) return;
   if (rank_ == 0 && size_ > 1) {
     if (!impl_->ready) gather_ready(size_);  // an error before lead(): the others still say ready
-    broadcast_stop();
+    send_command(size_, Command::stop, false, {});
   }
   MPI_Finalize();
 }
@@ -292,19 +308,20 @@ void World::serve(const std::function<const ident::Objective*()>& build) {
     std::tie(code, message) = describe(std::current_exception());
     if (code == 0) code = static_cast<int>(ExitCode::usage);
   }
-  MPI_Gather(&code, 1, MPI_INT, nullptr, 0, MPI_INT, 0, MPI_COMM_WORLD);
-  if (code != 0)
-    MPI_Send(message.data(), static_cast<int>(message.size()), MPI_BYTE, 0, kReadyTag, MPI_COMM_WORLD);
+  Writer ready;
+  ready.put<std::int32_t>(code);
+  ready.put_bytes(message.data(), message.size());
+  MPI_Send(ready.bytes.data(), static_cast<int>(ready.bytes.size()), MPI_BYTE, 0, kReadyTag, MPI_COMM_WORLD);
 
   try {
     for (;;) {
-      int header[2] = {Command::stop, 0};
-      MPI_Bcast(header, 2, MPI_INT, 0, MPI_COMM_WORLD);
-      if (header[0] == Command::stop) return;
+      const std::vector<double> command = receive<double>(0, kCommandTag, MPI_DOUBLE);
+      if (command.size() < 2 || static_cast<int>(command[0]) == Command::stop) return;
       if (!objective) throw std::logic_error("asked to evaluate without an objective");
-      Eigen::VectorXd J(static_cast<Eigen::Index>(objective->parameters().size()));
-      MPI_Bcast(J.data(), static_cast<int>(J.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
-      const bool jacobian = header[1] != 0;
+      const Eigen::VectorXd J = Eigen::Map<const Eigen::VectorXd>(command.data() + 2, static_cast<Eigen::Index>(command.size() - 2));
+      if (J.size() != static_cast<Eigen::Index>(objective->parameters().size()))
+        throw std::logic_error("rank 0 sent " + std::to_string(J.size()) + " parameters");
+      const bool jacobian = command[1] != 0;
       const auto start = Clock::now();
       const int T = static_cast<int>(objective->models().size());
       const std::vector<int> mine = tests_of(rank_, size_, T);
