@@ -32,13 +32,6 @@ enum Command : int { stop = 0, evaluate = 1 };
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Started by an MPI launcher: Open MPI's mpirun, or a PMI/PMIx one (Slurm's srun, MPICH's hydra).
-bool launched_by_mpi() {
-  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
-    if (std::getenv(v)) return true;
-  return false;
-}
-
 // A rank's error, as rank 0 rethrows it: the rank's own one-line message and exit code.
 class RankError final : public InputError {
  public:
@@ -263,7 +256,7 @@ std::string Traffic::brief_report() const {
 }
 
 World::World() : impl_(std::make_shared<Impl>()) {
-  if (!launched_by_mpi()) return;
+  if (launcher_size() == 1) return;  // not started by an MPI launcher: one process, no MPI
   int provided = 0;
   // Serialized: rank 0 calls MPI from whichever thread evaluates (one at a time, RankSplit's lock).
   MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);

@@ -28,8 +28,16 @@ struct Traffic {
   std::string brief_report() const;  ///< one line
 };
 
+/// This process's rank and the number of processes as an MPI launcher's environment gives them
+/// (Open MPI's OMPI_COMM_WORLD_RANK/SIZE, PMIx's PMIX_RANK, PMI's PMI_RANK/PMI_SIZE): 0 and 1 without
+/// one. Read before MPI starts, and in a build without MPI: the CLI prints its errors on rank 0 only.
+int launcher_rank();
+int launcher_size();  ///< 0 when the launcher does not say (PMIx)
+
 /// MPI_COMM_WORLD, when this process was started by an MPI launcher (mpirun, srun) and the build has
-/// MPI; otherwise one process (rank 0 of 1) and every method is a no-op.
+/// MPI; otherwise one process (rank 0 of 1) and every method is a no-op. In a build without MPI,
+/// started by a launcher with more than one process, the constructor throws InputError (key `mpi`):
+/// the ranks would each run the whole identification into the same folder.
 class World {
  public:
   World();
