@@ -1,8 +1,8 @@
 // MPI_COMM_WORLD for `mpirun -np N tricot identify …` (issue 15). Rank 0 runs LM; every evaluation of
 // the objective is one round: rank 0 sends every rank the parameters (and whether a Jacobian is
 // wanted), every rank simulates its tests (test t on rank t mod N), and rank 0 receives the others'
-// rows of y and ∂y/∂J as they arrive. Each test's arithmetic is the one of a one-process run, so the answer is the
-// same bit for bit.
+// rows of y and ∂y/∂J as they arrive. Each test's arithmetic is the one of a one-process run, so the
+// answer is the same bit for bit. No rank spins while it waits (wait_for, send).
 #include "tricot/mpi/world.hpp"
 
 #include <mpi.h>
@@ -134,6 +134,21 @@ int wait_for(int source, int tag, MPI_Status& status) {
     int arrived = 0;
     MPI_Iprobe(source, tag, MPI_COMM_WORLD, &arrived, &status);
     if (arrived) return status.MPI_SOURCE;
+    std::this_thread::sleep_for(pause);
+    pause = std::min(2 * pause, std::chrono::microseconds(2000));
+  }
+}
+
+// Sends without spinning: a rank's reply (up to a megabyte here) goes by rendezvous, so a blocking
+// send would poll a core until rank 0, still on its own tests, posts the receive.
+void send(const void* data, int count, MPI_Datatype type, int dest, int tag) {
+  MPI_Request request;
+  MPI_Isend(data, count, type, dest, tag, MPI_COMM_WORLD, &request);
+  auto pause = std::chrono::microseconds(50);
+  for (;;) {
+    int done = 0;
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) return;
     std::this_thread::sleep_for(pause);
     pause = std::min(2 * pause, std::chrono::microseconds(2000));
   }
@@ -304,7 +319,7 @@ void World::serve(const std::function<const ident::Objective*()>& build) {
   Writer ready;
   ready.put<std::int32_t>(code);
   ready.put_bytes(message.data(), message.size());
-  MPI_Send(ready.bytes.data(), static_cast<int>(ready.bytes.size()), MPI_BYTE, 0, kReadyTag, MPI_COMM_WORLD);
+  send(ready.bytes.data(), static_cast<int>(ready.bytes.size()), MPI_BYTE, 0, kReadyTag);
 
   try {
     for (;;) {
@@ -322,7 +337,7 @@ void World::serve(const std::function<const ident::Objective*()>& build) {
       Writer w;
       w.put<double>(seconds_since(start));
       for (int t : mine) pack(values[t], w);
-      MPI_Send(w.bytes.data(), static_cast<int>(w.bytes.size()), MPI_BYTE, 0, kValuesTag, MPI_COMM_WORLD);
+      send(w.bytes.data(), static_cast<int>(w.bytes.size()), MPI_BYTE, 0, kValuesTag);
     }
   } catch (...) {
     const auto [c, line] = describe(std::current_exception());
