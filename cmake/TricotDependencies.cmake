@@ -10,6 +10,15 @@ find_package(benchmark REQUIRED)
 find_package(OpenMP REQUIRED)
 find_package(Threads REQUIRED)
 find_package(ZLIB REQUIRED)  # compressed VTU arrays
+# OpenMPI (issue 15): `mpirun -np N tricot identify` spreads the tests over ranks. On by default.
+if(TRICOT_MPI)
+  find_package(MPI COMPONENTS CXX)
+  if(NOT MPI_CXX_FOUND)
+    message(FATAL_ERROR "TRICOT_MPI is ON but no MPI was found (OpenMPI: Debian's libopenmpi-dev and "
+                        "openmpi-bin). Run scripts/install-deps, or configure with -DTRICOT_MPI=OFF to build "
+                        "without MPI (identifications then run in one process).")
+  endif()
+endif()
 
 # SuiteSparse (CHOLMOD, UMFPACK) through Eigen's support modules. Debian's package ships no CMake
 # config for these, so find the libraries directly.

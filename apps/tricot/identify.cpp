@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "console.hpp"
+#include "tricot/mpi/world.hpp"
 #include "tricot/project/identification.hpp"
 #include "verbs.hpp"
 
@@ -99,6 +100,19 @@ Runner add_identify(CLI::App& app) {
   cmd->add_flag("--kill-before-publish", args->kill_before_publish, "Testing aid: kill the run before publishing")->group("");
   add_print_config(cmd, project::identify_schema);
   return [args]() {
+    // Under mpirun every rank builds the objective from the project; rank 0 runs LM and writes, the
+    // others evaluate their share of the tests until rank 0 says stop (issue 15). One process
+    // otherwise.
+    mpi::World world;
+    if (world.rank() > 0) {
+      project::Project P;
+      world.serve([&]() -> const ident::Objective* {
+        P = project::build_project(io::read_config(project::identify_schema(), args->project),
+                                   fs::path(args->project).parent_path());
+        return P.objective.get();
+      });
+      return ExitCode::ok;  // rank 0 says how the run went; a failed rank's exit would end the job
+    }
     check_out_dir(args->out_dir);
     const project::IdentificationSpec spec =
         project::read_identification_spec(io::read_config(project::identify_schema(), args->project));
@@ -111,7 +125,10 @@ Runner add_identify(CLI::App& app) {
     req.kill_after = args->kill_after;
     req.kill_after_evaluations = args->kill_after_evaluations;
     req.kill_before_publish = args->kill_before_publish;
+    req.distribute = [&world](ident::Objective& objective) { world.lead(objective); };
     const project::IdentifyOutcome o = project::run_identification(spec, req, console.log());
+    if (args->verbose && world.size() > 1)
+      console.log().print(world.traffic().brief_report() + " (" + std::to_string(world.size()) + " ranks)");
     return o.result.converged() ? ExitCode::ok : ExitCode::not_converged;
   };
 }

@@ -9,6 +9,7 @@
 #include <new>
 #include <system_error>
 
+#include "tricot/mpi/world.hpp"
 #include "verbs.hpp"
 
 
@@ -25,9 +26,12 @@ int tricot_cli_main(int argc, char** argv) {
       {"simulate", cli::add_simulate(app)}, {"identify", cli::add_identify(app)}, {"dic", cli::add_dic(app)},
       {"synth", cli::add_synth(app)},       {"demo", cli::add_demo(app)},
       {"experiment", cli::add_experiment(app)}, {"relax", cli::add_relax(app)}};
+  // Under mpirun every rank parses the same command line: only rank 0 prints (issue 15).
+  const bool prints = mpi::launcher_rank() == 0;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    if (!prints) return e.get_exit_code() == 0 ? 0 : static_cast<int>(ExitCode::usage);
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version, --print-config
     // CLI11's own two lines become the contract's one: `command line: VERB: what (see … --help)`.
     std::string verb;
@@ -43,7 +47,8 @@ int tricot_cli_main(int argc, char** argv) {
     return static_cast<int>(ExitCode::usage);
   }
   // One line whatever the message holds (a multi-line TOML string echoed as `got`, a library's text).
-  const auto error = [](std::string line) {
+  const auto error = [prints](std::string line) {
+    if (!prints) return;
     for (char& c : line)
       if (c == '\n' || c == '\r') c = ' ';
     std::fprintf(stderr, "tricot: error: %s\n", line.c_str());

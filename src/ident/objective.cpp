@@ -132,23 +132,20 @@ std::unique_ptr<fem::Law> Objective::law_at(const Eigen::VectorXd& J) const {
   return law;
 }
 
-Evaluation Objective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
-  Evaluation out;
-  out.evaluations = 1;
+std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool jacobian,
+                                                 const std::vector<int>& tests) const {
+  const int T = static_cast<int>(models_.size());
+  std::vector<TestValues> values(T);
   std::unique_ptr<fem::Law> law;
   try {
     law = law_at(J);
   } catch (const std::exception& e) {
-    out.message = std::string("coefficients rejected by the law: ") + e.what();
-    return out;
+    for (int t : tests) values[t].message = std::string("coefficients rejected by the law: ") + e.what();
+    return values;
   }
   fem::SolveOptions so = options_.solver;
   so.sensitivities = jacobian;
   so.keep_residuals = false;
-  const int T = static_cast<int>(models_.size());
-  std::vector<detail::Prediction> pred(T);
-  std::vector<std::string> message(T);
-  std::vector<char> ok(T, 0);
   // A failed test fails the evaluation: the tests after the first failed one are not run, or stop at
   // their next increment. The lowest failing test always runs to its end, whatever the threads do, so
   // the evaluation's message is the same on any number of threads.
@@ -160,63 +157,102 @@ Evaluation Objective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
   };
   // More threads than cores never speeds this up, and a team of 1024 can fail to start (libgomp aborts).
   const int threads = options_.threads > 0 ? std::min(options_.threads, omp_get_num_procs()) : omp_get_max_threads();
+  const int K = static_cast<int>(tests.size());
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (int t = 0; t < T; ++t) {
+  for (int k = 0; k < K; ++k) {
+    const int t = tests[k];
     if (first_failed.load(std::memory_order_relaxed) < t) continue;
     fem::SolveOptions st = so;
     st.cancelled = [&first_failed, t] { return first_failed.load(std::memory_order_relaxed) < t; };
+    TestValues& v = values[t];
+    detail::Prediction P;
     try {
       const fem::SimulationResult sim = fem::simulate(models_[t], *law, st);
       if (!sim.usable()) {
-        message[t] = "test " + models_[t].name + ": " + sim.message;
+        v.message = "test " + models_[t].name + ": " + sim.message;
         failed(t);
         continue;
       }
-      ok[t] = detail::predict(models_[t], experiment_.tests[t], reference_locations_[t], sim,
-                              jacobian ? &coefficient_ : nullptr, pred[t], message[t]);
+      v.ok = detail::predict(models_[t], experiment_.tests[t], reference_locations_[t], sim,
+                             jacobian ? &coefficient_ : nullptr, P, v.message);
     } catch (const std::exception& e) {
-      message[t] = "test " + models_[t].name + ": " + e.what();
+      v.message = "test " + models_[t].name + ": " + e.what();
     }
-    if (!ok[t]) failed(t);
+    if (!v.ok) {
+      failed(t);
+      continue;
+    }
+    // The test's rows of y, its data groups one after the other (as evaluate() reads them back).
+    int rows = 0;
+    for (const DataGroup& g : data_.groups())
+      if (g.test == t) rows += g.size;
+    v.y.resize(rows);
+    if (jacobian) v.dy.setZero(rows, static_cast<Eigen::Index>(parameters_.size()));
+    int row = 0;
+    for (const DataGroup& g : data_.groups()) {
+      if (g.test != t) continue;
+      switch (g.kind) {
+        case GroupKind::edge_displacement:
+          v.y.segment(row, g.size) = P.edge_displacement;
+          if (jacobian) v.dy.middleRows(row, g.size) = P.d_edge_displacement;
+          break;
+        case GroupKind::edge_force:
+          v.y.segment(row, g.size) = P.edge_force;
+          if (jacobian) v.dy.middleRows(row, g.size) = P.d_edge_force;
+          break;
+        case GroupKind::field_u:
+          v.y.segment(row, g.size) = detail::stack(P.U);
+          if (jacobian) v.dy.middleRows(row, g.size) = P.dU;
+          break;
+        case GroupKind::field_v:
+          v.y.segment(row, g.size) = detail::stack(P.V);
+          if (jacobian) v.dy.middleRows(row, g.size) = P.dV;
+          break;
+        case GroupKind::field_uv:
+          v.y.segment(row, g.size) = detail::stack_uv(P.U, P.V);
+          if (jacobian)
+            for (Eigen::Index i = 0; i < P.dU.rows(); ++i) {
+              v.dy.row(row + 2 * i) = P.dU.row(i);
+              v.dy.row(row + 2 * i + 1) = P.dV.row(i);
+            }
+          break;
+      }
+      row += g.size;
+    }
+  }
+  return values;
+}
+
+Evaluation Objective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
+  Evaluation out;
+  out.evaluations = 1;
+  const int T = static_cast<int>(models_.size());
+  const auto local = [&](const std::vector<int>& tests) { return evaluate_tests(J, jacobian, tests); };
+  std::vector<TestValues> values;
+  if (split_) {
+    values = split_->evaluate(J, jacobian, T, local);
+  } else {
+    std::vector<int> all(T);
+    for (int t = 0; t < T; ++t) all[t] = t;
+    values = local(all);
   }
   for (int t = 0; t < T; ++t)
-    if (!ok[t]) {
-      out.message = message[t];
+    if (!values[t].ok) {
+      out.message = values[t].message;
       return out;
     }
 
+  // y and ∂y/∂J from the tests' rows, group by group in the data's order.
   const int N = data_.size(), n = static_cast<int>(parameters_.size());
   out.y.resize(N);
   Eigen::MatrixXd dy;
   if (jacobian) dy.setZero(N, n);
+  std::vector<int> row(T, 0);
   for (const DataGroup& g : data_.groups()) {
-    const detail::Prediction& P = pred[g.test];
-    switch (g.kind) {
-      case GroupKind::edge_displacement:
-        out.y.segment(g.offset, g.size) = P.edge_displacement;
-        if (jacobian) dy.middleRows(g.offset, g.size) = P.d_edge_displacement;
-        break;
-      case GroupKind::edge_force:
-        out.y.segment(g.offset, g.size) = P.edge_force;
-        if (jacobian) dy.middleRows(g.offset, g.size) = P.d_edge_force;
-        break;
-      case GroupKind::field_u:
-        out.y.segment(g.offset, g.size) = detail::stack(P.U);
-        if (jacobian) dy.middleRows(g.offset, g.size) = P.dU;
-        break;
-      case GroupKind::field_v:
-        out.y.segment(g.offset, g.size) = detail::stack(P.V);
-        if (jacobian) dy.middleRows(g.offset, g.size) = P.dV;
-        break;
-      case GroupKind::field_uv:
-        out.y.segment(g.offset, g.size) = detail::stack_uv(P.U, P.V);
-        if (jacobian)
-          for (Eigen::Index i = 0; i < P.dU.rows(); ++i) {
-            dy.row(g.offset + 2 * i) = P.dU.row(i);
-            dy.row(g.offset + 2 * i + 1) = P.dV.row(i);
-          }
-        break;
-    }
+    const TestValues& v = values[g.test];
+    out.y.segment(g.offset, g.size) = v.y.segment(row[g.test], g.size);
+    if (jacobian) dy.middleRows(g.offset, g.size) = v.dy.middleRows(row[g.test], g.size);
+    row[g.test] += g.size;
   }
   out.r = data_.residuals(out.y);
   if (jacobian) {

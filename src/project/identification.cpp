@@ -69,6 +69,7 @@ IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& 
 IdentifyOutcome run_identification(const IdentificationSpec& spec, const IdentifyRequest& req, const Log& log) {
   const auto started = std::chrono::steady_clock::now();
   Project P = build_project(spec, req.base);
+  if (req.distribute) req.distribute(*P.objective);
   const auto& law = P.law;
   const auto& models = P.models;
   const auto& solver = P.solver;

@@ -218,5 +218,61 @@ TEST(Objective, AFailedTestNamesTheFirstFailureOnAnyNumberOfThreads) {
   EXPECT_EQ(serial.rfind("test course-20: ", 0), 0u) << serial;
 }
 
+// Issue 15: what `mpirun -np N tricot identify` does (src/mpi), in one process: the tests are split
+// round-robin over N "ranks", each share evaluated on its own as a rank would, and the objective puts
+// the values together. Each test's arithmetic is the same, so the result is the one-process one bit
+// for bit, and a failed test on any rank gives the same message.
+class InProcessSplit final : public TestSplit {
+ public:
+  explicit InProcessSplit(int ranks) : ranks_(ranks) {}
+  std::vector<TestValues> evaluate(
+      const Eigen::VectorXd&, bool, int tests,
+      const std::function<std::vector<TestValues>(const std::vector<int>&)>& local) const override {
+    std::vector<TestValues> all(tests);
+    for (int r = 0; r < ranks_; ++r) {
+      std::vector<int> mine;
+      for (int t = r; t < tests; t += ranks_) mine.push_back(t);
+      std::vector<TestValues> v = local(mine);
+      for (int t : mine) all[t] = std::move(v[t]);
+    }
+    return all;
+  }
+
+ private:
+  int ranks_;
+};
+
+TEST(Objective, TestsSplitOverRanksGiveTheOneProcessResultBitForBit) {
+  const RigCampaign c = rig_campaign();
+  Eigen::VectorXd J = c.law.coefficients();
+  J(0) *= 1.1, J(8) *= 0.9;
+  Objective objective(c.models, c.data, c.law, c.parameters);
+  const Evaluation one = objective.evaluate(J, true);
+  ASSERT_TRUE(one.ok) << one.message;
+  for (int ranks : {1, 2, 3, 4, 5}) {
+    objective.set_split(std::make_shared<InProcessSplit>(ranks));
+    const Evaluation e = objective.evaluate(J, true);
+    ASSERT_TRUE(e.ok) << e.message;
+    EXPECT_TRUE((e.y.array() == one.y.array()).all()) << ranks << " ranks";
+    EXPECT_TRUE((e.r.array() == one.r.array()).all()) << ranks << " ranks";
+    EXPECT_TRUE((e.jacobian.array() == one.jacobian.array()).all()) << ranks << " ranks";
+  }
+}
+
+TEST(Objective, AFailedTestOnAnyRankNamesTheSameFirstFailure) {
+  const RigCampaign c = rig_campaign();
+  Eigen::VectorXd J = c.law.coefficients();
+  J(8) = -0.2;  // as above: course-20 (test 3) fails
+  Objective objective(c.models, c.data, c.law, c.parameters);
+  const std::string one = objective.evaluate(J, false).message;
+  EXPECT_EQ(one.rfind("test course-20: ", 0), 0u) << one;
+  for (int ranks : {2, 3, 4}) {
+    objective.set_split(std::make_shared<InProcessSplit>(ranks));
+    const Evaluation e = objective.evaluate(J, false);
+    EXPECT_FALSE(e.ok);
+    EXPECT_EQ(e.message, one) << ranks << " ranks";
+  }
+}
+
 }  // namespace
 }  // namespace tricot::ident

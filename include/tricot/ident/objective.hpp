@@ -3,7 +3,9 @@
 // points and steps, and the exact Jacobian from the FE sensitivities du/dc and dF/dc.
 #pragma once
 
+#include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tricot/fem/law.hpp"
@@ -40,6 +42,27 @@ struct ObjectiveOptions {
   void validate() const;
 };
 
+/// One test's share of an evaluation: the rows of y of its data groups (in the data's order) and
+/// their ∂y/∂J, or why it failed.
+struct TestValues {
+  bool ok = false;
+  std::string message;  ///< !ok: why, naming the test; empty for a test that was not run (cancelled)
+  Eigen::VectorXd y;    ///< the test's rows of y, unscaled, its groups one after the other
+  Eigen::MatrixXd dy;   ///< ∂y/∂J of those rows (physical J); empty without a Jacobian
+};
+
+/// Spreads an Objective's tests over processes (the MPI ranks of `mpirun -np N tricot identify`,
+/// src/mpi). ident only sees this interface: it never includes MPI.
+class TestSplit {
+ public:
+  virtual ~TestSplit() = default;
+  /// The values of all `tests` tests at J (index = test): this process's share from `local` (called
+  /// with its test indices, ascending), the others' from the other processes. Thread-safe.
+  virtual std::vector<TestValues> evaluate(
+      const Eigen::VectorXd& J, bool jacobian, int tests,
+      const std::function<std::vector<TestValues>(const std::vector<int>&)>& local) const = 0;
+};
+
 class Objective : public Problem {
  public:
   /// Checks everything before any work (InputError): the experiment; one model per test, same name
@@ -55,7 +78,15 @@ class Objective : public Problem {
   /// Simulates every test with the law's coefficients set to J (in parallel), with sensitivities
   /// when `jacobian`. A test that does not converge, or a point that leaves the deformed mesh
   /// (incremental data), gives ok = false and a message naming the test.
+  /// With a TestSplit, the tests are spread over its processes; the answer is the same bit for bit.
   Evaluation evaluate(const Eigen::VectorXd& J, bool jacobian) const override;
+  /// The values of `tests` (ascending indices into models()) at J, simulated in parallel threads;
+  /// the other entries stay empty. A failed test leaves the later ones of `tests` unrun (empty
+  /// message) or stopped at their next increment; the lowest failing one always runs to its end and
+  /// says why, so the first failed test and its message do not depend on threads or processes.
+  std::vector<TestValues> evaluate_tests(const Eigen::VectorXd& J, bool jacobian, const std::vector<int>& tests) const;
+  /// evaluate()'s tests go through `split` from now on (nullptr: all in this process).
+  void set_split(std::shared_ptr<const TestSplit> split) { split_ = std::move(split); }
   Eigen::VectorXd residual_variance() const override { return data_.sigma_variance(); }
 
   const ScaledResiduals& data() const { return data_; }
@@ -73,6 +104,7 @@ class Objective : public Problem {
   ObjectiveOptions options_;
   ScaledResiduals data_;
   std::vector<std::vector<fem::Location>> reference_locations_;  // per test, per point
+  std::shared_ptr<const TestSplit> split_;
 };
 
 }  // namespace tricot::ident

@@ -77,6 +77,9 @@ struct IdentifyRequest {
   bool kill_before_publish = false;
   /// Called after each checkpoint is written (the demo's ε study reads the run from them).
   std::function<void(const ident::Checkpoint&)> observe;
+  /// Called with the objective once it is built, before any evaluation; may be empty. `tricot
+  /// identify` under mpirun spreads its tests over the ranks here (mpi::World::lead).
+  std::function<void(ident::Objective&)> distribute;
 };
 
 struct IdentifyOutcome {
