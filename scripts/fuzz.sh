@@ -45,7 +45,7 @@ for h in "${harnesses[@]}"; do
     cpu=$(tail -1 "$BUILD/$h.time" | awk -v c="$cpu" '{printf "%.0f", c + $1 + $2}')  # the harness's own CPU, user + sys
     [ "$result" = ok ] && [ "$cpu" -lt "${FUZZ_CPU_SECONDS:-0}" ] || break
   done
-  rate=$(awk -v e="$execs" -v c="$cpu" 'BEGIN {printf "%.0f", c > 0 ? e / c : 0}')  # per CPU second
+  rate=$(awk -v e="$execs" -v c="$cpu" 'BEGIN {printf "%.0f", (c > 0 ? e / c : 0)}')  # per CPU second
   printf '%-8s %8s %8s %7s %12s %10s %8s %s\n' "$h" "$wall" "$cpu" "$rounds" "$execs" "$rate" "$(ls "$corpus" | wc -l)" "$result"
 done
 exit $status

@@ -31,12 +31,26 @@ LoadedImage load_image(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path, ec)) throw file_error(path, "image not found");
   if (std::filesystem::is_directory(path, ec)) throw file_error(path, "is a folder, not an image");
   {
-    // A truncated PNG makes libpng print its own "libpng error" on stderr before OpenCV gives up: find
-    // it here instead, from the signature and the closing IEND chunk (issue 14: one error line).
     std::ifstream in(path, std::ios::binary);
     char head[8] = {};
     in.read(head, 8);
-    if (in.gcount() == 8 && std::memcmp(head, "\x89PNG\r\n\x1a\n", 8) == 0) {
+    const auto n = static_cast<std::size_t>(in.gcount());
+    const auto starts = [&](const char* magic, std::size_t len) { return n >= len && std::memcmp(head, magic, len) == 0; };
+    // Only the camera formats reach OpenCV: its other decoders (DICOM through GDCM, HDR, JPEG 2000, …)
+    // pick files by signature and some abort the process on a malformed one (GDCM asserts: found by
+    // the image fuzzer, issue 14).
+    const bool known = starts("\x89PNG\r\n\x1a\n", 8) || starts("II*\0", 4) || starts("MM\0*", 4) || starts("II+\0", 4) ||
+                       starts("MM\0+", 4) || starts("BM", 2) || starts("\xff\xd8\xff", 3) ||
+                       (n >= 2 && head[0] == 'P' && head[1] >= '1' && head[1] <= '6');
+    if (!known) {
+      std::string bytes;
+      for (std::size_t i = 0; i < n; ++i) bytes += (i ? " " : "") + std::to_string(static_cast<unsigned char>(head[i]));
+      throw file_error(path, "cannot decode image", "not a TIFF, PNG, BMP, JPEG or PNM file (first bytes " + bytes + ")",
+                       "an 8- or 16-bit TIFF, PNG or BMP");
+    }
+    // A truncated PNG makes libpng print its own "libpng error" on stderr before OpenCV gives up: find
+    // it here instead, from the signature and the closing IEND chunk (issue 14: one error line).
+    if (starts("\x89PNG\r\n\x1a\n", 8)) {
       char tail[8] = {};
       in.seekg(-8, std::ios::end);
       in.read(tail, 8);

@@ -90,6 +90,20 @@ TEST(LoadImage, UndecodableFileIsAFileErrorNamingIt) {
   EXPECT_NE(message_of(dir / "bad.png").find("bad.png: cannot decode image"), std::string::npos);
 }
 
+// The image fuzzer's crash (issue 14): PNG bytes behind a 9-byte prefix with "DICM" at offset 128
+// made OpenCV hand the file to GDCM, which aborts on it. Files of other formats than the cameras'
+// never reach a decoder now.
+TEST(LoadImage, AFileOfAnotherFormatNeverReachesADecoder) {
+  const auto dir = test::scratch_dir("image_other_format");
+  std::string dicom(136, '\0');
+  dicom.replace(128, 4, "DICM");
+  dicom.replace(9, 8, "\x89PNG\r\n\x1a\n");
+  write_bytes(dir / "frame.png", dicom);
+  const std::string m = message_of(dir / "frame.png");
+  EXPECT_NE(m.find("frame.png: cannot decode image"), std::string::npos) << m;
+  EXPECT_NE(m.find("not a TIFF, PNG, BMP, JPEG or PNM file (first bytes 0 0 0 0 0 0 0 0)"), std::string::npos) << m;
+}
+
 TEST(LoadImage, FrameOfAnotherSizeIsAFileErrorNamingItAndBothSizes) {
   try {
     require_same_size(Image(40, 30), Image(41, 30), "frame_2.png");
