@@ -76,6 +76,8 @@ and moves its files into DIR at the end, replacing the earlier run's.
 Examples:
   tricot identify examples/uniaxial-mooney/project.toml -o out/identify
   tricot identify examples/uniaxial-mooney/project.toml -o out/identify --resume
+  mpirun -np 4 tricot identify examples/knit-campaign/project-110.toml -o out/kc110
+      (the tests spread over 4 MPI ranks; rank 0 runs LM and writes; the same answer bit for bit)
 
 Exit codes: 0 converged, 2 bad command line, project or data, 3 a file or folder missing,
 4 ran but did not converge (result.json says why).
