@@ -253,7 +253,7 @@ std::optional<Truth> read_truth(const fs::path& dir) {
   json j;
   try {
     j = json::parse(io::read_text(path));
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number that overflows
     throw InputError({file, 0, ""}, "not valid JSON: " + json_problem(e));
   }
   Truth t;

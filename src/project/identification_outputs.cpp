@@ -252,7 +252,11 @@ json design_json(const IdentificationSpec& spec, const Project& P, const ident::
       rows.push_back(row);
     }
   }
-  if (candidates.empty()) return nullptr;
+  if (candidates.empty()) {
+    log.print(rows.empty() ? "identify: design: no candidate (it varies the held strain of kind = \"rig\" tests, and every candidate strain is tested already or there is no rig test)"
+                           : "identify: design: no candidate could be simulated (result.json's \"design\" is null)");
+    return nullptr;
+  }
   Eigen::VectorXd scale(r.parameters.size());
   for (Eigen::Index k = 0; k < scale.size(); ++k) scale(k) = objective.parameters()[k].resolved_scale();
   const auto criterion = spec.design->criterion == "a_optimal" ? ident::DesignCriterion::a_optimal

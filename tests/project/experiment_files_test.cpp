@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "testing/experiment_case.hpp"
 #include "testing/paths.hpp"
 #include "tricot/core/error.hpp"
@@ -137,6 +139,19 @@ TEST(ExperimentFiles, AMissingFolderIsAFileError) {
   const fs::path dir = scratch_dir("experiment_files_missing_folder");
   EXPECT_THROW(read_experiment(dir / "nowhere", {"t"}, ident::FieldKind::cumulative), FileError);
   EXPECT_THROW(read_experiment(dir, {"t"}, ident::FieldKind::cumulative), FileError);  // no t/
+}
+
+// The JSON fuzzer's crash (issue 14): a number too large for a double is nlohmann's out_of_range,
+// not a parse_error; it was thrown past the reader and ended the process.
+TEST(ExperimentFiles, ATruthWhoseNumberOverflowsIsAnInputErrorNamingTheFile) {
+  const fs::path dir = scratch_dir("experiment_files_truth_overflow");
+  std::ofstream(dir / kTruthFile) << "8484E4444484444";
+  try {
+    (void)read_truth(dir);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find((dir / kTruthFile).string() + ": not valid JSON"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ExperimentFiles, TruthReadsBackAsWritten) {
