@@ -141,6 +141,7 @@ TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays)
   EXPECT_FALSE(fs::exists(out / "overlays" / "frame_0001.png"));
   EXPECT_TRUE(fs::exists(out / "overlays" / "frame_0002.png"));
   EXPECT_NE(r.out.find("3 frames"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("strains: virtual strain gauge "), std::string::npos) << r.out;  // issue 16
 }
 
 TEST(CliDic, FlagsOverrideTheConfigFile) {
@@ -152,6 +153,9 @@ TEST(CliDic, FlagsOverrideTheConfigFile) {
   const std::size_t n = dic::make_grid(dic::Roi::whole_image(), kW, kH, 41, 15).size();  // subset from the file
   EXPECT_EQ(read_rows(out / "points.csv").size(), 1 + 3 * n);
   EXPECT_EQ(read_rows(out / "frames.csv")[3][2], "0");  // reference mode from the file
+  // Issue 16: the strains' virtual strain gauge, (window − 1) × step + subset = 4 × 15 + 41 px.
+  EXPECT_EQ(read_rows(out / "frames.csv")[0][7], "vsg_px");
+  EXPECT_EQ(read_rows(out / "frames.csv")[3][7], "101");
   EXPECT_FALSE(fs::exists(out / "overlays"));
 }
 
@@ -337,7 +341,8 @@ std::string args_of(const std::vector<fs::path>& files) {
 std::string frames_without_seconds(const fs::path& csv) {
   std::string s;
   for (const auto& row : read_rows(csv)) {
-    for (std::size_t c = 0; c + 1 < row.size(); ++c) s += row[c] + ",";
+    for (std::size_t c = 0; c < row.size(); ++c)
+      if (c != 6) s += row[c] + ",";  // 6: seconds (then vsg_px, issue 16)
     s += "\n";
   }
   return s;

@@ -88,8 +88,9 @@ io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::Track
 std::string points_csv(const dic::SequenceResult& r);
 /// points.csv's rows of one frame (no header).
 std::string points_rows(const std::vector<dic::GridPoint>& grid, const dic::TrackedFrame& f);
-/// DIR/frames.csv: frame,image,reference_frame,ok,points,mean_zncc,seconds.
-std::string frames_csv(const dic::SequenceResult& r, const std::vector<std::string>& images);
+/// DIR/frames.csv: frame,image,reference_frame,ok,points,mean_zncc,seconds,vsg_px. vsg_px (issue 16) is
+/// the strains' virtual strain gauge (dic::virtual_strain_gauge), an empty cell when ≤ 0.
+std::string frames_csv(const dic::SequenceResult& r, const std::vector<std::string>& images, int vsg_px = 0);
 /// DIR/increments.csv: from,to,id,x,y,u,v,zncc,status (fixed-point incremental fields).
 std::string increments_csv(const dic::SequenceResult& r);
 /// DIR/specimen.csv: points.csv in specimen millimetres.
