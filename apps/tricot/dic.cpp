@@ -48,7 +48,8 @@ Writes:
   DIR/frames.csv    frame, image, reference frame, points ok, mean ZNCC, seconds, vsg_px: the strains'
                     virtual strain gauge, (window - 1) x step + subset px.
   DIR/overlays/frame_NNNN.png   displacement, strain and ZNCC maps drawn over each image.
-  DIR/fields/frame_NNNN.vtu     u, v, strains, ZNCC and status on the grid (compressed binary VTK);
+  DIR/fields/frame_NNNN.vtu     u, v, strains, ZNCC and status on the grid (compressed binary VTK;
+                                field data vsg_px);
   DIR/fields.pvd                the series: open it in ParaView ([output] fields, fields_every).
   DIR/increments.csv            with [output] increments = true: fixed-point incremental fields.
   DIR/specimen.csv              with [physical] mm_per_px > 0: the same in specimen mm.

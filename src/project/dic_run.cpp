@@ -157,7 +157,7 @@ std::string specimen_csv(const dic::SequenceResult& r, const dic::PhysicalFrame&
   return s;
 }
 
-io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::TrackedFrame& f) {
+io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::TrackedFrame& f, int vsg_px) {
   io::VtuGrid g;
   const std::size_t n = grid.size();
   g.points.reserve(3 * n);
@@ -192,6 +192,7 @@ io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::Track
     status.values.push_back(static_cast<double>(f.status[k]));
   }
   g.point_data = {std::move(u), std::move(exx), std::move(eyy), std::move(exy), std::move(zncc), std::move(status)};
+  if (vsg_px > 0) g.field_data = {io::VtuField{"vsg_px", 1, {double(vsg_px)}}};  // issue 16
   return g;
 }
 
@@ -462,7 +463,7 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
       st.overlays += lap(t);
     }
     if (s.outputs.fields && wanted(f.frame, s.outputs.fields_every, n)) {
-      io::write_vtu(staged / fields_name(f.frame), fields_vtu(grid, f));
+      io::write_vtu(staged / fields_name(f.frame), fields_vtu(grid, f, vsg));
       st.fields += lap(t);
     }
     // The frame is complete on disk: record where the tables end and the tracker's state (not after

@@ -371,11 +371,14 @@ d = m.point_data["displacement"]; s = m.point_data["status"]
 ok = s == 0
 print(len(m.points), int(ok.sum()), len(m.cells_dict["quad"]))
 print("%.4f %.4f %.4f" % (np.abs(d[ok, 0] - 1.0).max(), np.abs(d[ok, 1] + 0.5).max(), np.nanmax(np.abs(m.point_data["exx"]))))
+print(int(np.asarray(m.field_data["vsg_px"]).ravel()[0]))
 )");
   std::istringstream in(got);
   std::size_t points = 0, ok = 0, quads = 0;
   double du = 1, dv = 1, exx = 1;
-  in >> points >> ok >> quads >> du >> dv >> exx;
+  int vsg = 0;
+  in >> points >> ok >> quads >> du >> dv >> exx >> vsg;
+  EXPECT_EQ(vsg, 4 * 20 + 31) << got;  // issue 16: the virtual strain gauge as field data
   EXPECT_EQ(points, n) << got;
   EXPECT_EQ(ok, n) << got;
   EXPECT_GT(quads, 0u) << got;

@@ -81,8 +81,9 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
 /// One frame as a VTK grid for ParaView: the grid points at their reference positions (px, z = 0),
 /// quads between neighbouring points, and point fields `displacement` (u, v, 0; NaN where not ok),
 /// `exx`, `eyy`, `exy` (Green–Lagrange), `zncc` and `status` (dic::PointStatus as a number: 0 = ok;
-/// its order in icgn.hpp).
-io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::TrackedFrame& frame);
+/// its order in icgn.hpp). vsg_px > 0 (issue 16): the strains' virtual strain gauge as the field data
+/// `vsg_px` (dic::virtual_strain_gauge).
+io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::TrackedFrame& frame, int vsg_px = 0);
 
 /// DIR/points.csv: frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy (empty cells where there is no value).
 std::string points_csv(const dic::SequenceResult& r);
