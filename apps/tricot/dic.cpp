@@ -31,7 +31,9 @@ The first IMAGE is the reference (frame 0); give the others in time order (8- or
 BMP; colour is converted to gray with a warning). A square subset of --subset px sits on every grid
 point (--step px apart) inside the region of interest; inverse-compositional Gauss-Newton (ZNSSD,
 bicubic B-splines) matches it in every image, starting from FFT cross-correlation at a seed and
-spreading to the neighbours with the highest correlation first.
+spreading to the neighbours with the highest correlation first. Each subset is matched to first
+order and kept at second order where an F-test says the extra terms pay (dic.order = "auto", the
+default; "first" or "second" to force one).
 
 Modes: incremental (default) correlates each image with the previous one and follows the material
 points, which survives strains above 100 %; reference correlates every image with the first; auto
@@ -41,10 +43,13 @@ Writes:
   DIR/points.csv    frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy,sigma_x,sigma_y: one row per point and frame.
                     px, x to the right and y down; (x0, y0) in the reference, (x, y) in the frame;
                     status `ok` or why not (no_texture, low_correlation, out_of_image, lost, ...);
-                    Green-Lagrange strains. Cells without a value are empty.
-  DIR/frames.csv    frame, image, reference frame, points ok, mean ZNCC, seconds.
+                    Green-Lagrange strains (a plane fit over [strain] window points). Cells
+                    without a value are empty.
+  DIR/frames.csv    frame, image, reference frame, points ok, mean ZNCC, seconds, vsg_px: the strains'
+                    virtual strain gauge, (window - 1) x step + subset px.
   DIR/overlays/frame_NNNN.png   displacement, strain and ZNCC maps drawn over each image.
-  DIR/fields/frame_NNNN.vtu     u, v, strains, ZNCC and status on the grid (compressed binary VTK);
+  DIR/fields/frame_NNNN.vtu     u, v, strains, ZNCC and status on the grid (compressed binary VTK;
+                                field data vsg_px);
   DIR/fields.pvd                the series: open it in ParaView ([output] fields, fields_every).
   DIR/increments.csv            with [output] increments = true: fixed-point incremental fields.
   DIR/specimen.csv              with [physical] mm_per_px > 0: the same in specimen mm.

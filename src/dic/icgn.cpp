@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "tricot/core/error.hpp"
@@ -96,6 +97,7 @@ Frame prepare_frame(const image::Image& img, double sigma) {
   f.image = sigma > 0 ? image::gaussian_blur(img, sigma) : img;
   f.spline = image::BSplineImage(f.image);
   f.grad = image::gradient(f.spline);
+  f.prefilter_sigma = sigma > 0 ? sigma : 0;
   return f;
 }
 
@@ -524,7 +526,9 @@ PointMatch icgn(const Frame& reference, const Frame& current, const Vec2& centre
   second.iterations += first.iterations;
   if (second.status != PointStatus::ok && second.status != PointStatus::low_correlation) return first;
   const Reference<12>& R = reference_scratch<12>();
-  const double n = R.w.empty() ? double(options.subset_size) * options.subset_size : R.sw * R.sw / R.sw2;
+  const double sp = reference.prefilter_sigma;
+  const double n = (R.w.empty() ? double(options.subset_size) * options.subset_size : R.sw * R.sw / R.sw2) /
+                   std::max(1.0, 4 * std::numbers::pi * sp * sp);
   // F₀.₉₉₉(6, ν) → χ²₆ quantile / 6 = 22.458/6 = 3.743 as ν → ∞; used for every ν (ν ≥ 37 here, where the
   // exact quantile is higher, so small subsets test at a level somewhat above 0.1 %). The pixels'
   // residuals are not quite independent (interpolation), so the level is nominal anyway.

@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <algorithm>
 #include <vector>
 
@@ -17,6 +18,17 @@ void StrainOptions::validate() const {
                      std::to_string(window), "an odd number from 3 to 51");
   if (!(min_fraction >= 0 && min_fraction <= 1))
     throw InputError(Location{"", 0, "strain.min_fraction"}, "out of range", std::to_string(min_fraction), "0 to 1");
+}
+
+int virtual_strain_gauge(int subset_size, int step, int window) { return (window - 1) * step + subset_size; }
+
+double strain_transfer(double period, int subset_size, int step, int window) {
+  const double w = 2 * std::numbers::pi / period;
+  double num = 0, den = 0;
+  for (int k = -(window / 2); k <= window / 2; ++k) num += k * std::sin(w * k * step), den += double(k) * k;
+  const double fit = num / (w * step * den);
+  const double a = std::numbers::pi * subset_size / period;
+  return (subset_size > 0 ? std::sin(a) / a : 1.0) * fit;
 }
 
 std::vector<StrainPoint> green_lagrange(const std::vector<GridPoint>& grid, const std::vector<Vec2>& x,

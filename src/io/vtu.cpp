@@ -128,6 +128,16 @@ std::string to_vtu(const VtuGrid& g, VtuFormat format) {
   out += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"";
   if (format == VtuFormat::binary) out += " compressor=\"vtkZLibDataCompressor\"";
   out += ">\n  <UnstructuredGrid>\n";
+  if (!g.field_data.empty()) {
+    out += "    <FieldData>\n";
+    for (const auto& f : g.field_data) {
+      out += fmt::format("      <DataArray type=\"Float64\" Name=\"{}\" NumberOfTuples=\"{}\" format=\"ascii\">", f.name,
+                         f.values.size());
+      for (double v : f.values) out += " " + number(v);
+      out += " </DataArray>\n";
+    }
+    out += "    </FieldData>\n";
+  }
   out += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", np, nc);
   out += "      <Points>\n";
   data_array(out, w, VtuField{"Points", 3, g.points});

@@ -48,13 +48,14 @@ std::string overlay_name(int frame) { return fmt::format("frame_{:04d}.png", fra
 namespace {
 
 constexpr const char* kPointsHeader = "frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy,sigma_x,sigma_y\n";
-constexpr const char* kFramesHeader = "frame,image,reference_frame,ok,points,mean_zncc,seconds\n";
+// vsg_px (issue 16): the strains' virtual strain gauge, dic::virtual_strain_gauge, the same on every row.
+constexpr const char* kFramesHeader = "frame,image,reference_frame,ok,points,mean_zncc,seconds,vsg_px\n";
 constexpr const char* kIncrementsHeader = "from,to,id,x,y,u,v,zncc,status,sigma_x,sigma_y\n";
 constexpr const char* kSpecimenHeader = "frame,id,X0,Y0,X,Y,UX,UY,EXX,EYY,EXY,status\n";
 
-std::string frames_row(const dic::TrackedFrame& f, std::size_t points, const std::string& image) {
-  return fmt::format("{},{},{},{},{},{:.6f},{:.3f}\n", f.frame, csv_word(image), f.reference_frame, f.ok, points,
-                     f.mean_zncc, f.seconds);
+std::string frames_row(const dic::TrackedFrame& f, std::size_t points, const std::string& image, int vsg_px) {
+  return fmt::format("{},{},{},{},{},{:.6f},{:.3f},{}\n", f.frame, csv_word(image), f.reference_frame, f.ok, points,
+                     f.mean_zncc, f.seconds, vsg_px > 0 ? std::to_string(vsg_px) : std::string());
 }
 
 std::string increments_rows(const std::vector<dic::GridPoint>& grid, const dic::IncrementField& inc) {
@@ -138,9 +139,9 @@ std::string points_csv(const dic::SequenceResult& r) {
   return s;
 }
 
-std::string frames_csv(const dic::SequenceResult& r, const std::vector<std::string>& images) {
+std::string frames_csv(const dic::SequenceResult& r, const std::vector<std::string>& images, int vsg_px) {
   std::string s = kFramesHeader;
-  for (const dic::TrackedFrame& f : r.frames) s += frames_row(f, r.grid.size(), images[f.frame]);
+  for (const dic::TrackedFrame& f : r.frames) s += frames_row(f, r.grid.size(), images[f.frame], vsg_px);
   return s;
 }
 
@@ -156,7 +157,7 @@ std::string specimen_csv(const dic::SequenceResult& r, const dic::PhysicalFrame&
   return s;
 }
 
-io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::TrackedFrame& f) {
+io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::TrackedFrame& f, int vsg_px) {
   io::VtuGrid g;
   const std::size_t n = grid.size();
   g.points.reserve(3 * n);
@@ -191,6 +192,7 @@ io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::Track
     status.values.push_back(static_cast<double>(f.status[k]));
   }
   g.point_data = {std::move(u), std::move(exx), std::move(eyy), std::move(exy), std::move(zncc), std::move(status)};
+  if (vsg_px > 0) g.field_data = {io::VtuField{"vsg_px", 1, {double(vsg_px)}}};  // issue 16
   return g;
 }
 
@@ -321,6 +323,13 @@ std::string fingerprint(const DicSpec& spec, const std::vector<std::string>& ima
   return s;
 }
 
+/// The longest period (px) at which dic::strain_transfer is below 90 %, by a scan in 0.5 px steps.
+double strain_p90(int subset, int step, int window) {
+  double p = 6.0 * dic::virtual_strain_gauge(subset, step, window);
+  while (p > 2 && dic::strain_transfer(p, subset, step, window) >= 0.9) p -= 0.5;
+  return p + 0.5;
+}
+
 /// Frame 0, every `every`-th frame and the last.
 bool wanted(int frame, int every, int last) { return frame % every == 0 || frame == last; }
 
@@ -424,6 +433,7 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   run.resumed_from = first;
 
   const auto size_of = [&](int i) -> std::uint64_t { return resumed ? resumed->sizes[i] : 0; };
+  const int vsg = dic::virtual_strain_gauge(s.sequence.dic.icgn.subset_size, s.sequence.dic.step, s.sequence.strain.window);
   GrowingFile points(staged / "points.csv", kPointsHeader, size_of(0));
   GrowingFile frames(staged / "frames.csv", kFramesHeader, size_of(1));
   std::optional<GrowingFile> increments, specimen;
@@ -443,7 +453,7 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
       std::raise(SIGKILL);
     }
     points.append(rows);
-    frames.append(frames_row(f, grid.size(), images[f.frame]));
+    frames.append(frames_row(f, grid.size(), images[f.frame], vsg));
     if (increments && f.frame > 0) increments->append(increments_rows(grid, tracker->result().increments.back()));
     if (specimen) specimen->append(specimen_rows(grid, f, *s.outputs.physical));
     st.tables += lap(t);
@@ -453,7 +463,7 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
       st.overlays += lap(t);
     }
     if (s.outputs.fields && wanted(f.frame, s.outputs.fields_every, n)) {
-      io::write_vtu(staged / fields_name(f.frame), fields_vtu(grid, f));
+      io::write_vtu(staged / fields_name(f.frame), fields_vtu(grid, f, vsg));
       st.fields += lap(t);
     }
     // The frame is complete on disk: record where the tables end and the tracker's state (not after
@@ -519,6 +529,10 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   log.print(fmt::format("{} frames, {} points, {} mode: {}/{} ok in the last frame, mean ZNCC {:.4f}, {}",
                         run.frames, grid.size(), dic::to_string(s.sequence.mode), last.ok, grid.size(),
                         last.mean_zncc, format_duration(r.seconds)));
+  log.print(fmt::format("strains: virtual strain gauge {} px = ({} - 1) x {} px step + {} px subset ({}-point window; "
+                        "a sinusoidal strain keeps 90 % of its amplitude at periods >= {:.0f} px with first-order subsets)",
+                        vsg, s.sequence.strain.window, s.sequence.dic.step, s.sequence.dic.icgn.subset_size,
+                        s.sequence.strain.window, strain_p90(s.sequence.dic.icgn.subset_size, s.sequence.dic.step, s.sequence.strain.window)));
   log.print("wrote " + written);
   log.reporter().info("time per stage: " + st.brief_report());
   run.written = std::move(written);

@@ -37,8 +37,8 @@ io::SectionSpec dic_schema() {
           "then move it to the previous image (Ncorr's step analysis).",
           -kInf, kInf, {"incremental", "reference", "auto"}),
       key("order", d0.order,
-          "Shape function: first (affine) or second order; auto: second order only where an F-test on the\n"
-          "residual says it pays (steep gradients), first order elsewhere (less noise).",
+          "Shape function: first (affine) or second order; auto (the default): second order only where an F-test\n"
+          "on the residual says it pays (steep gradients), first order elsewhere (less noise).",
           -kInf, kInf, {"first", "second", "auto"}),
       key("roi", Reals{}, "Region of interest: [x0, y0, x1, y1] px, a rectangle; [] = the whole image."),
       key("roi_polygon", Reals{}, "Region of interest as a polygon: [x0, y0, x1, y1, x2, y2, ...] px (at least 3 vertices)."),

@@ -141,6 +141,7 @@ TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays)
   EXPECT_FALSE(fs::exists(out / "overlays" / "frame_0001.png"));
   EXPECT_TRUE(fs::exists(out / "overlays" / "frame_0002.png"));
   EXPECT_NE(r.out.find("3 frames"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("strains: virtual strain gauge "), std::string::npos) << r.out;  // issue 16
 }
 
 TEST(CliDic, FlagsOverrideTheConfigFile) {
@@ -152,6 +153,9 @@ TEST(CliDic, FlagsOverrideTheConfigFile) {
   const std::size_t n = dic::make_grid(dic::Roi::whole_image(), kW, kH, 41, 15).size();  // subset from the file
   EXPECT_EQ(read_rows(out / "points.csv").size(), 1 + 3 * n);
   EXPECT_EQ(read_rows(out / "frames.csv")[3][2], "0");  // reference mode from the file
+  // Issue 16: the strains' virtual strain gauge, (window − 1) × step + subset = 4 × 15 + 41 px.
+  EXPECT_EQ(read_rows(out / "frames.csv")[0][7], "vsg_px");
+  EXPECT_EQ(read_rows(out / "frames.csv")[3][7], "101");
   EXPECT_FALSE(fs::exists(out / "overlays"));
 }
 
@@ -337,7 +341,8 @@ std::string args_of(const std::vector<fs::path>& files) {
 std::string frames_without_seconds(const fs::path& csv) {
   std::string s;
   for (const auto& row : read_rows(csv)) {
-    for (std::size_t c = 0; c + 1 < row.size(); ++c) s += row[c] + ",";
+    for (std::size_t c = 0; c < row.size(); ++c)
+      if (c != 6) s += row[c] + ",";  // 6: seconds (then vsg_px, issue 16)
     s += "\n";
   }
   return s;
@@ -366,11 +371,14 @@ d = m.point_data["displacement"]; s = m.point_data["status"]
 ok = s == 0
 print(len(m.points), int(ok.sum()), len(m.cells_dict["quad"]))
 print("%.4f %.4f %.4f" % (np.abs(d[ok, 0] - 1.0).max(), np.abs(d[ok, 1] + 0.5).max(), np.nanmax(np.abs(m.point_data["exx"]))))
+print(int(np.asarray(m.field_data["vsg_px"]).ravel()[0]))
 )");
   std::istringstream in(got);
   std::size_t points = 0, ok = 0, quads = 0;
   double du = 1, dv = 1, exx = 1;
-  in >> points >> ok >> quads >> du >> dv >> exx;
+  int vsg = 0;
+  in >> points >> ok >> quads >> du >> dv >> exx >> vsg;
+  EXPECT_EQ(vsg, 4 * 20 + 31) << got;  // issue 16: the virtual strain gauge as field data
   EXPECT_EQ(points, n) << got;
   EXPECT_EQ(ok, n) << got;
   EXPECT_GT(quads, 0u) << got;

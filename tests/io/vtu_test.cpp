@@ -135,6 +135,30 @@ print(len(m.points), m.cells[0].type, len(m.cells[0].data), repr(float(m.point_d
   EXPECT_NEAR(u2y, 0.2, kRoundTrip);
 }
 
+TEST(Vtu, FieldDataIsWrittenBeforeThePieceAndMeshioReadsItBack) {
+  // Issue 16: a run's settings (tricot dic's virtual strain gauge) travel with the grid.
+  VtuGrid g;
+  g.points = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  g.connectivity = {0, 1, 2, 3};
+  g.field_data = {{"vsg_px", 1, {71}}, {"pair", 1, {0.25, -3}}};
+  const std::string text = to_vtu(g, VtuFormat::binary);
+  EXPECT_NE(text.find("<FieldData>"), std::string::npos);
+  EXPECT_LT(text.find("<FieldData>"), text.find("<Piece"));
+  EXPECT_NE(text.find("Name=\"vsg_px\" NumberOfTuples=\"1\" format=\"ascii\"> 71 </DataArray>"), std::string::npos) << text;
+  if (!have_meshio()) GTEST_SKIP() << "python3 lacks meshio (apt-get install python3-meshio)";
+  const auto dir = test::scratch_dir("vtu_field_data");
+  write_vtu(dir / "f.vtu", g);
+  const std::string out = read_with_meshio(dir / "f.vtu", R"(
+import numpy as np
+print(repr(float(np.ravel(m.field_data["vsg_px"])[0])), repr(float(np.ravel(m.field_data["pair"])[1])))
+)");
+  std::istringstream in(out);
+  double vsg = 0, second = 0;
+  in >> vsg >> second;
+  EXPECT_EQ(vsg, 71) << out;
+  EXPECT_EQ(second, -3) << out;
+}
+
 TEST(Vtu, CollectionListsEveryStepWithItsTime) {
   const auto dir = test::scratch_dir("vtu_pvd");
   write_pvd(dir / "steps.pvd", {{0.5, "step_0001.vtu"}, {1.0, "step_0002.vtu"}});

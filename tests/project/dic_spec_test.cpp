@@ -24,6 +24,7 @@ TEST(DicSpec, TheSchemasDefaultsAreTheSpecsDefaults) {
   EXPECT_EQ(read.dic.subset_size, code.dic.subset_size);
   EXPECT_EQ(read.dic.step, code.dic.step);
   EXPECT_EQ(read.dic.mode, code.dic.mode);
+  EXPECT_EQ(read.dic.order, code.dic.order);
   EXPECT_EQ(read.dic.min_zncc, code.dic.min_zncc);
   EXPECT_EQ(read.dic.update_loss, code.dic.update_loss);
   EXPECT_EQ(read.strain.window, code.strain.window);
@@ -53,6 +54,10 @@ TEST(DicSpec, OrderAutoAndAGaussianWindowReachTheEngineAndAWindowBelowOnePixelIs
   EXPECT_EQ(s.sequence.dic.icgn.order, dic::ShapeOrder::automatic);
   EXPECT_EQ(s.sequence.dic.icgn.weight_sigma, 7.5);
   EXPECT_EQ(DicSpec{}.settings(image::Image(200, 100)).sequence.dic.icgn.weight_sigma, 0.0);
+  // Issue 16: second order where it pays is tricot dic's default; first order is asked for by name.
+  EXPECT_EQ(DicSpec{}.settings(image::Image(200, 100)).sequence.dic.icgn.order, dic::ShapeOrder::automatic);
+  const io::Node first = io::parse_config(dic_schema(), "[dic]\norder = \"first\"\n", "dic.toml");
+  EXPECT_EQ(DicSpec::from_config(first).settings(image::Image(200, 100)).sequence.dic.icgn.order, dic::ShapeOrder::first);
   const io::Node bad = io::parse_config(dic_schema(), "[dic]\nweight_sigma = 0.5\n", "dic.toml");
   EXPECT_EQ(message_of(DicSpec::from_config(bad)),
             "dic.toml:2: dic.weight_sigma: out of range (got 0.500000, expected 0 (uniform weights) or 1 to 1000 px)");

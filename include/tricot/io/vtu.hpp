@@ -31,6 +31,9 @@ struct VtuGrid {
   std::vector<int> connectivity;  ///< vtk_nodes(cell_type) point indices per cell, VTK's node order
   std::vector<VtuField> point_data;
   std::vector<VtuField> cell_data;
+  /// Values of the whole dataset (VTK's <FieldData>, written as text; ParaView's "Field Data", meshio's
+  /// field_data), e.g. a run's settings: `values.size()` tuples of one component each.
+  std::vector<VtuField> field_data;
 
   std::size_t point_count() const { return points.size() / 3; }
   std::size_t cell_count() const;

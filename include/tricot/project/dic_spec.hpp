@@ -22,7 +22,7 @@ struct DicTable {
   int subset_size = 31;               ///< px, odd, 7–301
   int step = 10;                      ///< px between subset centres, 1–1000
   std::string mode = "incremental";   ///< incremental, reference or auto
-  std::string order = "first";        ///< shape function: first, second or auto (issue 16)
+  std::string order = "auto";         ///< shape function: first, second or auto (issue 16; default auto)
   io::Reals roi;                      ///< [x0, y0, x1, y1] px; [] = the whole image
   io::Reals roi_polygon;              ///< [x0, y0, x1, y1, x2, y2, ...] px
   std::string roi_mask;               ///< mask image, relative to the config's folder
