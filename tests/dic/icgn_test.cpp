@@ -29,6 +29,15 @@ std::pair<Frame, Frame> frames(int size, const synth::InverseMotion& motion) {
   return {prepare_frame(synth::render(P, size, size, synth::no_motion)), prepare_frame(synth::render(P, size, size, motion))};
 }
 
+/// 140 px frames of u(X) = a (X − c)² along x (x = X + a (X − c)², inverted by Newton).
+std::pair<Frame, Frame> quadratic_frames(const Vec2& c, double a) {
+  return frames(140, [c, a](const Vec2& x) {
+    double X = x(0);
+    for (int k = 0; k < 30; ++k) X -= (X + a * (X - c(0)) * (X - c(0)) - x(0)) / (1 + 2 * a * (X - c(0)));
+    return Vec2(X, x(1));
+  });
+}
+
 }  // namespace
 
 TEST(Shape, ComposingAShapeWithItsInverseGivesTheIdentity) {
@@ -102,12 +111,7 @@ TEST(Icgn, SecondOrderShapeRecoversAQuadraticDisplacement) {
   // u(X) = 0.002 (X − c)²: a first-order subset sees a bias, a second-order one does not.
   const Vec2 c(70, 70);
   const double a = 0.002;
-  auto [f, g] = frames(140, [&](const Vec2& x) {
-    // invert x = X + a (X − c)² along x by Newton
-    double X = x(0);
-    for (int k = 0; k < 30; ++k) X -= (X + a * (X - c(0)) * (X - c(0)) - x(0)) / (1 + 2 * a * (X - c(0)));
-    return Vec2(X, x(1));
-  });
+  auto [f, g] = quadratic_frames(c, a);
   const Vec2 X(80, 70);
   IcgnOptions o;
   o.order = ShapeOrder::second;
@@ -205,11 +209,7 @@ TEST(Icgn, AGaussianWindowRecoversAUniformStrainAndAQuadraticDisplacementLikeUni
   {
     const Vec2 c(70, 70);
     const double a = 0.002;
-    auto [f, g] = frames(140, [&](const Vec2& x) {
-      double X = x(0);
-      for (int k = 0; k < 30; ++k) X -= (X + a * (X - c(0)) * (X - c(0)) - x(0)) / (1 + 2 * a * (X - c(0)));
-      return Vec2(X, x(1));
-    });
+    auto [f, g] = quadratic_frames(c, a);
     o.order = ShapeOrder::second;
     const PointMatch m = icgn(f, g, Vec2(80, 70), Shape::Zero(), o);
     ASSERT_EQ(m.status, PointStatus::ok);
