@@ -12,6 +12,7 @@
 
 #include "testing/cli.hpp"
 #include "testing/experiment_case.hpp"
+#include "testing/outputs.hpp"
 #include "testing/paths.hpp"
 #include "tricot/image/image.hpp"
 #include "tricot/io/files.hpp"
@@ -150,6 +151,27 @@ TEST(Experiment, RecoversTheClockOffsetWithTheCrossheadAndGivesForcesWithinTheNo
   }
   EXPECT_TRUE(fs::exists(r.out / "project.toml"));
   EXPECT_TRUE(fs::exists(r.out / "pull" / "dic" / "points.csv"));
+}
+
+// Issue 14: a killed rerun of tricot experiment into a folder that holds another run (here synchronised
+// from the cross-head, the rerun from the onset of motion) leaves that run whole; completed, only its own.
+TEST(Experiment, AKilledRerunLeavesNoMix) {
+  const Lab& lab = shared_lab();
+  const fs::path root = scratch_dir("experiment_no_mix_" + std::to_string(::getpid()));
+  const fs::path with = write_file(root / "with.toml", lab_file()), without = write_file(root / "without.toml", lab_file({}, ""));
+  // The lab file names its inputs relative to itself: the record lives in lab.dir.
+  const auto relink = [&](const fs::path& f) {
+    std::string t = io::read_text(f);
+    for (const char* k : {"\"images\"", "\"camera.csv\"", "\"load.txt\""}) {
+      const std::string name = std::string(k).substr(1, std::string(k).size() - 2);
+      t.replace(t.find(k), std::string(k).size(), "\"" + (lab.dir / name).string() + "\"");
+    }
+    write_file(f, t);
+  };
+  relink(with), relink(without);
+  test::expect_no_mix(
+      "experiment", root, [&](const fs::path& o) { return "experiment " + with.string() + " -q -o " + o.string(); },
+      [&](const fs::path& o) { return "experiment " + without.string() + " -q -o " + o.string(); });
 }
 
 TEST(Experiment, RecoversTheClockOffsetWithoutACrossheadFromTheOnsetOfMotion) {

@@ -5,11 +5,10 @@
 
 #include <unistd.h>
 
-#include <cstdlib>
 #include <fstream>
-#include <map>
 
 #include "testing/cli.hpp"
+#include "testing/outputs.hpp"
 #include "testing/experiment_case.hpp"
 #include "testing/paths.hpp"
 #include "tricot/image/image.hpp"
@@ -21,47 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::run_tricot;
+using test::expect_no_mix;
 using test::write_file;
-
-// Every file of a folder but the hidden records and staging (.tricot-*), with its content.
-std::map<std::string, std::string> snapshot(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    const std::string rel = e.path().lexically_relative(dir).generic_string();
-    if (e.is_regular_file() && rel.rfind(".tricot-", 0) != 0) out[rel] = io::read_text(e.path());
-  }
-  return out;
-}
-
-std::vector<std::string> names(const std::map<std::string, std::string>& m) {
-  std::vector<std::string> v;
-  for (const auto& [k, _] : m) v.push_back(k);
-  return v;
-}
-
-// Runs `earlier` into OUT, then `rerun` killed before publishing, then `rerun` whole; `rerun_alone`
-// runs it into a fresh folder, for the file list a clean run leaves. `verb` names the kill switch.
-void expect_no_mix(const std::string& verb, const fs::path& root, const std::function<std::string(const fs::path&)>& earlier,
-                   const std::function<std::string(const fs::path&)>& rerun) {
-  const fs::path out = root / "out", alone = root / "alone";
-  ASSERT_EQ(run_tricot(earlier(out)).exit_code, 0);
-  const auto before = snapshot(out);
-  ASSERT_FALSE(before.empty());
-
-  ::setenv("TRICOT_TEST_KILL_BEFORE_PUBLISH", verb.c_str(), 1);
-  const auto killed = run_tricot(rerun(out));
-  ::unsetenv("TRICOT_TEST_KILL_BEFORE_PUBLISH");
-  ASSERT_NE(killed.exit_code, 0);
-  EXPECT_EQ(snapshot(out), before) << "the killed rerun left files beside the earlier run";
-  EXPECT_TRUE(fs::exists(out / (".tricot-" + verb)));  // its files, apart
-
-  ASSERT_EQ(run_tricot(rerun(out)).exit_code, 0);
-  ASSERT_EQ(run_tricot(rerun(alone)).exit_code, 0);
-  const auto after = snapshot(out);
-  EXPECT_EQ(names(after), names(snapshot(alone))) << "files of the earlier run are left";
-  EXPECT_NE(after, before);
-  EXPECT_FALSE(fs::exists(out / (".tricot-" + verb)));
-}
 
 fs::path root_for(const std::string& name) { return test::scratch_dir("outputs_" + name + "_" + std::to_string(::getpid())); }
 
