@@ -458,21 +458,28 @@ DataSpec DataSpec::from_config(const io::Node& n) {
   return d;
 }
 
+namespace {
+
+// A [min, max] strain interval given at `key` ([data] domain_*, [eq9] practical_*): checked, then set.
+void set_interval(const Origin& origin, const SectionSpec& table, const char* key, const std::optional<io::Reals>& given,
+                  double& lo, double& hi) {
+  if (!given) return;
+  const io::Reals& r = *given;
+  if (r.size() != 2 || r[0] > r[1])
+    origin.fail(key, "not a strain interval", fmt::format("{} values", r.size()), "[min, max] with min <= max");
+  check_key(origin, table, key, r);
+  lo = r[0], hi = r[1];
+}
+
+}  // namespace
+
 std::optional<ident::StrainDomain> DataSpec::domain() const {
   if (!domain_course && !domain_wale) return std::nullopt;
   ident::StrainDomain d;
   d.eC_min = d.eW_min = -1e300, d.eC_max = d.eW_max = 1e300;
   const SectionSpec table = data_section();
-  for (const char* k : {"domain_course", "domain_wale"}) {
-    const auto& given = std::string(k) == "domain_course" ? domain_course : domain_wale;
-    if (!given) continue;
-    const io::Reals& r = *given;
-    if (r.size() != 2 || !(r[0] <= r[1]))
-      origin.fail(k, "not a strain interval", fmt::format("{} values", r.size()), "[min, max] with min <= max");
-    check_key(origin, table, k, r);
-    (std::string(k) == "domain_course" ? d.eC_min : d.eW_min) = r[0];
-    (std::string(k) == "domain_course" ? d.eC_max : d.eW_max) = r[1];
-  }
+  set_interval(origin, table, "domain_course", domain_course, d.eC_min, d.eC_max);
+  set_interval(origin, table, "domain_wale", domain_wale, d.eW_min, d.eW_max);
   return d;
 }
 
@@ -487,18 +494,9 @@ Eq9Spec Eq9Spec::from_config(const io::Node& n) {
 
 ident::StrainDomain Eq9Spec::practical() const {
   ident::StrainDomain d;
-  for (const char* k : {"practical_course", "practical_wale"}) {
-    const auto& given = std::string(k) == "practical_course" ? practical_course : practical_wale;
-    if (!given) continue;
-    const io::Reals& r = *given;
-    if (r.size() != 2 || r[0] > r[1])
-      origin.fail(k, "not a strain interval", fmt::format("{} values", r.size()), "[min, max] with min <= max");
-  }
-  if (practical_course) d.eC_min = (*practical_course)[0], d.eC_max = (*practical_course)[1];
-  if (practical_wale) d.eW_min = (*practical_wale)[0], d.eW_max = (*practical_wale)[1];
   const SectionSpec table = eq9_section();
-  if (practical_course) check_key(origin, table, "practical_course", *practical_course);
-  if (practical_wale) check_key(origin, table, "practical_wale", *practical_wale);
+  set_interval(origin, table, "practical_course", practical_course, d.eC_min, d.eC_max);
+  set_interval(origin, table, "practical_wale", practical_wale, d.eW_min, d.eW_max);
   check_key(origin, table, "nearest", std::int64_t{nearest});
   return d;
 }
