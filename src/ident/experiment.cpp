@@ -35,6 +35,9 @@ void TestData::validate() const {
   };
   per_step(edge_displacement, "edge_displacement");
   per_step(edge_force, "edge_force");
+  per_step(step_weight, "step_weight");
+  for (int k = 0; k < static_cast<int>(step_weight.size()); ++k)
+    if (!(step_weight[k] >= 0)) fail("step_weight", "negative weight at step " + std::to_string(k), format_number(step_weight[k]), ">= 0");
 
   const int m = point_count();
   if (m > 0 || u.size() > 0 || v.size() > 0) {

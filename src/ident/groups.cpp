@@ -47,6 +47,8 @@ const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, i
   measured_.tail(g.size) = y_exp;
   factor_.conservativeResize(n0 + g.size);
   factor_.tail(g.size).setConstant(std::sqrt(weight / g.size) / g.scale);
+  row_weight_.conservativeResize(n0 + g.size);
+  row_weight_.tail(g.size).setOnes();
   groups_.push_back(g);
   return groups_.back();
 }
@@ -77,7 +79,15 @@ Eigen::VectorXd ScaledResiduals::sigma_variance() const {
     if (!g.sigma) return {};
   Eigen::VectorXd var(size());
   for (const DataGroup& g : groups_) var.segment(g.offset, g.size).setConstant(g.weight / g.size);
-  return var;
+  return var.cwiseProduct(row_weight_);
+}
+
+void ScaledResiduals::weight_rows(const DataGroup& g, const Eigen::VectorXd& omega) {
+  const Location where{"", 0, "data." + g.name};
+  if (omega.size() != g.size) throw InputError(where, "one weight per value", std::to_string(omega.size()), std::to_string(g.size));
+  if (!omega.allFinite() || !(omega.minCoeff() >= 0)) throw InputError(where, "row weights out of range", "", "finite, >= 0");
+  factor_.segment(g.offset, g.size).array() *= omega.array().sqrt();
+  row_weight_.segment(g.offset, g.size).array() *= omega.array();
 }
 
 }  // namespace tricot::ident

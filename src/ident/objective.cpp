@@ -91,6 +91,7 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
   const DataWeights& w = options_.weights;
   for (size_t t = 0; t < models_.size(); ++t) {
     const TestData& d = experiment_.tests[t];
+    const size_t first_group = data_.groups().size();
     const int ti = static_cast<int>(t);
     const bool force_control = models_[t].control == fem::GripControl::force;
     auto to_vec = [](const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()); };
@@ -116,6 +117,14 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
         data_.add(d.name + "/field_u", GroupKind::field_u, ti, detail::stack(d.u), w.field, d.sigma.field);
         data_.add(d.name + "/field_v", GroupKind::field_v, ti, detail::stack(d.v), w.field, d.sigma.field);
       }
+    }
+    if (d.step_weight.empty()) continue;
+    // The test's per-step weights, on every row of that step (field groups: step-major, THEORY §2).
+    const Eigen::Map<const Eigen::VectorXd> omega(d.step_weight.data(), static_cast<Eigen::Index>(d.step_weight.size()));
+    for (size_t gi = first_group; gi < data_.groups().size(); ++gi) {
+      const DataGroup& g = data_.groups()[gi];
+      const int per_step = g.size / d.steps();
+      data_.weight_rows(g, omega.replicate(1, per_step).transpose().reshaped());
     }
   }
   if (data_.size() == 0)

@@ -117,11 +117,16 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
                             ident::to_string(options.jacobian),
                             req.resume ? fmt::format(", resumed at iteration {}", options.resume_from->iterations) : ""));
   if (P.stability) log.print(fmt::format("identify: with the stability barrier ({} rows)", P.stability->barrier_rows()));
-  for (const ident::RestrictedTest& t : P.restriction)
-    log.print(t.kept > 0 ? fmt::format("identify: domain: {} keeps steps 1–{} of {} (held {:.3f}, pulled to {:.3f})", t.name,
-                                       t.kept, t.steps, t.held, t.pulled)
-                         : fmt::format("identify: domain: {} left out (held {:.3f}, pulled {:.3f} at step 1)", t.name,
-                                       t.held, t.pulled));
+  const double outside = spec.data.domain_weight;  // 0: left out (restricted), else the weight (weighted)
+  for (const ident::RestrictedTest& t : P.restriction) {
+    const std::string rest = outside > 0 ? fmt::format("weigh {:g}", outside) : std::string("left out");
+    log.print(t.kept == 0 ? fmt::format("identify: domain: {} {} (held {:.3f}, pulled {:.3f} at step 1)", t.name,
+                                        outside > 0 ? "steps 1–" + std::to_string(t.steps) + " " + rest : rest, t.held, t.pulled)
+              : t.kept == t.steps ? fmt::format("identify: domain: {} keeps steps 1–{} of {} (held {:.3f}, pulled to {:.3f})",
+                                                t.name, t.kept, t.steps, t.held, t.pulled)
+                                  : fmt::format("identify: domain: {} keeps steps 1–{} of {}, steps {}–{} {} (held {:.3f}, pulled to {:.3f})",
+                                                t.name, t.kept, t.steps, t.kept + 1, t.steps, rest, t.held, t.pulled));
+  }
   outcome.result = ident::identify(killer, options, log.reporter());
 
   // Outputs.
@@ -133,7 +138,7 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
     json tests = json::object();
     for (const ident::RestrictedTest& t : P.restriction)
       tests[t.name] = {{"steps", t.steps}, {"kept", t.kept}, {"held", t.held}, {"pulled", t.pulled}};
-    result["domain"] = {{"tests", tests}};
+    result["domain"] = {{"tests", tests}, {"mode", outside > 0 ? "weighted" : "restricted"}, {"outside_weight", outside}};
   }
   // ∂r/∂J at the answer, for the identifiability report and the design suggestion.
   const ident::Evaluation at_answer = outcome.result.termination == ident::Termination::fe_failure

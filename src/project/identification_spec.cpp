@@ -87,6 +87,11 @@ SectionSpec data_section() {
           -1, 100),
       key("domain_wale", io::Reals{}, "[min, max] εW of the restriction, as domain_course with the two directions swapped.",
           -1, 100),
+      key("domain_weight", 0.0,
+          "0: the data outside domain_course x domain_wale are left out (a restricted identification). In (0, 1]:\n"
+          "every test and step is kept, and the steps a restriction would leave out weigh this much (a\n"
+          "weighted identification, paper §4.3.2). Needs domain_course or domain_wale.",
+          0, 1),
   };
   return s;
 }
@@ -454,7 +459,11 @@ DataSpec DataSpec::from_config(const io::Node& n) {
   d.field_sigma = n.string("field_sigma");
   if (n.given("domain_course")) d.domain_course = n.reals("domain_course");
   if (n.given("domain_wale")) d.domain_wale = n.reals("domain_wale");
+  d.domain_weight = n.real("domain_weight");
   d.origin = Origin(n);
+  if (d.domain_weight > 0 && !d.domain_course && !d.domain_wale)
+    d.origin.fail("domain_weight", "weights the steps outside a domain, but no domain is given", format_number(d.domain_weight),
+                  "domain_course or domain_wale set, or domain_weight = 0");
   return d;
 }
 
@@ -590,8 +599,16 @@ Project build_project(const IdentificationSpec& spec, const fs::path& base) {
     } catch (const InputError& e) {
       throw InputError(dn.origin.where(dn.domain_course ? "domain_course" : "domain_wale"), problem_of(e));
     }
-    P.models = std::move(r.models);
-    experiment = std::move(r.experiment);
+    if (dn.domain_weight > 0) {  // weighted: every step kept, those outside the domain weigh less
+      for (std::size_t t = 0; t < experiment.tests.size(); ++t) {
+        ident::TestData& d = experiment.tests[t];
+        d.step_weight.assign(d.steps(), dn.domain_weight);
+        std::fill_n(d.step_weight.begin(), r.tests[t].kept, 1.0);
+      }
+    } else {
+      P.models = std::move(r.models);
+      experiment = std::move(r.experiment);
+    }
     P.restriction = std::move(r.tests);
   }
   ident::ObjectiveOptions oo;

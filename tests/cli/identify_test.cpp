@@ -344,6 +344,35 @@ TEST_F(Identify, APracticalDomainOutsideTheDataNamesTheKeyAndTheDataRange) {
 }
 
 
+// [data] domain_weight > 0 (paper §4.3.2, weighted): every step stays in f, those a restriction would
+// cut weigh domain_weight. The strip is pulled along the wale; its steps past εW = 0.3 are outside.
+TEST_F(Identify, ADomainWeightKeepsEveryStepAndWeighsTheOnesOutside) {
+  const std::string domain = "[data]\ndomain_course = [-1.0, 1.0]\ndomain_wale = [-1.0, 0.3]\n";
+  ASSERT_EQ(identify("restricted", small_project("../exp", std::string(kStopOnDelta) + domain)).exit_code, 0);
+  const auto r = identify("weighted", small_project("../exp", std::string(kStopOnDelta) + domain + "domain_weight = 0.5\n"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json restricted = result("restricted"), weighted = result("weighted");
+  EXPECT_EQ(restricted["domain"]["mode"], "restricted");
+  EXPECT_EQ(weighted["domain"]["mode"], "weighted");
+  EXPECT_EQ(weighted["domain"]["outside_weight"].get<double>(), 0.5);
+  const json& t = weighted["domain"]["tests"].begin().value();
+  const int steps = t["steps"].get<int>(), kept = t["kept"].get<int>();
+  ASSERT_GT(kept, 0);
+  ASSERT_LT(kept, steps);
+  // Restricted: the kept steps' force and field rows; weighted: every step's.
+  EXPECT_EQ(restricted["residuals"].get<int>() * steps, weighted["residuals"].get<int>() * kept);
+  EXPECT_NE(r.out.find("weigh 0.5"), std::string::npos) << r.out;
+  for (size_t k = 0; k < kNames.size(); ++k)  // noise-free data: the truth either way
+    EXPECT_NEAR(weighted["parameters"][kNames[k]].get<double>() / kTruth[k], 1.0, kRecovered) << kNames[k];
+}
+
+TEST_F(Identify, ADomainWeightWithoutADomainNamesTheKey) {
+  const auto r = identify("weight_alone", small_project("../exp", "[data]\ndomain_weight = 0.5\n"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("data.domain_weight"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no domain is given"), std::string::npos) << r.err;
+}
+
 TEST_F(Identify, ACoefficientListOfTheWrongLengthForAPresetNamesTheKeyAndTheTerms) {
   std::string project = small_project("../exp", "", "[[parameter]]\nname = \"a1\"\n");
   const std::string mr = project.substr(project.find("[law]"), project.find("[[test]]") - project.find("[law]"));

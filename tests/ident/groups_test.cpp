@@ -55,6 +55,23 @@ TEST(ScaledResiduals, APerValueSigmaScalesEachRowByItsOwnSigma) {
   EXPECT_NEAR(var(2), 1.0, 1e-15);  // w/N: the covariance is a real one
 }
 
+TEST(ScaledResiduals, RowWeightsScaleEachRowsShareOfFAndItsVariance) {
+  ScaledResiduals d;
+  const Eigen::Vector3d y_exp(1, 2, 3), sigma(0.1, 0.2, 0.4);
+  const DataGroup& g = d.add("f", GroupKind::field_uv, 0, y_exp, 3.0, sigma);
+  d.weight_rows(g, Eigen::Vector3d(1, 0.25, 0));
+  Eigen::VectorXd y(3);
+  y << 1.1, 2.1, 3.1;
+  // f = ½ w/N Σ ω_i ((y − y_exp)/σ_i)² = ½ (1 · 1 + 0.25 · 0.25 + 0 · 0.0625).
+  EXPECT_NEAR(0.5 * d.residuals(y).squaredNorm(), 0.5 * (1 + 0.0625), 1e-12);
+  const Eigen::VectorXd var = d.sigma_variance();
+  EXPECT_NEAR(var(0), 1.0, 1e-15);  // w ω_i / N
+  EXPECT_NEAR(var(1), 0.25, 1e-15);
+  EXPECT_EQ(var(2), 0.0);
+  EXPECT_THROW(d.weight_rows(d.groups()[0], Eigen::Vector2d(1, 1)), InputError);       // one per row
+  EXPECT_THROW(d.weight_rows(d.groups()[0], Eigen::Vector3d(1, -1, 1)), InputError);   // ≥ 0
+}
+
 TEST(ScaledResiduals, APerValueSigmaMustBePositiveAndOnePerValue) {
   ScaledResiduals d;
   EXPECT_THROW(d.add("f", GroupKind::field_u, 0, Eigen::Vector2d(1, 2), 1.0, Eigen::VectorXd(Eigen::Vector2d(0.1, 0.0))), InputError);

@@ -90,6 +90,39 @@ TEST(Objective, IsZeroAtTheTruthOnTheSameMesh) {
   EXPECT_LT(e.objective(), 1e-24);
 }
 
+TEST(Objective, StepWeightsScaleEveryRowOfTheirStep) {
+  // Per-step weights ω_k (a domain-weighted identification): every row of step k, in every group of
+  // the test, is the unweighted row times √ω_k, its Jacobian row too.
+  const fem::TestModel model = uniaxial(2, 4, 3, fem::GripControl::displacement);
+  const Experiment plain = experiment_from(model, field_points(3, 4), FieldKind::cumulative);
+  Experiment weighted = plain;
+  weighted.tests[0].step_weight = {1.0, 0.25, 0.0};
+  const Objective a({model}, plain, fem::MooneyRivlin(kTruth), all_four(), tight());
+  const Objective b({model}, weighted, fem::MooneyRivlin(kTruth), all_four(), tight());
+  const Eigen::Vector4d J(0.11, -0.022, 0.016, 0.0095);
+  const Evaluation ea = a.evaluate(J, true), eb = b.evaluate(J, true);
+  ASSERT_TRUE(ea.ok && eb.ok);
+  ASSERT_EQ(a.data().groups().size(), 3u);  // force, u, v
+  for (const DataGroup& g : a.data().groups()) {
+    const int per_step = g.size / 3;
+    for (int k = 0; k < 3; ++k) {
+      const double s = std::sqrt(weighted.tests[0].step_weight[k]);
+      const auto rows = Eigen::seqN(g.offset + k * per_step, per_step);
+      if (s == 0) {
+        EXPECT_EQ(eb.r(rows).norm(), 0.0) << g.name;
+        EXPECT_EQ(eb.jacobian(rows, Eigen::all).norm(), 0.0) << g.name;
+      } else {
+        EXPECT_TRUE(eb.r(rows).isApprox(s * ea.r(rows), 1e-14)) << g.name << " step " << k;
+        EXPECT_TRUE(eb.jacobian(rows, Eigen::all).isApprox(s * ea.jacobian(rows, Eigen::all), 1e-14)) << g.name;
+      }
+    }
+  }
+  weighted.tests[0].step_weight = {1.0, 1.0};  // one per step
+  EXPECT_THROW(Objective({model}, weighted, fem::MooneyRivlin(kTruth), all_four()), InputError);
+  weighted.tests[0].step_weight = {1.0, -1.0, 1.0};
+  EXPECT_THROW(Objective({model}, weighted, fem::MooneyRivlin(kTruth), all_four()), InputError);
+}
+
 TEST(Objective, PointsOutsideTheSpecimenAreAnInputErrorCountingThem) {
   const fem::TestModel model = uniaxial(2, 4, 3, fem::GripControl::force);
   Experiment e = experiment_from(model, field_points(3, 4), FieldKind::cumulative);

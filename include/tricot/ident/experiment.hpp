@@ -55,6 +55,10 @@ struct TestData {
   /// Per-point σ of u and v (mm), steps × points, as the DIC gives them (tricot experiment's field.csv);
   /// both empty = σ.field for every value. When given they replace σ.field (THEORY §8).
   Eigen::MatrixXd sigma_u, sigma_v;
+  /// Weight of each step's data (≥ 0, finite; one per step), multiplying w_g of every group of the
+  /// test at that step; empty = 1 for every step. A domain-weighted identification (paper §4.3.2,
+  /// THEORY §9 [choice]: `[data] domain_weight`) sets it below 1 for the steps outside the domain.
+  std::vector<double> step_weight;
 
   int steps() const { return static_cast<int>(loads.size()); }
   int point_count() const { return static_cast<int>(points.cols()); }

@@ -54,12 +54,16 @@ class ScaledResiduals {
   Eigen::VectorXd residuals(const Eigen::VectorXd& y) const;
   /// ∂y/∂J → ∂r/∂J, in place (rows scaled by factors).
   void scale_rows(Eigen::MatrixXd& dy_dJ) const;
-  /// Var(r_i) implied by the measurement σ: w_g/N_g (THEORY §8). Empty unless every group has σ.
+  /// Var(r_i) implied by the measurement σ: w_g ω_i/N_g (THEORY §8). Empty unless every group has σ.
   Eigen::VectorXd sigma_variance() const;
+  /// Multiplies the weight of each row of group g by ω_i ≥ 0 (one per row; the factor by √ω_i): the
+  /// per-step weights of a domain-weighted identification (TestData::step_weight).
+  void weight_rows(const DataGroup& g, const Eigen::VectorXd& omega);
 
  private:
   std::vector<DataGroup> groups_;
   Eigen::VectorXd measured_, factor_;
+  Eigen::VectorXd row_weight_;  ///< ω_i, 1 unless weight_rows() set it
 };
 
 }  // namespace tricot::ident

@@ -86,6 +86,9 @@ struct DataSpec {
   /// [min, max] εC and εW of a domain-restricted identification (ident::restrict_to_domain); both
   /// unset: every step of every test. One unset: that direction is not restricted.
   std::optional<io::Reals> domain_course, domain_wale;
+  /// 0: the steps outside the domain are left out (the restriction); in (0, 1]: every step is kept and
+  /// those outside weigh this much (TestData::step_weight; paper §4.3.2 "weighted").
+  double domain_weight = 0;
   Origin origin{"data"};
 
   static DataSpec from_config(const io::Node& table);
