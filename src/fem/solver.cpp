@@ -9,6 +9,7 @@
 
 #include "assembly.hpp"
 #include "linear_solver.hpp"
+#include "tricot/fem/element.hpp"
 #include "tricot/core/error.hpp"
 
 namespace tricot::fem {
@@ -55,6 +56,7 @@ struct Failure {
   bool invalid = false;
   std::string why;
   bool cancelled = false;  ///< SolveOptions::cancelled said stop
+  int element = -1;        ///< the element `why` names (inverted or non-finite), or −1
 };
 
 SolveTermination termination(const Failure& fail) {
@@ -65,7 +67,7 @@ SolveTermination termination(const Failure& fail) {
 class Simulation {
  public:
   Simulation(const TestModel& test, const Law& law, const SolveOptions& options, const Reporter& reporter)
-      : test_(test), options_(options), reporter_(reporter), dofs_(detail::make_dof_map(test)),
+      : test_(test), law_(law), options_(options), reporter_(reporter), dofs_(detail::make_dof_map(test)),
         assembler_(test, dofs_, law), linear_solver_(assembler_.pattern(), options.linear_solver),
         coefficient_count_(static_cast<int>(law.coefficients().size())) {}
 
@@ -83,8 +85,10 @@ class Simulation {
   bool set_transverse_dimension(Failure& fail, std::string& where, std::vector<StepResult>& states);
   void record(const Load& L, StepResult& step);
   std::string describe_element_failure() const;
+  std::string ellipticity_note(int element) const;
 
   const TestModel& test_;
+  const Law& law_;
   const SolveOptions& options_;
   const Reporter& reporter_;
   detail::DofMap dofs_;
@@ -185,6 +189,35 @@ std::string Simulation::describe_element_failure() const {
   return "the law returned a non-finite value in element " + std::to_string(assembled_.element);
 }
 
+// Why an element may have failed: the law's strong ellipticity at its quadrature points in the state
+// of the last assembly (after a failed step: the last converged state). Empty when every point is
+// strongly elliptic there.
+std::string Simulation::ellipticity_note(int element) const {
+  if (element < 0 || element >= test_.mesh.elements()) return {};
+  const ElementGeometry g = element_geometry(test_.mesh, element);
+  const ElementVector ue = element_displacements(test_.mesh, element, u_);
+  const Mat2 Q = material_axes(test_.material_angle);
+  LawInput in;
+  in.Q = Q;
+  LawOutput out;
+  Ellipticity worst{1e300, 0};
+  Mat2 E_worst = Mat2::Zero();
+  for (int q = 0; q < g.points; ++q) {
+    in.F = deformation_gradient(g, q, ue);
+    if (!(in.F.determinant() > 0)) return {};
+    law_.evaluate(in, LawRequest{}, out);
+    if (!out.A.allFinite()) return {};
+    const Ellipticity e = strong_ellipticity(out.A);
+    if (e.min_eigenvalue < worst.min_eigenvalue)
+      worst = e, E_worst = Q.transpose() * 0.5 * (in.F.transpose() * in.F - Mat2::Identity()) * Q;
+  }
+  if (!(worst.min_eigenvalue < 0)) return {};
+  return "; in the last converged state the law is not strongly elliptic in element " + std::to_string(element) +
+         " (smallest acoustic eigenvalue " + fmt("%.3g", worst.min_eigenvalue) + " N/mm, direction " +
+         fmt("%.0f", worst.angle_deg) + "°, at E11 " + fmt("%.3f", E_worst(0, 0)) + ", E22 " + fmt("%.3f", E_worst(1, 1)) +
+         ", E12 " + fmt("%.3f", E_worst(0, 1)) + " in the material axes): the membrane localises there";
+}
+
 // One (sub)step from the converged state at `from` to `to` (THEORY §4). On entry assembled_ holds a tangent
 // at or next to the converged state (that of the last Newton iterate: the converged state itself is
 // evaluated for its residual only), and the factorization is of it or of a nearby state; the
@@ -247,6 +280,7 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
     z = z0;  // the predictor overshoots: start from the last state instead
     if (!evaluate(z, to)) {
       fail = {true, describe_element_failure() + " at the start of the increment"};
+      fail.element = assembled_.element;
       return false;
     }
   }
@@ -269,6 +303,7 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
     // The line search evaluates residuals only; the tangent at z is assembled when it is needed.
     if (!tangent_fresh_ && !evaluate(z, to)) {
       fail.why = "the accepted state can no longer be evaluated: " + describe_element_failure();
+      fail.element = assembled_.element;
       return false;
     }
     Eigen::MatrixXd dzm;
@@ -291,6 +326,7 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
     if (!accepted) {
       if (assembled_.status != ElementStatus::ok) {  // Newton wandered off (e.g. past a limit point)
         fail.why = "no admissible Newton update: " + describe_element_failure() + " in every line-search trial";
+        fail.element = assembled_.element;
       } else {
         fail.why = "the line search found no decrease of the residual (|R| = " + fmt("%.3g", r) + ")";
       }
@@ -400,7 +436,7 @@ SimulationResult Simulation::run() {
     std::string where;
     if (!set_transverse_dimension(fail, where, result.setting)) {
       result.termination = termination(fail);
-      result.message = "test '" + test_.name + "': " + where + ": " + fail.why;
+      result.message = "test '" + test_.name + "': " + where + ": " + fail.why + ellipticity_note(fail.element);
     }
   }
   for (size_t k = 0; k < n && result.usable(); ++k) {
@@ -411,7 +447,7 @@ SimulationResult Simulation::run() {
       result.termination = termination(fail);
       result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) + " of " + std::to_string(n) +
                        " (load " + fmt("%.6g", step.load) + ") failed after " + std::to_string(step.cutbacks) +
-                       " cutbacks: " + fail.why;
+                       " cutbacks: " + fail.why + ellipticity_note(fail.element);
       break;
     }
     if (options_.sensitivities) {

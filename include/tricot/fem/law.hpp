@@ -54,4 +54,16 @@ class Law {
   static Mat2 cauchy(const Mat2& F, const Mat2& P) { return P * F.transpose() / F.determinant(); }
 };
 
+/// Strong ellipticity of a tangent A = ∂P/∂F at one state: the acoustic tensor Q(N)_ik = A_iJkL N_J N_L
+/// for a unit direction N of the reference configuration, and the smallest eigenvalue of its
+/// symmetric part over all N. Positive: every incremental wave propagates, the state is stable against
+/// localisation; ≤ 0: the material can form a band of arbitrarily steep gradient normal to N (the FE
+/// then localises into single elements, which invert or shear flat).
+struct Ellipticity {
+  double min_eigenvalue = 0;  ///< min over N of λ_min(sym Q(N)) [N/mm]
+  double angle_deg = 0;       ///< N = (cos, sin) of this angle from x, in [0, 180)
+};
+/// Scans N over 1° and refines the minimum by golden section (to ~1e-6°).
+Ellipticity strong_ellipticity(const Mat4& A);
+
 }  // namespace tricot::fem

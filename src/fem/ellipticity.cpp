@@ -1,0 +1,51 @@
+// Strong ellipticity of a law's tangent (the acoustic tensor), a diagnostic of material stability.
+#include <cmath>
+#include <numbers>
+
+#include "tricot/fem/law.hpp"
+
+namespace tricot::fem {
+
+namespace {
+
+/// λ_min of sym Q(N), N = (cos t, sin t).
+double smallest(const Mat4& A, double t) {
+  const double n[2] = {std::cos(t), std::sin(t)};
+  double Q[2][2] = {{0, 0}, {0, 0}};
+  for (int i = 0; i < 2; ++i)
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int l = 0; l < 2; ++l) Q[i][k] += A(2 * i + j, 2 * k + l) * n[j] * n[l];
+  const double s12 = 0.5 * (Q[0][1] + Q[1][0]), m = 0.5 * (Q[0][0] + Q[1][1]), d = 0.5 * (Q[0][0] - Q[1][1]);
+  return m - std::hypot(d, s12);
+}
+
+}  // namespace
+
+Ellipticity strong_ellipticity(const Mat4& A) {
+  constexpr double pi = std::numbers::pi;
+  constexpr int kScan = 180;
+  double best_t = 0, best = smallest(A, 0);
+  for (int a = 1; a < kScan; ++a) {
+    const double t = pi * a / kScan, v = smallest(A, t);
+    if (v < best) best = v, best_t = t;
+  }
+  // Golden section on the bracket around the best sample.
+  const double g = 0.5 * (std::sqrt(5.0) - 1);
+  double lo = best_t - pi / kScan, hi = best_t + pi / kScan;
+  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = smallest(A, x1), f2 = smallest(A, x2);
+  while (hi - lo > 1e-8) {
+    if (f1 < f2) {
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = smallest(A, x1);
+    } else {
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = smallest(A, x2);
+    }
+  }
+  const double t = 0.5 * (lo + hi), v = smallest(A, t);
+  if (v < best) best = v, best_t = t;
+  double deg = std::fmod(best_t * 180 / pi, 180.0);
+  if (deg < 0) deg += 180;
+  return {best, deg};
+}
+
+}  // namespace tricot::fem
