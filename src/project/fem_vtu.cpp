@@ -1,6 +1,7 @@
 #include "tricot/project/fem_vtu.hpp"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <limits>
 
 #include "tricot/fem/element.hpp"
@@ -24,14 +25,17 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
   for (const auto& c : mesh.connectivity) g.connectivity.insert(g.connectivity.end(), c.begin(), c.begin() + per);
 
   io::VtuField sigma{"cauchy_stress", 9, {}}, strain{"green_lagrange_strain", 9, {}};
+  // The smallest acoustic eigenvalue over the element's points (N/mm): ≤ 0 where the law has lost
+  // strong ellipticity and the membrane can localise (fem::strong_ellipticity).
+  io::VtuField ellipticity{"ellipticity", 1, {}};
   const Mat2 Q = fem::material_axes(material_angle_deg);
   fem::LawOutput out;
-  const fem::LawRequest req{false, false};
+  const fem::LawRequest req{true, false};
   for (int e = 0; e < mesh.elements(); ++e) {
     const fem::ElementGeometry geo = fem::element_geometry(mesh, e);
     const fem::ElementVector ue = fem::element_displacements(mesh, e, u);
     Mat2 s = Mat2::Zero(), E = Mat2::Zero();
-    double E33 = 0, area = 0;
+    double E33 = 0, area = 0, lowest = std::numeric_limits<double>::infinity();
     for (int q = 0; q < geo.points; ++q) {
       const Mat2 F = fem::deformation_gradient(geo, q, ue);
       fem::LawInput in;
@@ -43,6 +47,10 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
         law.evaluate(in, req, out);
         sq = fem::Law::cauchy(F, out.P);
         l3 = out.lambda3;
+        lowest = std::min(lowest, out.A.allFinite() ? fem::strong_ellipticity(out.A).min_eigenvalue
+                                                    : std::numeric_limits<double>::quiet_NaN());
+      } else {
+        lowest = std::numeric_limits<double>::quiet_NaN();
       }
       const double w = geo.dA0[q];
       s += w * sq;
@@ -53,9 +61,10 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
     s /= area, E /= area, E33 /= area;
     sigma.values.insert(sigma.values.end(), {s(0, 0), s(0, 1), 0, s(1, 0), s(1, 1), 0, 0, 0, 0});
     strain.values.insert(strain.values.end(), {E(0, 0), E(0, 1), 0, E(1, 0), E(1, 1), 0, 0, 0, E33});
+    ellipticity.values.push_back(lowest);
   }
   g.point_data = {std::move(disp)};
-  g.cell_data = {std::move(sigma), std::move(strain)};
+  g.cell_data = {std::move(sigma), std::move(strain), std::move(ellipticity)};
   return g;
 }
 

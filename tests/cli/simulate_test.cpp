@@ -115,13 +115,17 @@ loads = [2.0, 5.0, 10.0]
   const std::string info = test::read_with_meshio(out / "uniform" / "step_0003.vtu", R"(
 s = m.cell_data["cauchy_stress"][0]
 u = m.point_data["displacement"]
-print(m.cells[0].type, len(m.cells[0].data), repr(float(u[:, 0].min())), repr(float(s[:, 4].min())), repr(float(s[:, 4].max())), repr(float(abs(s[:, 0]).max())))
+e = m.cell_data["ellipticity"][0]
+print(m.cells[0].type, len(m.cells[0].data), repr(float(u[:, 0].min())), repr(float(s[:, 4].min())), repr(float(s[:, 4].max())), repr(float(abs(s[:, 0]).max())), repr(float(e.min())), repr(float(e.max())))
 )");
   std::istringstream in(info);
   std::string type;
   std::size_t cells = 0;
-  double ux_min = 0, syy_min = 0, syy_max = 0, sxx = 0;
-  in >> type >> cells >> ux_min >> syy_min >> syy_max >> sxx;
+  double ux_min = 0, syy_min = 0, syy_max = 0, sxx = 0, ell_min = 0, ell_max = 0;
+  in >> type >> cells >> ux_min >> syy_min >> syy_max >> sxx >> ell_min >> ell_max;
+  // A homogeneous tension of Mooney–Rivlin: strongly elliptic, the same in every cell.
+  EXPECT_GT(ell_min, 0) << info;
+  EXPECT_NEAR(ell_max, ell_min, 1e-9 * ell_max) << info;
   EXPECT_EQ(type, "quad") << info;
   EXPECT_EQ(cells, 6u) << info;
   const double lambda_x = 1 + ux_min / 5.0;  // the free side moves in: the narrowest point is the side edge
