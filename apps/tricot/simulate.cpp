@@ -50,7 +50,9 @@ Each test writes DIR/<name>/steps.csv (step, load, edge_displacement, edge_force
 side_force, iterations, cutbacks; simple_shear: gamma, s11, s22, s12), DIR/<name>/newton.csv (step,
 iteration, residual_N: the free residual norm after the predictor, iteration 0, and after each Newton
 step of the step's last, converged attempt), one step_NNNN.vtu per step
-(ParaView: open steps.pvd for the series) and force.png. `tricot simulate --print-config` prints
+(ParaView: open steps.pvd for the series; point data displacement, cell data cauchy_stress,
+green_lagrange_strain and ellipticity, the law's smallest acoustic eigenvalue in N/mm: <= 0 where the
+membrane can localise) and force.png. `tricot simulate --print-config` prints
 every key with its default, range and help.
 
 Examples:
