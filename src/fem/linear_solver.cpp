@@ -136,6 +136,9 @@ bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& K, bool symmetri
       // corrects its own steps, and the sensitivities match finite differences without it
       // (tests/fem/solver_test.cpp, Sensitivities.*).
       lu_->umfpackControl()(UMFPACK_IRSTEP) = 0;
+      // No row scaling: P K Q = L U exactly, so that solve_lu_columns needs only the factors and the
+      // permutations (the tangent's rows are all forces in N, of one scale).
+      lu_->umfpackControl()(UMFPACK_SCALE) = UMFPACK_SCALE_NONE;
       // Large tangents: nested dissection (bench/linear_solver_benchmark.cpp, BM_Umfpack*).
       if (n_ >= kLuMetisFrom) lu_->umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
       lu_->analyzePattern(K);
@@ -277,7 +280,8 @@ void LinearSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const {
     return;
   }
   if (active_ == Active::lu) {
-    x = lu_->solve(b);
+    if (b.cols() > 1) solve_lu_columns(b, x);
+    else x = lu_->solve(b);
   } else if (active_ == Active::cholmod_ldlt) {
     x = cholmod_ldlt_->solve(b);
   } else if (active_ == Active::eigen || active_ == Active::simplicial_lu) {
@@ -316,6 +320,37 @@ void LinearSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const {
   } else {
     x = cholmod_->solve(b);
   }
+}
+
+void LinearSolver::solve_lu_columns(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const {
+  // L: UMFPACK returns it by rows (Lp, Lj), which Eigen keeps in a column-major object's arrays; U by
+  // columns (Up, Ui). P[k]: the row of K that is pivot row k; Q[k]: the column of K that is pivot
+  // column k. K x = b: L U y = (b[P[k]])_k, x[Q[k]] = y[k].
+  const auto& L = lu_->matrixL();  // extracts the factors once per factorization (Eigen caches them)
+  const auto& U = lu_->matrixU();
+  const auto& P = lu_->permutationP();
+  const auto& Q = lu_->permutationQ();
+  const int *Lp = L.outerIndexPtr(), *Lj = L.innerIndexPtr(), *Up = U.outerIndexPtr(), *Ui = U.innerIndexPtr();
+  const double *Lx = L.valuePtr(), *Ux = U.valuePtr();
+  const Eigen::Index n = n_, m = b.cols();
+  work_.resize(n, m);
+  for (Eigen::Index k = 0; k < n; ++k) work_.row(k) = b.row(P(k));
+  for (Eigen::Index i = 0; i < n; ++i) {  // L y = P b, L unit lower triangular by rows
+    auto yi = work_.row(i);
+    for (int p = Lp[i]; p < Lp[i + 1]; ++p)
+      if (Lj[p] < i) yi.noalias() -= Lx[p] * work_.row(Lj[p]);
+  }
+  for (Eigen::Index j = n - 1; j >= 0; --j) {  // U z = y by columns: the diagonal, then the rows above
+    double d = 0;
+    for (int p = Up[j]; p < Up[j + 1]; ++p)
+      if (Ui[p] == j) d = Ux[p];
+    auto yj = work_.row(j);
+    yj /= d;
+    for (int p = Up[j]; p < Up[j + 1]; ++p)
+      if (Ui[p] < j) work_.row(Ui[p]).noalias() -= Ux[p] * yj;
+  }
+  x.resize(n, m);
+  for (Eigen::Index k = 0; k < n; ++k) x.row(Q(k)) = work_.row(k);
 }
 
 }  // namespace tricot::fem::detail

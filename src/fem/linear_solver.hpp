@@ -82,6 +82,10 @@ class LinearSolver {
     Eigen::VectorXd D;
   };
   std::unique_ptr<SimplicialLu> simplicial_lu_;
+  /// UMFPACK's factors P K Q = L U (no row scaling), taken out of its Numeric object at the first
+  /// multi-column solve after a factorization: its own solve goes column by column, each reading the
+  /// factors again; here the columns go through L (by rows) and U (by columns) together.
+  void solve_lu_columns(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const;
   enum class Active { none, eigen, cholmod, cholmod_ldlt, simplicial_lu, lu };
   Active active_ = Active::none;
   mutable Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> work_;
