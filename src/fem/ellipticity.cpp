@@ -1,4 +1,5 @@
 // Strong ellipticity of a law's tangent (the acoustic tensor), a diagnostic of material stability.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -24,25 +25,28 @@ double smallest(const Mat4& A, double t) {
 
 Ellipticity strong_ellipticity(const Mat4& A) {
   constexpr double pi = std::numbers::pi;
-  constexpr int kScan = 180;
-  double best_t = 0, best = smallest(A, 0);
-  for (int a = 1; a < kScan; ++a) {
-    const double t = pi * a / kScan, v = smallest(A, t);
-    if (v < best) best = v, best_t = t;
-  }
-  // Golden section on the bracket around the best sample.
+  // λ_min(t) is built from harmonics of 2t (Q's entries are quadratic in N): a few minima per half
+  // turn. Sample it, then refine every local minimum of the samples by golden section.
+  constexpr int kScan = 36;
+  constexpr double h = pi / kScan;
+  double v[kScan];
+  for (int a = 0; a < kScan; ++a) v[a] = smallest(A, a * h);
   const double g = 0.5 * (std::sqrt(5.0) - 1);
-  double lo = best_t - pi / kScan, hi = best_t + pi / kScan;
-  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = smallest(A, x1), f2 = smallest(A, x2);
-  while (hi - lo > 1e-8) {
-    if (f1 < f2) {
-      hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = smallest(A, x1);
-    } else {
-      lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = smallest(A, x2);
+  double best = v[0], best_t = 0;
+  for (int a = 0; a < kScan; ++a) {
+    if (v[a] > v[(a + kScan - 1) % kScan] || v[a] > v[(a + 1) % kScan]) continue;
+    double lo = (a - 1) * h, hi = (a + 1) * h;
+    double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = smallest(A, x1), f2 = smallest(A, x2);
+    while (hi - lo > 1e-8) {
+      if (f1 < f2) {
+        hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = smallest(A, x1);
+      } else {
+        lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = smallest(A, x2);
+      }
     }
+    const double t = 0.5 * (lo + hi), f = std::min(v[a], smallest(A, t));
+    if (f < best) best = f, best_t = f < v[a] ? t : a * h;
   }
-  const double t = 0.5 * (lo + hi), v = smallest(A, t);
-  if (v < best) best = v, best_t = t;
   double deg = std::fmod(best_t * 180 / pi, 180.0);
   if (deg < 0) deg += 180;
   return {best, deg};

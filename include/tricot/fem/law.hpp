@@ -63,7 +63,7 @@ struct Ellipticity {
   double min_eigenvalue = 0;  ///< min over N of λ_min(sym Q(N)) [N/mm]
   double angle_deg = 0;       ///< N = (cos, sin) of this angle from x, in [0, 180)
 };
-/// Scans N over 1° and refines the minimum by golden section (to ~1e-6°).
+/// Samples N every 5° and refines each local minimum by golden section (to ~1e-6°).
 Ellipticity strong_ellipticity(const Mat4& A);
 
 }  // namespace tricot::fem
