@@ -156,6 +156,14 @@ class LmCost final : public ceres::CostFunction {
     return remember(&cache_, jacobian);
   }
 
+  /// ∂f/∂x at x (f = ½ r·r, LM units) from the evaluation with the Jacobian there (cached at an
+  /// accepted point); empty when the model fails at x.
+  Eigen::VectorXd gradient(const Eigen::VectorXd& x) const {
+    const Evaluation* e = at(x, true);
+    if (!e) return {};
+    return scales_.cwiseProduct(e->jacobian.transpose() * e->r);
+  }
+
   mutable std::string last_failure;
   /// The last point evaluated without the Jacobian: Ceres's last trial step.
   mutable Eigen::VectorXd last_trial;
@@ -178,6 +186,40 @@ class LmCost final : public ceres::CostFunction {
   mutable Eigen::VectorXd cache_x_, accepted_x_;
   mutable Evaluation cache_, accepted_;
 };
+
+/// The box of the LM variables (the parameters' bounds / scale; ±∞ where none), as Ceres gets it.
+struct Box {
+  Eigen::VectorXd lo, hi;
+  bool at_lower(const Eigen::VectorXd& x, Eigen::Index k) const { return x(k) <= lo(k); }
+  bool at_upper(const Eigen::VectorXd& x, Eigen::Index k) const { return x(k) >= hi(k); }
+  /// f decreases out of the box at x along variable k, which sits on its bound.
+  bool pushed_out(const Eigen::VectorXd& x, const Eigen::VectorXd& g, Eigen::Index k) const {
+    return (at_lower(x, k) && g(k) > 0) || (at_upper(x, k) && g(k) < 0);
+  }
+};
+
+/// The active set's KKT test at a point where LM converged in the free variables: the held
+/// variables whose gradient now points into the box (beyond `tolerance`) are released; returns
+/// their names, empty when the point is a constrained minimum (or the model fails there).
+std::vector<std::string> release_held(const Box& box, const Eigen::VectorXd& x, const Eigen::VectorXd& g,
+                                      double tolerance, const std::vector<std::string>& names, std::vector<int>& held) {
+  std::vector<std::string> released;
+  if (g.size() != x.size()) return released;
+  std::vector<int> keep;
+  for (int k : held) {
+    const bool inward = box.at_lower(x, k) ? g(k) < -tolerance : g(k) > tolerance;
+    if (inward) released.push_back(names[k]);
+    else keep.push_back(k);
+  }
+  held = std::move(keep);
+  return released;
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
 
 /// Ceres's message for its parameter tolerance, for the test a resumed run makes itself (Monitor).
 std::string step_test_message(double step_norm, double x_norm, double delta) {
@@ -205,12 +247,14 @@ class Monitor final : public ceres::IterationCallback {
  public:
   Monitor(const IdentifyOptions& options, const Reporter& reporter, const std::vector<std::string>& names,
           const Eigen::VectorXd& scales, const Eigen::VectorXd& x_block, State& state, bool record_start,
-          std::chrono::steady_clock::time_point t0)
+          std::chrono::steady_clock::time_point t0, const LmCost& cost, const Box& box)
       : options_(options), reporter_(reporter), names_(names), scales_(scales), x_(x_block), state_(state),
-        record_start_(record_start), base_iterations_(state.iterations), t0_(t0) {}
+        record_start_(record_start), base_iterations_(state.iterations), t0_(t0), cost_(cost), box_(box) {}
 
   std::optional<Termination> reason;
   std::string message;
+  /// The active set changed at the last accepted point: this solve ends there, LM goes on in another.
+  bool held_changed = false;
 
   /// A resumed run continues LM inside a fresh Ceres solve, and Ceres makes its step test (parameter
   /// tolerance, ‖Δx‖ ≤ δ(‖x‖ + δ)) only after a first accepted step of a solve (before it, its ‖x‖ is
@@ -243,17 +287,28 @@ class Monitor final : public ceres::IterationCallback {
       state_.trust_region_radius = s.trust_region_radius;
       state_.iterations = iteration;
       verdict(s);
+      if (s.iteration > 0) update_active_set(true);
       if (reason) {  // LM stops here: the checkpoint says so, a resumed run must not go on
         state_.phase = options_.stability_test ? Phase::stability : Phase::done;
         state_.termination = *reason;
         state_.message = message;
       }
+      bool saved = false;
       if (s.iteration > 0 || record_start_) {
         state_.history.push_back({iteration, s.cost, scales_.cwiseProduct(x_), state_.restarts});
+        checkpoint();
+        saved = true;
+      }
+      if (held_changed && !saved) checkpoint();
+    } else {
+      update_active_set(false);
+      if (held_changed) {  // the accepted point, with the new set; the rejected trial counts
+        state_.iterations = iteration;
         checkpoint();
       }
     }
     report(iteration, s);
+    if (held_changed) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     if (!accepted) return ceres::SOLVER_CONTINUE;
     if (reason) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     x_prev_ = x_;
@@ -284,6 +339,46 @@ class Monitor final : public ceres::IterationCallback {
     }
   }
 
+  /// The active set. A free variable is held on its bound when f decreases out of the box there and
+  /// LM's steps are blocked by it: the accepted step before also ended on that bound, or the trial just
+  /// rejected was projected onto it (Ceres's projected steps would go on trying to leave, and stall).
+  /// Where LM stops on δ at an accepted point, a held variable whose gradient points inward again is
+  /// released instead, and LM goes on. Either ends this Ceres solve (held_changed).
+  void update_active_set(bool accepted) {
+    if (reason == Termination::objective_below_epsilon) return;
+    const Eigen::Index n = x_.size();
+    if (reason) {
+      if (state_.held.empty()) return;
+      const auto freed = release_held(box_, x_, cost_.gradient(x_), options_.gradient_tolerance, names_, state_.held);
+      if (freed.empty()) return;
+      reason.reset();
+      held_changed = true;
+      reporter_.info("identify: released from its bound (f decreases into the box): " + joined(freed));
+      return;
+    }
+    const Eigen::VectorXd& before = accepted ? x_prev_ : cost_.last_trial;  // the step that got here, or the rejected one
+    if (before.size() != n) return;
+    std::vector<Eigen::Index> candidates;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const bool blocked = (box_.at_lower(x_, k) && box_.at_lower(before, k)) || (box_.at_upper(x_, k) && box_.at_upper(before, k));
+      if (blocked && !std::binary_search(state_.held.begin(), state_.held.end(), static_cast<int>(k)))
+        candidates.push_back(k);
+    }
+    if (candidates.empty()) return;
+    const Eigen::VectorXd g = cost_.gradient(x_);
+    if (g.size() != n) return;
+    std::vector<std::string> newly;
+    for (Eigen::Index k : candidates)
+      if (box_.pushed_out(x_, g, k)) {
+        state_.held.push_back(static_cast<int>(k));
+        newly.push_back(names_[k]);
+      }
+    if (newly.empty()) return;
+    std::sort(state_.held.begin(), state_.held.end());
+    held_changed = true;
+    reporter_.info("identify: held at its bound (f decreases out of the box): " + joined(newly));
+  }
+
   void report(int iteration, const ceres::IterationSummary& s) const {
     std::string detail = "f = " + format_number(state_.objective);
     if (s.iteration > 0 && !s.step_is_successful) detail += " (step rejected)";
@@ -301,6 +396,8 @@ class Monitor final : public ceres::IterationCallback {
   double step_test_norm_ = -1, step_test_delta_ = 0;  // continue_step_test; -1 = Ceres's test
   int base_iterations_;
   std::chrono::steady_clock::time_point t0_;
+  const LmCost& cost_;
+  const Box& box_;
   Eigen::VectorXd x_prev_ = x_;
 };
 
@@ -401,6 +498,12 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
   result.names = names;
   result.jacobian = options.jacobian;
   LmCost cost(problem, options.jacobian_options(), scales, state);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Box box{Eigen::VectorXd::Constant(n, -kInf), Eigen::VectorXd::Constant(n, kInf)};
+  for (int k = 0; k < n; ++k) {
+    if (std::isfinite(params[k].lower)) box.lo(k) = params[k].lower / scales(k);
+    if (std::isfinite(params[k].upper)) box.hi(k) = params[k].upper / scales(k);
+  }
   // A start where the model fails ends here (Ceres would log its own failure otherwise). A finished
   // run (phase done) needs no evaluation before its final one.
   if (state.phase != Phase::done && !cost.at(state.x, options.jacobian == JacobianMode::exact))
@@ -412,15 +515,33 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
   while (state.phase != Phase::done) {
     if (state.phase == Phase::lm) {
       Eigen::VectorXd x = state.x;  // Ceres' parameter block
+      // A held variable that a stability restart moved off its bound is free again.
+      std::erase_if(state.held, [&](int k) { return !box.at_lower(x, k) && !box.at_upper(x, k); });
+      if (static_cast<int>(state.held.size()) == n) {  // nothing left to step in: a KKT test only
+        const auto freed = release_held(box, x, cost.gradient(x), options.gradient_tolerance, names, state.held);
+        if (freed.empty()) {
+          state.termination = Termination::gradient_below_tolerance;
+          state.message = "every coefficient is held at a bound, where f decreases only out of the box";
+          state.phase = options.stability_test ? Phase::stability : Phase::done;
+          if (state.phase == Phase::done) {
+            finish(state.termination, state.message);
+            break;
+          }
+          checkpoint();
+          continue;
+        }
+        reporter.info("identify: released from its bound (f decreases into the box): " + joined(freed));
+      }
       ceres::Problem::Options po;
       po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
       ceres::Problem lm(po);
       lm.AddResidualBlock(&cost, nullptr, x.data());
       for (int k = 0; k < n; ++k) {
-        if (std::isfinite(params[k].lower)) lm.SetParameterLowerBound(x.data(), k, params[k].lower / scales(k));
-        if (std::isfinite(params[k].upper)) lm.SetParameterUpperBound(x.data(), k, params[k].upper / scales(k));
+        if (std::isfinite(box.lo(k))) lm.SetParameterLowerBound(x.data(), k, box.lo(k));
+        if (std::isfinite(box.hi(k))) lm.SetParameterUpperBound(x.data(), k, box.hi(k));
       }
-      Monitor monitor(options, reporter, names, scales, x, state, record_start, t0);
+      if (!state.held.empty()) lm.SetManifold(x.data(), new ceres::SubsetManifold(n, state.held));
+      Monitor monitor(options, reporter, names, scales, x, state, record_start, t0, cost, box);
       bool bounded = false;
       for (const auto& p : params) bounded = bounded || std::isfinite(p.lower) || std::isfinite(p.upper);
       const bool continues_a_solve = !record_start && !bounded;
@@ -449,6 +570,11 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
       if (!summary.iterations.empty() && !monitor.stopped_by_step_test)
         state.iterations = base + summary.iterations.back().iteration;
       if (monitor.stopped_by_step_test) x = state.x;  // Ceres may have moved on to the trial
+      if (monitor.held_changed) {  // LM goes on from the accepted point with the new active set
+        x = state.x;
+        record_start = false;
+        continue;
+      }
       Termination termination;
       std::string message;
       if (monitor.reason) {
@@ -483,6 +609,16 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
       state.termination = termination;
       state.message = message;
       const bool converged = termination != Termination::max_iterations;
+      // Converged in the free variables: the KKT test of the held ones.
+      if (converged && termination != Termination::objective_below_epsilon && !state.held.empty()) {
+        const auto freed = release_held(box, x, cost.gradient(x), options.gradient_tolerance, names, state.held);
+        if (!freed.empty()) {
+          reporter.info("identify: released from its bound (f decreases into the box): " + joined(freed));
+          checkpoint();
+          record_start = false;
+          continue;
+        }
+      }
       if (!converged || !options.stability_test) {
         finish(termination, message);
         break;

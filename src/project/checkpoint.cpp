@@ -72,6 +72,7 @@ void write_checkpoint(const fs::path& file, const ident::Checkpoint& c, const st
   j["termination"] = ident::to_string(c.termination);
   j["message"] = c.message;
   j["stability_passed"] = c.stability_passed;
+  j["held"] = c.held;
   json h = json::array();
   for (const auto& e : c.history)
     h.push_back({{"iteration", e.iteration}, {"objective", e.objective}, {"parameters", vec_json(e.parameters)},
@@ -120,6 +121,9 @@ ident::Checkpoint read_checkpoint(const fs::path& file, const std::string& finge
   c.termination = *termination;
   c.message = json_get_or(j, "message", std::string(), f);
   c.stability_passed = json_get_or(j, "stability_passed", false, f);
+  if (j.contains("held")) c.held = json_get<std::vector<int>>(j, "held", f);  // none before stop 22
+  for (int k : c.held)
+    if (k < 0 || k >= c.x.size()) throw InputError({f, 0, "held"}, "not an index of x", std::to_string(k), "0 to n - 1");
   const json history = json_get<json>(j, "history", f);
   if (!history.is_array()) throw InputError({f, 0, "history"}, "of the wrong type", history.dump(), "an array");
   for (std::size_t i = 0; i < history.size(); ++i) {

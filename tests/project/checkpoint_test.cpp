@@ -31,6 +31,7 @@ ident::Checkpoint sample() {
   c.termination = ident::Termination::step_below_delta;
   c.message = "relative step max|t| = 3e-06 < delta = 1e-05 (eq. 3)";
   c.stability_passed = false;
+  c.held = {1};
   return c;
 }
 
@@ -52,6 +53,7 @@ TEST(Checkpoint, LmStateAndPhaseRoundTripExactly) {
   EXPECT_EQ(r.termination, ident::Termination::step_below_delta);
   EXPECT_EQ(r.message, c.message);
   EXPECT_FALSE(r.stability_passed);
+  EXPECT_EQ(r.held, c.held);  // the active set: LM goes on in the same free variables
   ASSERT_EQ(r.history.size(), 1u);
 }
 

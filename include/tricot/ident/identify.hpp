@@ -63,6 +63,10 @@ struct LmProgress {
   Termination termination = Termination::fe_failure;
   std::string message;
   bool stability_passed = false;  ///< phase done: the last stability test found no lower f
+  /// The active set: LM variables held at a bound (sorted), because f decreases out of the box there
+  /// (the gradient points outward). LM steps in the others until it converges; then a held variable
+  /// whose gradient points inward again is released (a KKT test).
+  std::vector<int> held;
 };
 
 struct Checkpoint : LmProgress {
