@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <limits>
 #include <optional>
 #include <string>
@@ -97,8 +98,8 @@ struct State : LmProgress {
   int failed_since_accepted = 0;
 };
 
-/// The whole residual vector as one Ceres cost function of x = J / scale. It keeps the last
-/// evaluation: Ceres evaluates a trial without the Jacobian, then the accepted point again with it;
+/// The whole residual vector as one Ceres cost function of x = J / scale. It keeps the last few
+/// evaluations: Ceres evaluates a trial without the Jacobian, then the accepted point again with it;
 /// in exact mode the trial already carries the sensitivities, so no FE run is repeated.
 class LmCost final : public ceres::CostFunction {
  public:
@@ -124,16 +125,14 @@ class LmCost final : public ceres::CostFunction {
     return true;
   }
 
-  /// The evaluation at x (from the cache when possible), or nullptr when the model fails there.
+  /// The evaluation at x (from the recent ones when possible), or nullptr when the model fails there.
   const Evaluation* at(const Eigen::VectorXd& x, bool jacobian) const {
-    const bool hit = valid_ && cache_x_ == x;
-    if (hit && (!jacobian || cache_.jacobian.size() > 0)) return remember(&cache_, jacobian);
-    // The last point Ceres took a Jacobian at (the accepted one): the final covariance needs it
-    // after later trials have replaced the cache.
-    if (accepted_valid_ && accepted_x_ == x) return &accepted_;
+    auto found = std::find_if(recent_.begin(), recent_.end(), [&](const Recent& c) { return c.x == x; });
+    if (found != recent_.end() && (!jacobian || found->e.jacobian.size() > 0)) return &found->e;
     // Exact mode: ask for sensitivities with every trial, the accepted one then needs no second run.
     const bool with_jacobian = jacobian || options_.mode == JacobianMode::exact;
-    Evaluation e = evaluate(problem_, scales_.cwiseProduct(x), with_jacobian, options_, hit ? &cache_ : nullptr);
+    Evaluation e = evaluate(problem_, scales_.cwiseProduct(x), with_jacobian, options_,
+                            found != recent_.end() ? &found->e : nullptr);
     state_.evaluations += e.evaluations;
     if (e.ok && !e.r.allFinite()) {
       e.ok = false;
@@ -147,13 +146,12 @@ class LmCost final : public ceres::CostFunction {
       ++state_.failed_evaluations;
       ++state_.failed_since_accepted;
       last_failure = e.message;
-      valid_ = false;
       return nullptr;
     }
-    cache_x_ = x;
-    cache_ = std::move(e);
-    valid_ = true;
-    return remember(&cache_, jacobian);
+    if (found != recent_.end()) recent_.erase(found);
+    recent_.push_front({x, std::move(e)});
+    if (recent_.size() > kRecent) recent_.pop_back();
+    return &recent_.front().e;
   }
 
   /// ∂f/∂x at x (f = ½ r·r, LM units) from the evaluation with the Jacobian there (cached at an
@@ -173,18 +171,15 @@ class LmCost final : public ceres::CostFunction {
   JacobianOptions options_;
   Eigen::VectorXd scales_;
   State& state_;
-  const Evaluation* remember(const Evaluation* e, bool jacobian) const {
-    if (jacobian) {
-      accepted_x_ = cache_x_;
-      accepted_ = *e;
-      accepted_valid_ = true;
-    }
-    return e;
-  }
-
-  mutable bool valid_ = false, accepted_valid_ = false;
-  mutable Eigen::VectorXd cache_x_, accepted_x_;
-  mutable Evaluation cache_, accepted_;
+  /// The points evaluated last, newest first: Ceres asks again for the accepted point (its Jacobian)
+  /// after trials, for the line search's first trial as the step's candidate, and identify() for the
+  /// answer's covariance.
+  struct Recent {
+    Eigen::VectorXd x;
+    Evaluation e;
+  };
+  static constexpr std::size_t kRecent = 8;
+  mutable std::deque<Recent> recent_;
 };
 
 /// The box of the LM variables (the parameters' bounds / scale; ±∞ where none), as Ceres gets it.
@@ -355,6 +350,13 @@ class Monitor final : public ceres::IterationCallback {
       held_changed = true;
       reporter_.info("identify: released from its bound (f decreases into the box): " + joined(freed));
       return;
+    }
+    if (accepted && !state_.held.empty()) {  // f decreases into the box again: free at once
+      const auto freed = release_held(box_, x_, cost_.gradient(x_), options_.gradient_tolerance, names_, state_.held);
+      if (!freed.empty()) {
+        held_changed = true;
+        reporter_.info("identify: released from its bound (f decreases into the box): " + joined(freed));
+      }
     }
     const Eigen::VectorXd& before = accepted ? x_prev_ : cost_.last_trial;  // the step that got here, or the rejected one
     if (before.size() != n) return;

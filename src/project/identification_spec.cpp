@@ -58,7 +58,10 @@ SectionSpec parameter_section() {
           "hold the start point."),
       key("scale", 0.0,
           "Typical size of the coefficient, > 0; 0 = |start|. A zero start needs a scale.", 0, 1e12),
-      key("bounds", io::Reals{}, "[lower, upper] bounds on the coefficient; [] = none."),
+      key("bounds", io::Reals{},
+          "[lower, upper] bounds on the coefficient; [] = none. A coefficient that LM's steps keep pushing\n"
+          "onto its bound, where f decreases out of the box, is held there (the log says so) and LM steps in\n"
+          "the others; it is released where f decreases into the box again."),
   };
   return s;
 }
