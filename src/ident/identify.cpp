@@ -334,31 +334,24 @@ class Monitor final : public ceres::IterationCallback {
     }
   }
 
-  /// The active set. A free variable is held on its bound when f decreases out of the box there and
-  /// LM's steps are blocked by it: the accepted step before also ended on that bound, or the trial just
-  /// rejected was projected onto it (Ceres's projected steps would go on trying to leave, and stall).
-  /// Where LM stops on δ at an accepted point, a held variable whose gradient points inward again is
-  /// released instead, and LM goes on. Either ends this Ceres solve (held_changed).
+  /// The active set. A free variable is held on its bound when LM's step is blocked by it: the trial
+  /// just rejected was projected onto that bound, and f decreases out of the box there (Ceres's
+  /// projected steps would go on trying to leave, and stall). A held variable is released at any
+  /// accepted point where f decreases into the box again; where LM stops on δ, that is its KKT test.
+  /// A change ends this Ceres solve (held_changed); LM goes on in the next.
   void update_active_set(bool accepted) {
     if (reason == Termination::objective_below_epsilon) return;
     const Eigen::Index n = x_.size();
-    if (reason) {
+    if (accepted) {  // f decreases into the box again: free at once (LM goes on if it was stopping)
       if (state_.held.empty()) return;
       const auto freed = release_held(box_, x_, cost_.gradient(x_), options_.gradient_tolerance, names_, state_.held);
       if (freed.empty()) return;
       reason.reset();
       held_changed = true;
       reporter_.info("identify: released from its bound (f decreases into the box): " + joined(freed));
-      return;
+      return;  // a step that LM accepts is not blocked
     }
-    if (accepted && !state_.held.empty()) {  // f decreases into the box again: free at once
-      const auto freed = release_held(box_, x_, cost_.gradient(x_), options_.gradient_tolerance, names_, state_.held);
-      if (!freed.empty()) {
-        held_changed = true;
-        reporter_.info("identify: released from its bound (f decreases into the box): " + joined(freed));
-      }
-    }
-    const Eigen::VectorXd& before = accepted ? x_prev_ : cost_.last_trial;  // the step that got here, or the rejected one
+    const Eigen::VectorXd& before = cost_.last_trial;  // the rejected step's candidate
     if (before.size() != n) return;
     std::vector<Eigen::Index> candidates;
     for (Eigen::Index k = 0; k < n; ++k) {
