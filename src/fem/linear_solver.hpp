@@ -45,6 +45,8 @@ class LinearSolver {
   LinearSolverKind kind() const { return kind_; }
   /// One line naming the factorization, its ordering and the size, e.g. for a --verbose log.
   std::string description() const;
+  /// Entries of the simplicial LU's L, U and D (its 2 × 2 blocks, padding included) after its first factorization (else 0), for benchmarks.
+  Eigen::Index lu_nonzeros() const { return simplicial_lu_ ? 8 * static_cast<Eigen::Index>(simplicial_lu_->Lp.back()) + 4 * simplicial_lu_->blocks : 0; }
 
   double seconds = 0;  ///< wall time in numeric factorizations
   int factorizations = 0;
@@ -68,18 +70,23 @@ class LinearSolver {
   /// analyzed at its first use (same ordering method as cholmod_).
   std::unique_ptr<Cholmod> cholmod_ldlt_;
   std::unique_ptr<Eigen::UmfPackLU<Eigen::SparseMatrix<double>>> lu_;
-  /// The simplicial LU (eigen_ldlt kind only), built at the first non-symmetric tangent:
-  /// B = P K Pᵀ = L D U (P: the AMD ordering of the LDLᵀ path), L and Uᵀ unit lower triangular with the
-  /// pattern of LDLᵀ's L (CSC: Lp, Li; values Lx, and Ux holding Uᵀ). `upper` is B's upper triangle by
-  /// columns, its values K[upper_from[k]] (Bu); B's lower triangle by rows has the same pattern, values
-  /// K[lower_from[k]] (Bl). False on a tiny pivot (then UMFPACK).
+  /// The simplicial LU (eigen_ldlt kind only), built at the first non-symmetric tangent, on 2 × 2 node
+  /// blocks: consecutive equations with the same pattern (a node's two free dofs) form a block, any other
+  /// equation a block of its own with a decoupled dummy unknown beside it (identity row and column:
+  /// exact zeros everywhere else, so the real unknowns' factors are those of the scalar LU). Blocks are
+  /// ordered by AMD on the block pattern; B = P K Pᵀ (padded) = L D U, L and Uᵀ block unit lower
+  /// triangular with the pattern of the block LDLᵀ's L (CSC: Lp, Li), D block diagonal. Each 2 × 2 block
+  /// of Lx (L(R, I)) and Ux (U(I, R)ᵀ) is stored as 8 values, its columns each twice
+  /// (m00 m10 m00 m10 m01 m11 m01 m11), so that a block times a 2 × 2 block is four vertical FMA lanes.
+  /// Dinv: D's 2 × 2 inverses (column-major). False on a tiny pivot of D's scalar LDU (then UMFPACK).
   bool factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K);
   struct SimplicialLu {
-    Eigen::SparseMatrix<double> upper;
-    std::vector<int> upper_from, lower_from;
-    std::vector<int> parent, Lp, Li, Lnz, flag, pattern;  // elimination tree, L's columns, workspace
-    std::vector<double> Lx, Ux, Bu, Bl, y, w;
-    Eigen::VectorXd D;
+    int blocks = 0;
+    std::vector<int> pos;  // equation → its row in the padded, permuted system (2 · block + slot)
+    std::vector<int> Ap, Ai;                  // B's upper block triangle by block columns
+    std::vector<int> upper_from, lower_from;  // per block entry 4 sources in K's values (nnz: 0, nnz + 1: 1)
+    std::vector<int> parent, Lp, Li, Lnz, flag, pattern;  // elimination tree, L's block columns, workspace
+    std::vector<double> values, Lx, Ux, Bu, Bl, Y, W, Dinv;
   };
   std::unique_ptr<SimplicialLu> simplicial_lu_;
   /// UMFPACK's factors P K Q = L U (no row scaling), taken out of its Numeric object at the first
