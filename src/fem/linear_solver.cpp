@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <type_traits>
 
 namespace tricot::fem::detail {
 
@@ -102,6 +103,19 @@ void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx
   }
 }
 
+// R −= K X for M columns of row-major blocks (row stride m): each entry of K updates a row of R.
+template <int M>
+void subtract_product(const Eigen::SparseMatrix<double>& K, const double* X, double* R, Eigen::Index m) {
+  using Row = Eigen::Matrix<double, 1, M>;
+  const int* Kp = K.outerIndexPtr();
+  const int* Ki = K.innerIndexPtr();
+  const double* Kx = K.valuePtr();
+  for (Eigen::Index j = 0; j < K.outerSize(); ++j) {
+    const Row xj = Eigen::Map<const Row>(X + j * m);
+    for (int p = Kp[j]; p < Kp[j + 1]; ++p) Eigen::Map<Row>(R + static_cast<Eigen::Index>(Ki[p]) * m) -= Kx[p] * xj;
+  }
+}
+
 // A CHOLMOD factorization of K's lower triangle in `mode`; supernodal ones on METIS nested
 // dissection (2-D meshes: O(n^1.5) flops, less fill than AMD's; bench/linear_solver_benchmark.cpp).
 std::unique_ptr<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>> make_cholmod(
@@ -118,6 +132,30 @@ std::unique_ptr<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::
 }
 
 }  // namespace
+
+void residual(const Eigen::SparseMatrix<double>& K, const Eigen::MatrixXd& b, const Eigen::MatrixXd& x,
+              Eigen::MatrixXd& r) {
+  if (x.cols() == 1 || !K.isCompressed()) {
+    r.noalias() = b - K * x;
+    return;
+  }
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RowMajor xr = x;
+  RowMajor rr = b;
+  const Eigen::Index m = x.cols();
+  for (Eigen::Index c0 = 0; c0 < m;) {  // blocks of 8, 4, 2, 1 columns: compile-time widths
+    const Eigen::Index left = m - c0;
+    const int w = left >= 8 ? 8 : left >= 4 ? 4 : left >= 2 ? 2 : 1;
+    switch (w) {
+      case 8: subtract_product<8>(K, xr.data() + c0, rr.data() + c0, m); break;
+      case 4: subtract_product<4>(K, xr.data() + c0, rr.data() + c0, m); break;
+      case 2: subtract_product<2>(K, xr.data() + c0, rr.data() + c0, m); break;
+      default: subtract_product<1>(K, xr.data() + c0, rr.data() + c0, m); break;
+    }
+    c0 += w;
+  }
+  r = rr;
+}
 
 LinearSolver::LinearSolver(const Eigen::SparseMatrix<double>& pattern, LinearSolverKind kind)
     : kind_(kind), n_(pattern.rows()) {
@@ -434,13 +472,20 @@ void LinearSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const {
     double* Y = work_.data();
     for (Eigen::Index i = 0; i < n_; ++i)
       for (Eigen::Index c = 0; c < m; ++c) Y[f.pos[i] * m + c] = b(i, c);
-    for (Eigen::Index c0 = 0; c0 < m; c0 += 4) {
-      switch (std::min<Eigen::Index>(4, m - c0)) {
-        case 1: block_ldu_substitute<1>(f.blocks, f.Lp.data(), f.Li.data(), f.Lx.data(), f.Ux.data(), f.Dinv.data(), Y + c0, m); break;
-        case 2: block_ldu_substitute<2>(f.blocks, f.Lp.data(), f.Li.data(), f.Lx.data(), f.Ux.data(), f.Dinv.data(), Y + c0, m); break;
-        case 3: block_ldu_substitute<3>(f.blocks, f.Lp.data(), f.Li.data(), f.Lx.data(), f.Ux.data(), f.Dinv.data(), Y + c0, m); break;
-        default: block_ldu_substitute<4>(f.blocks, f.Lp.data(), f.Li.data(), f.Lx.data(), f.Ux.data(), f.Dinv.data(), Y + c0, m); break;
+    for (Eigen::Index c0 = 0; c0 < m;) {  // blocks of 8, 4, 2, 1 columns: compile-time widths keep rows in registers
+      const Eigen::Index left = m - c0;
+      const int w = left >= 8 ? 8 : left >= 4 ? 4 : left >= 2 ? 2 : 1;
+      const auto run = [&](auto width) {
+        block_ldu_substitute<decltype(width)::value>(f.blocks, f.Lp.data(), f.Li.data(), f.Lx.data(), f.Ux.data(),
+                                                     f.Dinv.data(), Y + c0, m);
+      };
+      switch (w) {
+        case 8: run(std::integral_constant<int, 8>{}); break;
+        case 4: run(std::integral_constant<int, 4>{}); break;
+        case 2: run(std::integral_constant<int, 2>{}); break;
+        default: run(std::integral_constant<int, 1>{}); break;
       }
+      c0 += w;
     }
     x.resize(n_, m);
     for (Eigen::Index i = 0; i < n_; ++i)

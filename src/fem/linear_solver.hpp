@@ -23,6 +23,11 @@
 
 namespace tricot::fem::detail {
 
+/// r = b − K x (b, x: n × m). Several columns go through K together (row-major copies: each of K's
+/// entries updates a row of r), not column by column.
+void residual(const Eigen::SparseMatrix<double>& K, const Eigen::MatrixXd& b, const Eigen::MatrixXd& x,
+              Eigen::MatrixXd& r);
+
 class LinearSolver {
  public:
   /// Tangents of at least this many unknowns go to CHOLMOD's supernodal LLᵀ under

@@ -142,7 +142,7 @@ bool Simulation::linear_solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x, Fail
     Eigen::MatrixXd r, dx;
     linear_solver_.solve(b, x);
     for (int sweep = 0; sweep <= kRefineSweeps && x.allFinite(); ++sweep) {
-      r.noalias() = b - assembled_.K * x;
+      detail::residual(assembled_.K, b, x, r);
       double worst = 0;
       for (Eigen::Index j = 0; j < r.cols(); ++j) worst = std::max(worst, r.col(j).norm() / std::max(nb(j), 1e-300));
       if (worst <= kRefinedResidual) return true;
