@@ -62,10 +62,12 @@ inline V4 load4(const double* p) {
   return v;
 }
 inline void store4(double* p, V4 v) { std::memcpy(p, &v, sizeof v); }
+/// (p[0], p[1], p[0], p[1]): a 2 × 2 block's column in both halves (one 128-bit broadcast load).
+inline V4 twice(const double* p) { return V4{p[0], p[1], p[0], p[1]}; }
 
 // Y ← U⁻¹ D⁻¹ L⁻¹ Y for M columns of a row-major block (row stride m) on 2 × 2 blocks: block row I is
 // rows 2I, 2I + 1. L(R, I) and U(I, R)ᵀ in block column I's entries p (row block Li[p]), each stored as
-// (m00 m10 m00 m10 m01 m11 m01 m11); Dinv: D's inverses, column-major.
+// column-major (m00 m10 m01 m11); Dinv: D's inverses, column-major.
 template <int M>
 void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx, const double* Ux,
                           const double* Dinv, double* Y, Eigen::Index m) {
@@ -75,10 +77,10 @@ void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx
   for (int j = 0; j < nb; ++j) {  // L y = b
     const Row y0 = row(2 * j), y1 = row(2 * j + 1);
     for (int p = Lp[j]; p < Lp[j + 1]; ++p) {
-      const double* l = Lx + 8 * static_cast<size_t>(p);
+      const double* l = Lx + 4 * static_cast<size_t>(p);
       const Eigen::Index r = 2 * static_cast<Eigen::Index>(Li[p]);
-      row(r) -= l[0] * y0 + l[4] * y1;
-      row(r + 1) -= l[1] * y0 + l[5] * y1;
+      row(r) -= l[0] * y0 + l[2] * y1;
+      row(r + 1) -= l[1] * y0 + l[3] * y1;
     }
   }
   for (int j = 0; j < nb; ++j) {
@@ -90,13 +92,13 @@ void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx
   for (int j = nb - 1; j >= 0; --j) {  // U z = D⁻¹ y: block row j, U(j, r) = (stored U(j, r)ᵀ)ᵀ
     Row a0 = row(2 * j), a1 = row(2 * j + 1), b0 = Row::Zero(), b1 = Row::Zero();
     for (int p = Lp[j]; p < Lp[j + 1]; ++p) {
-      const double* u = Ux + 8 * static_cast<size_t>(p);
+      const double* u = Ux + 4 * static_cast<size_t>(p);
       const Eigen::Index r = 2 * static_cast<Eigen::Index>(Li[p]);
       const Row z0 = row(r), z1 = row(r + 1);
       a0 -= u[0] * z0;
       b0 -= u[1] * z1;
-      a1 -= u[4] * z0;
-      b1 -= u[5] * z1;
+      a1 -= u[2] * z0;
+      b1 -= u[3] * z1;
     }
     row(2 * j) = a0 + b0;
     row(2 * j + 1) = a1 + b1;
@@ -333,7 +335,7 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
     }
     f->Lp.assign(nb + 1, 0);
     for (int k = 0; k < nb; ++k) f->Lp[k + 1] = f->Lp[k] + f->Lnz[k];
-    f->Li.resize(f->Lp[nb]), f->Lx.resize(8 * static_cast<size_t>(f->Lp[nb])), f->Ux.resize(f->Lx.size());
+    f->Li.resize(f->Lp[nb]), f->Lx.resize(4 * static_cast<size_t>(f->Lp[nb])), f->Ux.resize(f->Lx.size());
     f->Bu.resize(4 * entries), f->Bl.resize(4 * entries);
     f->values.resize(nnz + 2);
     f->Y.assign(4 * static_cast<size_t>(nb), 0.0), f->W.assign(4 * static_cast<size_t>(nb), 0.0);
@@ -387,7 +389,7 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
       const int i = pattern[top];
       double* yi = Y + 4 * i;
       double* wi = W + 4 * i;
-      // yi, wi: 2 × 2 column-major; the lanes below pair with a block's duplicated columns.
+      // yi, wi: 2 × 2 column-major; the lanes below pair with a block's columns, each in both halves.
       const double ya[4] = {yi[0], yi[0], yi[2], yi[2]}, yb[4] = {yi[1], yi[1], yi[3], yi[3]};
       const double wa[4] = {wi[0], wi[0], wi[2], wi[2]}, wb[4] = {wi[1], wi[1], wi[3], wi[3]};
       const double y4[4] = {yi[0], yi[1], yi[2], yi[3]}, w4[4] = {wi[0], wi[1], wi[2], wi[3]};
@@ -397,10 +399,10 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
       for (int p = Lp[i]; p < p2; ++p) {
         double* yr = Y + 4 * Li[p];
         double* wr = W + 4 * Li[p];
-        const double* l = Lx + 8 * static_cast<size_t>(p);
-        const double* u = Ux + 8 * static_cast<size_t>(p);
-        store4(yr, load4(yr) - (load4(l) * vya + load4(l + 4) * vyb));
-        store4(wr, load4(wr) - (load4(u) * vwa + load4(u + 4) * vwb));
+        const double* l = Lx + 4 * static_cast<size_t>(p);
+        const double* u = Ux + 4 * static_cast<size_t>(p);
+        store4(yr, load4(yr) - (twice(l) * vya + twice(l + 2) * vyb));
+        store4(wr, load4(wr) - (twice(u) * vwa + twice(u + 2) * vwb));
       }
       // L(k, i) = wᵀ D_i⁻¹, U(i, k)ᵀ = yᵀ D_i⁻ᵀ; D_k −= L(k, i) y.
       const double* d = Dinv + 4 * i;
@@ -413,14 +415,10 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
       Dk[2] -= l00 * y4[2] + l01 * y4[3];
       Dk[3] -= l10 * y4[2] + l11 * y4[3];
       Li[p2] = k;
-      double* lx = Lx + 8 * static_cast<size_t>(p2);
-      const double lm[4] = {l00, l10, l01, l11};
-      const double um[4] = {u00, u01, u10, u11};  // U(i, k)ᵀ
-      for (int c = 0; c < 2; ++c) {
-        lx[4 * c] = lx[4 * c + 2] = lm[2 * c], lx[4 * c + 1] = lx[4 * c + 3] = lm[2 * c + 1];
-        double* ux = Ux + 8 * static_cast<size_t>(p2) + 4 * c;
-        ux[0] = ux[2] = um[2 * c], ux[1] = ux[3] = um[2 * c + 1];
-      }
+      double* lx = Lx + 4 * static_cast<size_t>(p2);
+      double* ux = Ux + 4 * static_cast<size_t>(p2);
+      lx[0] = l00, lx[1] = l10, lx[2] = l01, lx[3] = l11;
+      ux[0] = u00, ux[1] = u01, ux[2] = u10, ux[3] = u11;  // U(i, k)ᵀ
       ++Lnz[i];
     }
     // D_k = [[a, b], [c, d]] = [[1, 0], [c/a, 1]] diag(d1, d2) [[1, b/a], [0, 1]].

@@ -51,7 +51,7 @@ class LinearSolver {
   /// One line naming the factorization, its ordering and the size, e.g. for a --verbose log.
   std::string description() const;
   /// Entries of the simplicial LU's L, U and D (its 2 × 2 blocks, padding included) after its first factorization (else 0), for benchmarks.
-  Eigen::Index lu_nonzeros() const { return simplicial_lu_ ? 8 * static_cast<Eigen::Index>(simplicial_lu_->Lp.back()) + 4 * simplicial_lu_->blocks : 0; }
+  Eigen::Index lu_nonzeros() const { return simplicial_lu_ ? 4 * static_cast<Eigen::Index>(simplicial_lu_->Lp.back()) + 4 * simplicial_lu_->blocks : 0; }
 
   double seconds = 0;  ///< wall time in numeric factorizations
   int factorizations = 0;
@@ -81,8 +81,7 @@ class LinearSolver {
   /// exact zeros everywhere else, so the real unknowns' factors are those of the scalar LU). Blocks are
   /// ordered by AMD on the block pattern; B = P K Pᵀ (padded) = L D U, L and Uᵀ block unit lower
   /// triangular with the pattern of the block LDLᵀ's L (CSC: Lp, Li), D block diagonal. Each 2 × 2 block
-  /// of Lx (L(R, I)) and Ux (U(I, R)ᵀ) is stored as 8 values, its columns each twice
-  /// (m00 m10 m00 m10 m01 m11 m01 m11), so that a block times a 2 × 2 block is four vertical FMA lanes.
+  /// of Lx (L(R, I)) and Ux (U(I, R)ᵀ) is stored column-major (m00 m10 m01 m11).
   /// Dinv: D's 2 × 2 inverses (column-major). False on a tiny pivot of D's scalar LDU (then UMFPACK).
   bool factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K);
   struct SimplicialLu {
