@@ -46,6 +46,15 @@ class LinearSolver {
   /// x = K⁻¹ b with the last factorization (b may have several columns; x may not alias b).
   void solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const;
 
+  /// Whether `columns` right-hand sides with a nearby tangent (e.g. the converged state's, after the
+  /// last Newton iterate's factorization) cost less through a factorization of that tangent than through
+  /// iterative refinement on the current factorization (~2 sweeps, each a solve and a product with K,
+  /// and another refined solve for the next predictor). True only for the simplicial block LU from 8
+  /// columns: on the 810-dof rig tangent its factorization costs ~205 us against ~145 us per sweep of 14
+  /// columns (bench/linear_solver_benchmark.cpp, BM_SimplicialLuRig*, BM_RigResidual). LDLᵀ, CHOLMOD and
+  /// UMFPACK factorizations cost many sweeps.
+  bool prefers_factorization(Eigen::Index columns) const { return active_ == Active::simplicial_lu && columns >= 8; }
+
   /// The backend in use for symmetric tangents (never `automatic`).
   LinearSolverKind kind() const { return kind_; }
   /// One line naming the factorization, its ordering and the size, e.g. for a --verbose log.
