@@ -3,9 +3,9 @@
 // supernodal LLᵀ on a METIS ordering (falling back to CHOLMOD's LDLᵀ when the tangent is not positive
 // definite); SolveOptions::linear_solver picks one, or lets the size pick (LinearSolverKind::automatic,
 // crossover measured in bench/linear_solver_benchmark.cpp). Non-symmetric tangents: with the Eigen
-// backend (small models), a simplicial LU without pivoting on the same AMD ordering (the tangent's
-// pattern is symmetric, so L and Uᵀ have LDLᵀ's pattern); UMFPACK LU for the larger ones, where a
-// pivot of that LU is tiny, or where LDLᵀ breaks down.
+// backend (small models), a simplicial LU without pivoting on 2 × 2 node blocks, AMD-ordered by blocks
+// (the tangent's pattern is symmetric, so L and Uᵀ have the block LDLᵀ's pattern); UMFPACK LU for the
+// larger ones, where a pivot of that LU is tiny, or where LDLᵀ breaks down.
 // The ordering and symbolic analysis are done once per simulation (the pattern is fixed); each
 // factorization is numeric only, and the matrix handed to it is filled through a precomputed map.
 #pragma once
