@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <type_traits>
+#include <utility>
 
 namespace tricot::fem::detail {
 
@@ -105,6 +106,18 @@ void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx
   }
 }
 
+// Calls f(std::integral_constant<int, w>{}) for 1 ≤ w ≤ kMaxWidth: kernels over a row of w right-hand
+// sides with w known at compile time (the sensitivities' 14 columns in one pass, rows in registers).
+constexpr int kMaxWidth = 16;
+template <class F, int... W>
+void with_width_impl(int w, F&& f, std::integer_sequence<int, W...>) {
+  ((w == W + 1 ? (f(std::integral_constant<int, W + 1>{}), true) : false) || ...);
+}
+template <class F>
+void with_width(int w, F&& f) {
+  with_width_impl(w, f, std::make_integer_sequence<int, kMaxWidth>{});
+}
+
 // R −= K X for M columns of row-major blocks (row stride m): each entry of K updates a row of R.
 template <int M>
 void subtract_product(const Eigen::SparseMatrix<double>& K, const double* X, double* R, Eigen::Index m) {
@@ -145,15 +158,9 @@ void residual(const Eigen::SparseMatrix<double>& K, const Eigen::MatrixXd& b, co
   const RowMajor xr = x;
   RowMajor rr = b;
   const Eigen::Index m = x.cols();
-  for (Eigen::Index c0 = 0; c0 < m;) {  // blocks of 8, 4, 2, 1 columns: compile-time widths
-    const Eigen::Index left = m - c0;
-    const int w = left >= 8 ? 8 : left >= 4 ? 4 : left >= 2 ? 2 : 1;
-    switch (w) {
-      case 8: subtract_product<8>(K, xr.data() + c0, rr.data() + c0, m); break;
-      case 4: subtract_product<4>(K, xr.data() + c0, rr.data() + c0, m); break;
-      case 2: subtract_product<2>(K, xr.data() + c0, rr.data() + c0, m); break;
-      default: subtract_product<1>(K, xr.data() + c0, rr.data() + c0, m); break;
-    }
+  for (Eigen::Index c0 = 0; c0 < m;) {  // blocks of up to 16 columns, each width at compile time
+    const int w = static_cast<int>(std::min<Eigen::Index>(kMaxWidth, m - c0));
+    with_width(w, [&](auto width) { subtract_product<decltype(width)::value>(K, xr.data() + c0, rr.data() + c0, m); });
     c0 += w;
   }
   r = rr;
@@ -470,19 +477,12 @@ void LinearSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const {
     double* Y = work_.data();
     for (Eigen::Index i = 0; i < n_; ++i)
       for (Eigen::Index c = 0; c < m; ++c) Y[f.pos[i] * m + c] = b(i, c);
-    for (Eigen::Index c0 = 0; c0 < m;) {  // blocks of 8, 4, 2, 1 columns: compile-time widths keep rows in registers
-      const Eigen::Index left = m - c0;
-      const int w = left >= 8 ? 8 : left >= 4 ? 4 : left >= 2 ? 2 : 1;
-      const auto run = [&](auto width) {
+    for (Eigen::Index c0 = 0; c0 < m;) {  // blocks of up to 16 columns, each width at compile time
+      const int w = static_cast<int>(std::min<Eigen::Index>(kMaxWidth, m - c0));
+      with_width(w, [&](auto width) {
         block_ldu_substitute<decltype(width)::value>(f.blocks, f.Lp.data(), f.Li.data(), f.Lx.data(), f.Ux.data(),
                                                      f.Dinv.data(), Y + c0, m);
-      };
-      switch (w) {
-        case 8: run(std::integral_constant<int, 8>{}); break;
-        case 4: run(std::integral_constant<int, 4>{}); break;
-        case 2: run(std::integral_constant<int, 2>{}); break;
-        default: run(std::integral_constant<int, 1>{}); break;
-      }
+      });
       c0 += w;
     }
     x.resize(n_, m);
