@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <type_traits>
 #include <utility>
@@ -54,6 +55,13 @@ void ldu_substitute(Eigen::Index n, const int* Lp, const int* Li, const double* 
   }
 }
 
+// The offset in v (8 doubles spare at its end) of its first 64-byte aligned element: a block's L and
+// Uᵀ (or y and w) then share one cache line.
+size_t aligned64(const std::vector<double>& v) {
+  const auto a = reinterpret_cast<std::uintptr_t>(v.data());
+  return ((64 - a % 64) % 64) / sizeof(double);
+}
+
 // Four doubles as one vector (GCC/Clang vector extension: AVX's 256-bit lanes where -march has them,
 // two SSE halves otherwise); loads and stores at any 8-byte alignment.
 typedef double V4 __attribute__((vector_size(32)));
@@ -67,8 +75,8 @@ inline void store4(double* p, V4 v) { std::memcpy(p, &v, sizeof v); }
 inline V4 twice(const double* p) { return V4{p[0], p[1], p[0], p[1]}; }
 
 // Y ← U⁻¹ D⁻¹ L⁻¹ Y for M columns of a row-major block (row stride m) on 2 × 2 blocks: block row I is
-// rows 2I, 2I + 1. L(R, I) and U(I, R)ᵀ in block column I's entries p (row block Li[p]), each stored as
-// column-major (m00 m10 m01 m11); Dinv: D's inverses, column-major.
+// rows 2I, 2I + 1. L(R, I) and U(I, R)ᵀ in block column I's entries p (row block Li[p]) at Lx + 8 p and
+// Ux + 8 p, each column-major (m00 m10 m01 m11); Dinv: D's inverses, column-major.
 template <int M>
 void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx, const double* Ux,
                           const double* Dinv, double* Y, Eigen::Index m) {
@@ -78,7 +86,7 @@ void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx
   for (int j = 0; j < nb; ++j) {  // L y = b
     const Row y0 = row(2 * j), y1 = row(2 * j + 1);
     for (int p = Lp[j]; p < Lp[j + 1]; ++p) {
-      const double* l = Lx + 4 * static_cast<size_t>(p);
+      const double* l = Lx + 8 * static_cast<size_t>(p);
       const Eigen::Index r = 2 * static_cast<Eigen::Index>(Li[p]);
       row(r) -= l[0] * y0 + l[2] * y1;
       row(r + 1) -= l[1] * y0 + l[3] * y1;
@@ -93,7 +101,7 @@ void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx
   for (int j = nb - 1; j >= 0; --j) {  // U z = D⁻¹ y: block row j, U(j, r) = (stored U(j, r)ᵀ)ᵀ
     Row a0 = row(2 * j), a1 = row(2 * j + 1), b0 = Row::Zero(), b1 = Row::Zero();
     for (int p = Lp[j]; p < Lp[j + 1]; ++p) {
-      const double* u = Ux + 4 * static_cast<size_t>(p);
+      const double* u = Ux + 8 * static_cast<size_t>(p);
       const Eigen::Index r = 2 * static_cast<Eigen::Index>(Li[p]);
       const Row z0 = row(r), z1 = row(r + 1);
       a0 -= u[0] * z0;
@@ -342,10 +350,11 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
     }
     f->Lp.assign(nb + 1, 0);
     for (int k = 0; k < nb; ++k) f->Lp[k + 1] = f->Lp[k] + f->Lnz[k];
-    f->Li.resize(f->Lp[nb]), f->Lx.resize(4 * static_cast<size_t>(f->Lp[nb])), f->Ux.resize(f->Lx.size());
+    f->Li.resize(f->Lp[nb]);
+    f->LU.assign(8 * static_cast<size_t>(f->Lp[nb]) + 8, 0.0), f->lu_at = aligned64(f->LU);
     f->Bu.resize(4 * entries), f->Bl.resize(4 * entries);
     f->values.resize(nnz + 2);
-    f->Y.assign(4 * static_cast<size_t>(nb), 0.0), f->W.assign(4 * static_cast<size_t>(nb), 0.0);
+    f->YW.assign(8 * static_cast<size_t>(nb) + 8, 0.0), f->yw_at = aligned64(f->YW);
     f->pattern.resize(nb);
     f->Dinv.resize(4 * static_cast<size_t>(nb));
     f->blocks = nb;
@@ -360,11 +369,11 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
   const int* Ai = f.Ai.data();
   const double* Bu = f.Bu.data();
   const double* Bl = f.Bl.data();
-  double* __restrict Y = f.Y.data();
-  double* __restrict W = f.W.data();
+  double* __restrict Y = f.YW.data() + f.yw_at;  // Y and W interleaved: block i at 8 i and 8 i + 4
+  double* __restrict W = Y + 4;
   int* __restrict Li = f.Li.data();
-  double* __restrict Lx = f.Lx.data();
-  double* __restrict Ux = f.Ux.data();
+  double* __restrict Lx = f.LU.data() + f.lu_at;  // L and Uᵀ interleaved: entry p at 8 p and 8 p + 4
+  double* __restrict Ux = Lx + 4;
   const int* Lp = f.Lp.data();
   int* Lnz = f.Lnz.data();
   const int* parent = f.parent.data();
@@ -379,9 +388,9 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
     double scale[2] = {0, 0};
     for (int p = Ap[k]; p < Ap[k + 1]; ++p) {
       int i = Ai[p];
-      for (int r = 0; r < 4; ++r) Y[4 * i + r] += Bu[4 * p + r];
+      for (int r = 0; r < 4; ++r) Y[8 * i + r] += Bu[4 * p + r];
       if (i < k)
-        for (int r = 0; r < 4; ++r) W[4 * i + r] += Bl[4 * p + r];
+        for (int r = 0; r < 4; ++r) W[8 * i + r] += Bl[4 * p + r];
       // Bu's column c and Bl's column c are B(:, k_c) and B(k_c, :)ᵀ.
       for (int c = 0; c < 2; ++c)
         scale[c] = std::max({scale[c], std::abs(Bu[4 * p + 2 * c]), std::abs(Bu[4 * p + 2 * c + 1]),
@@ -391,11 +400,11 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
       while (len > 0) pattern[--top] = pattern[--len];
     }
     double Dk[4];
-    for (int r = 0; r < 4; ++r) Dk[r] = Y[4 * k + r], Y[4 * k + r] = 0;
+    for (int r = 0; r < 4; ++r) Dk[r] = Y[8 * k + r], Y[8 * k + r] = 0;
     for (; top < nb; ++top) {
       const int i = pattern[top];
-      double* yi = Y + 4 * i;
-      double* wi = W + 4 * i;
+      double* yi = Y + 8 * i;
+      double* wi = W + 8 * i;
       // yi, wi: 2 × 2 column-major; the lanes below pair with a block's columns, each in both halves.
       const double ya[4] = {yi[0], yi[0], yi[2], yi[2]}, yb[4] = {yi[1], yi[1], yi[3], yi[3]};
       const double wa[4] = {wi[0], wi[0], wi[2], wi[2]}, wb[4] = {wi[1], wi[1], wi[3], wi[3]};
@@ -404,10 +413,10 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
       const int p2 = Lp[i] + Lnz[i];
       const V4 vya = load4(ya), vyb = load4(yb), vwa = load4(wa), vwb = load4(wb);
       for (int p = Lp[i]; p < p2; ++p) {
-        double* yr = Y + 4 * Li[p];
-        double* wr = W + 4 * Li[p];
-        const double* l = Lx + 4 * static_cast<size_t>(p);
-        const double* u = Ux + 4 * static_cast<size_t>(p);
+        double* yr = Y + 8 * Li[p];
+        double* wr = W + 8 * Li[p];
+        const double* l = Lx + 8 * static_cast<size_t>(p);
+        const double* u = Ux + 8 * static_cast<size_t>(p);
         store4(yr, load4(yr) - (twice(l) * vya + twice(l + 2) * vyb));
         store4(wr, load4(wr) - (twice(u) * vwa + twice(u + 2) * vwb));
       }
@@ -422,8 +431,8 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
       Dk[2] -= l00 * y4[2] + l01 * y4[3];
       Dk[3] -= l10 * y4[2] + l11 * y4[3];
       Li[p2] = k;
-      double* lx = Lx + 4 * static_cast<size_t>(p2);
-      double* ux = Ux + 4 * static_cast<size_t>(p2);
+      double* lx = Lx + 8 * static_cast<size_t>(p2);
+      double* ux = Ux + 8 * static_cast<size_t>(p2);
       lx[0] = l00, lx[1] = l10, lx[2] = l01, lx[3] = l11;
       ux[0] = u00, ux[1] = u01, ux[2] = u10, ux[3] = u11;  // U(i, k)ᵀ
       ++Lnz[i];
@@ -432,7 +441,7 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
     const double d1 = Dk[0], d2 = Dk[3] - Dk[1] * Dk[2] / d1;
     if (!(std::abs(d1) > kTinyPivot * scale[0]) || !(std::abs(d2) > kTinyPivot * scale[1]) || !std::isfinite(d1) ||
         !std::isfinite(d2)) {
-      std::fill(f.Y.begin(), f.Y.end(), 0.0), std::fill(f.W.begin(), f.W.end(), 0.0);  // a later one starts clean
+      std::fill(f.YW.begin(), f.YW.end(), 0.0);  // a later one starts clean
       return false;
     }
     const double det = d1 * d2;
@@ -480,8 +489,9 @@ void LinearSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const {
     for (Eigen::Index c0 = 0; c0 < m;) {  // blocks of up to 16 columns, each width at compile time
       const int w = static_cast<int>(std::min<Eigen::Index>(kMaxWidth, m - c0));
       with_width(w, [&](auto width) {
-        block_ldu_substitute<decltype(width)::value>(f.blocks, f.Lp.data(), f.Li.data(), f.Lx.data(), f.Ux.data(),
-                                                     f.Dinv.data(), Y + c0, m);
+        const double* LU = f.LU.data() + f.lu_at;
+        block_ldu_substitute<decltype(width)::value>(f.blocks, f.Lp.data(), f.Li.data(), LU, LU + 4, f.Dinv.data(),
+                                                     Y + c0, m);
       });
       c0 += w;
     }

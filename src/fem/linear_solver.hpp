@@ -60,7 +60,7 @@ class LinearSolver {
   /// One line naming the factorization, its ordering and the size, e.g. for a --verbose log.
   std::string description() const;
   /// Entries of the simplicial LU's L, U and D (its 2 × 2 blocks, padding included) after its first factorization (else 0), for benchmarks.
-  Eigen::Index lu_nonzeros() const { return simplicial_lu_ ? 4 * static_cast<Eigen::Index>(simplicial_lu_->Lp.back()) + 4 * simplicial_lu_->blocks : 0; }
+  Eigen::Index lu_nonzeros() const { return simplicial_lu_ ? 8 * static_cast<Eigen::Index>(simplicial_lu_->Lp.back()) + 4 * simplicial_lu_->blocks : 0; }
 
   double seconds = 0;  ///< wall time in numeric factorizations
   int factorizations = 0;
@@ -89,8 +89,9 @@ class LinearSolver {
   /// equation a block of its own with a decoupled dummy unknown beside it (identity row and column:
   /// exact zeros everywhere else, so the real unknowns' factors are those of the scalar LU). Blocks are
   /// ordered by AMD on the block pattern; B = P K Pᵀ (padded) = L D U, L and Uᵀ block unit lower
-  /// triangular with the pattern of the block LDLᵀ's L (CSC: Lp, Li), D block diagonal. Each 2 × 2 block
-  /// of Lx (L(R, I)) and Ux (U(I, R)ᵀ) is stored column-major (m00 m10 m01 m11).
+  /// triangular with the pattern of the block LDLᵀ's L (CSC: Lp, Li), D block diagonal. Entry p's 2 × 2
+  /// blocks L(R, I) and U(I, R)ᵀ, each column-major (m00 m10 m01 m11), share a cache line in LU (at
+  /// lu_at + 8 p and + 4); the row solves' y and w likewise in YW.
   /// Dinv: D's 2 × 2 inverses (column-major). False on a tiny pivot of D's scalar LDU (then UMFPACK).
   bool factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K);
   struct SimplicialLu {
@@ -99,7 +100,8 @@ class LinearSolver {
     std::vector<int> Ap, Ai;                  // B's upper block triangle by block columns
     std::vector<int> upper_from, lower_from;  // per block entry 4 sources in K's values (nnz: 0, nnz + 1: 1)
     std::vector<int> parent, Lp, Li, Lnz, flag, pattern;  // elimination tree, L's block columns, workspace
-    std::vector<double> values, Lx, Ux, Bu, Bl, Y, W, Dinv;
+    std::vector<double> values, LU, Bu, Bl, YW, Dinv;
+    size_t lu_at = 0, yw_at = 0;  // 64-byte aligned starts in LU and YW
   };
   std::unique_ptr<SimplicialLu> simplicial_lu_;
   /// UMFPACK's factors P K Q = L U (no row scaling), taken out of its Numeric object at the first
