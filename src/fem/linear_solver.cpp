@@ -11,6 +11,14 @@
 #include <type_traits>
 #include <utility>
 
+// The vector helpers below (V8) return vectors by value: inlined and internal to this
+// file, so the ABI change GCC warns about without -march=native (-Wpsabi) does not matter.
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wpsabi"
+#elif defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 namespace tricot::fem::detail {
 
 namespace {
@@ -62,17 +70,24 @@ size_t aligned64(const std::vector<double>& v) {
   return ((64 - a % 64) % 64) / sizeof(double);
 }
 
-// Four doubles as one vector (GCC/Clang vector extension: AVX's 256-bit lanes where -march has them,
-// two SSE halves otherwise); loads and stores at any 8-byte alignment.
-typedef double V4 __attribute__((vector_size(32)));
-inline V4 load4(const double* p) {
-  V4 v;
+// Eight doubles: an entry's L and Uᵀ blocks, or a row's y and w (one AVX-512 register where -march
+// has it, else two or four).
+typedef double V8 __attribute__((vector_size(64)));
+typedef std::int64_t I8 __attribute__((vector_size(64)));
+inline V8 load8(const double* p) {
+  V8 v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-inline void store4(double* p, V4 v) { std::memcpy(p, &v, sizeof v); }
-/// (p[0], p[1], p[0], p[1]): a 2 × 2 block's column in both halves (one 128-bit broadcast load).
-inline V4 twice(const double* p) { return V4{p[0], p[1], p[0], p[1]}; }
+inline void store8(double* p, const V8& v) { std::memcpy(p, &v, sizeof v); }
+/// (m00 m10 m00 m10 | u00 u10 u00 u10) and (m01 m11 m01 m11 | u01 u11 u01 u11) of (L | Uᵀ) blocks.
+#if defined(__clang__)
+inline V8 columns0(const V8& m) { return __builtin_shufflevector(m, m, 0, 1, 0, 1, 4, 5, 4, 5); }
+inline V8 columns1(const V8& m) { return __builtin_shufflevector(m, m, 2, 3, 2, 3, 6, 7, 6, 7); }
+#else
+inline V8 columns0(const V8& m) { return __builtin_shuffle(m, I8{0, 1, 0, 1, 4, 5, 4, 5}); }
+inline V8 columns1(const V8& m) { return __builtin_shuffle(m, I8{2, 3, 2, 3, 6, 7, 6, 7}); }
+#endif
 
 // Y ← U⁻¹ D⁻¹ L⁻¹ Y for M columns of a row-major block (row stride m) on 2 × 2 blocks: block row I is
 // rows 2I, 2I + 1. L(R, I) and U(I, R)ᵀ in block column I's entries p (row block Li[p]) at Lx + 8 p and
@@ -119,7 +134,7 @@ void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx
 constexpr int kMaxWidth = 16;
 template <class F, int... W>
 void with_width_impl(int w, F&& f, std::integer_sequence<int, W...>) {
-  ((w == W + 1 ? (f(std::integral_constant<int, W + 1>{}), true) : false) || ...);
+  (void)((w == W + 1 ? (f(std::integral_constant<int, W + 1>{}), true) : false) || ...);
 }
 template <class F>
 void with_width(int w, F&& f) {
@@ -405,20 +420,17 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
       const int i = pattern[top];
       double* yi = Y + 8 * i;
       double* wi = W + 8 * i;
-      // yi, wi: 2 × 2 column-major; the lanes below pair with a block's columns, each in both halves.
-      const double ya[4] = {yi[0], yi[0], yi[2], yi[2]}, yb[4] = {yi[1], yi[1], yi[3], yi[3]};
-      const double wa[4] = {wi[0], wi[0], wi[2], wi[2]}, wb[4] = {wi[1], wi[1], wi[3], wi[3]};
+      // yi, wi: 2 × 2 column-major. One 8-lane update per entry: (y | w) of row Li[p] −= (L | Uᵀ) blocks
+      // times (y_i | w_i), the blocks' columns (columns0, columns1) against rows of y_i and w_i.
       const double y4[4] = {yi[0], yi[1], yi[2], yi[3]}, w4[4] = {wi[0], wi[1], wi[2], wi[3]};
+      const V8 a = {y4[0], y4[0], y4[2], y4[2], w4[0], w4[0], w4[2], w4[2]};
+      const V8 b = {y4[1], y4[1], y4[3], y4[3], w4[1], w4[1], w4[3], w4[3]};
       for (int r = 0; r < 4; ++r) yi[r] = wi[r] = 0;
       const int p2 = Lp[i] + Lnz[i];
-      const V4 vya = load4(ya), vyb = load4(yb), vwa = load4(wa), vwb = load4(wb);
       for (int p = Lp[i]; p < p2; ++p) {
-        double* yr = Y + 8 * Li[p];
-        double* wr = W + 8 * Li[p];
-        const double* l = Lx + 8 * static_cast<size_t>(p);
-        const double* u = Ux + 8 * static_cast<size_t>(p);
-        store4(yr, load4(yr) - (twice(l) * vya + twice(l + 2) * vyb));
-        store4(wr, load4(wr) - (twice(u) * vwa + twice(u + 2) * vwb));
+        double* yw = Y + 8 * Li[p];
+        const V8 m = load8(Lx + 8 * static_cast<size_t>(p));
+        store8(yw, load8(yw) - (columns0(m) * a + columns1(m) * b));
       }
       // L(k, i) = wᵀ D_i⁻¹, U(i, k)ᵀ = yᵀ D_i⁻ᵀ; D_k −= L(k, i) y.
       const double* d = Dinv + 4 * i;
