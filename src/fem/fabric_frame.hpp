@@ -32,8 +32,9 @@ inline FabricKinematics fabric_kinematics(const LawInput& in, bool tangent) {
   FabricKinematics k;
   const Mat2& F = in.F;
   const double x = F(0, 0) + F(1, 1), y = F(1, 0) - F(0, 1);
-  const double r2 = x * x + y * y, r = std::sqrt(r2);
-  k.R << x / r, -y / r, y / r, x / r;
+  const double r2 = x * x + y * y, inv_r = 1 / std::sqrt(r2);
+  const double c = x * inv_r, s = y * inv_r;
+  k.R << c, -s, s, c;
   // E_m = Qᵀ E Q = ½(GᵀG − I) with G = F Q; ∂E_m(i, j)/∂F(k, l) = ½(Q(l, i) G(k, j) + G(k, i) Q(l, j)).
   const Mat2 G = F * in.Q;
   k.E_m = 0.5 * (G.transpose() * G - Mat2::Identity());
@@ -62,7 +63,11 @@ inline void fabric_stress(const LawInput& in, const FabricKinematics& k, const F
                           bool tangent, LawOutput& out) {
   const Mat2& Q = in.Q;
   const Mat2 M = Q * fabric_T(f, G_s, k.E_m) * Q.transpose();
-  out.P = k.R * M;
+  // P = R M entry by entry: as one 2 × 2 product GCC stored it in two 16-byte halves and reloaded it
+  // as one 32-byte vector (a store-forwarding stall, ~1/3 of this function).
+  const Mat2& R = k.R;
+  out.P << R(0, 0) * M(0, 0) + R(0, 1) * M(1, 0), R(0, 0) * M(0, 1) + R(0, 1) * M(1, 1),
+      R(1, 0) * M(0, 0) + R(1, 1) * M(1, 0), R(1, 0) * M(0, 1) + R(1, 1) * M(1, 1);
   out.lambda3 = 1 / in.F.determinant();
   if (tangent) {
     // dP = dR M + R Q dT Qᵀ with dR = R W dθ (W = [[0, −1], [1, 0]]): the first term is the rank-one
