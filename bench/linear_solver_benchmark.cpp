@@ -16,6 +16,7 @@
 #include "linear_solver.hpp"  // and its sparse solver
 #include "simulation_timing.hpp"
 #include "tricot/fem/mooney_rivlin.hpp"
+#include "tricot/fem/rig.hpp"
 
 namespace {
 
@@ -138,6 +139,70 @@ void BM_ForwardSolve(benchmark::State& state) {
   tricot::bench::time_simulation(state, t, MooneyRivlin(paper_mooney_rivlin_terms()), o);
 }
 
+// The §4 knit campaign's coarse model (fem::make_rig_test: 110 mm, 12 × 10 Q8, guides and clips
+// tied, 810 unknowns): its tangent at a 10 % affine pull (Mooney–Rivlin stands in for the response
+// surface: same pattern), factorized by the simplicial LU without pivoting that non-symmetric tangents
+// take (LinearSolverKind::eigen_ldlt), then (BM_SimplicialLuRigSolve) solved for 1 or 14 columns (the
+// sensitivities'), and (BM_RigResidual) b − K x (the refinement's residual). Counter nnz_LU: L + U + D.
+struct RigTangent {
+  TestModel test;
+  SpMat K;
+};
+const RigTangent& rig_tangent() {
+  static const RigTangent r = [] {
+    RigTangent t;
+    RigOptions o;
+    o.transverse_strain = 0.2;
+    t.test = make_rig_test(o);
+    const MooneyRivlin law(paper_mooney_rivlin_terms());
+    const detail::DofMap dofs = detail::make_dof_map(t.test);
+    const detail::Assembler assembler(t.test, dofs, law);
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(t.test.mesh.dofs());
+    for (int n = 0; n < t.test.mesh.nodes(); ++n) u(2 * n + 1) = kStretch * t.test.mesh.X(1, n);
+    detail::Assembled a;
+    assembler.assemble(u, {true, false}, a);
+    t.K = a.K;
+    return t;
+  }();
+  return r;
+}
+
+void BM_SimplicialLuRig(benchmark::State& state) {
+  const SpMat& K = rig_tangent().K;
+  detail::LinearSolver s(K, LinearSolverKind::eigen_ldlt);
+  for (auto _ : state)
+    if (!s.factorize(K, false)) state.SkipWithError("factorization failed");
+  state.counters["n"] = static_cast<double>(K.rows());
+  state.counters["nnz_K"] = static_cast<double>(K.nonZeros());
+  state.counters["nnz_LU"] = static_cast<double>(s.lu_nonzeros());
+}
+
+void BM_SimplicialLuRigSolve(benchmark::State& state) {
+  const SpMat& K = rig_tangent().K;
+  detail::LinearSolver s(K, LinearSolverKind::eigen_ldlt);
+  if (!s.factorize(K, false)) state.SkipWithError("factorization failed");
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(K.rows(), state.range(0));
+  Eigen::MatrixXd x, r;
+  for (auto _ : state) {
+    s.solve(b, x);
+    benchmark::DoNotOptimize(x.data());
+  }
+  r.noalias() = b - K * x;
+  state.counters["residual"] = r.norm() / b.norm();
+}
+
+// The refinement's residual b − K x for 1 or 14 columns on the same tangent.
+void BM_RigResidual(benchmark::State& state) {
+  const SpMat& K = rig_tangent().K;
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(K.rows(), state.range(0));
+  const Eigen::MatrixXd x = Eigen::MatrixXd::Random(K.rows(), state.range(0));
+  Eigen::MatrixXd r;
+  for (auto _ : state) {
+    detail::residual(K, b, x, r);
+    benchmark::DoNotOptimize(r.data());
+  }
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   for (int nx : {10, 20, 30, 40, 80, 160}) b->Arg(nx);
   b->Unit(benchmark::kMillisecond);
@@ -153,4 +218,7 @@ BENCHMARK(BM_CholmodSupernodalNesdis)->Apply(sizes);
 BENCHMARK(BM_EngineAutomatic)->Apply(sizes);
 BENCHMARK(BM_UmfpackDefault)->Apply(sizes);
 BENCHMARK(BM_UmfpackMetis)->Apply(sizes);
+BENCHMARK(BM_SimplicialLuRig)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SimplicialLuRigSolve)->Arg(1)->Arg(14)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RigResidual)->Arg(1)->Arg(14)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ForwardSolve)->ArgsProduct({{10, 20, 40, 80, 160}, {0, 1}})->Unit(benchmark::kMillisecond);

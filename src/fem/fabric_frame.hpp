@@ -14,10 +14,12 @@
 namespace tricot::fem::detail {
 
 struct FabricKinematics {
-  PolarDecomposition polar;
-  PolarJacobians J_polar;  ///< only when built with tangent = true
-  Mat2 E_m;                ///< Green–Lagrange strain in the material frame
-  Mat4 J_Em_F;             ///< ∂E_m/∂F, only when built with tangent = true
+  /// The rotation of F = R U: cos θ = (F11 + F22)/r, sin θ = (F21 − F12)/r, r = |(F11 + F22, F21 − F12)|
+  /// (> 0 where det F > 0): tricot::polar_decomposition's R without atan2 and sincos.
+  Mat2 R;
+  Vec4 theta_F;  ///< ∂θ/∂F (row-major flattening), only when built with tangent = true
+  Mat2 E_m;      ///< Green–Lagrange strain in the material frame
+  Mat4 J_Em_F;   ///< ∂E_m/∂F, only when built with tangent = true
 };
 
 /// The forces of a fabric law at (εC, εW) and their partial derivatives.
@@ -28,11 +30,23 @@ struct FabricForces {
 
 inline FabricKinematics fabric_kinematics(const LawInput& in, bool tangent) {
   FabricKinematics k;
-  k.polar = polar_decomposition(in.F, tangent ? &k.J_polar : nullptr);
-  Mat4 J_E_F;
-  const Mat2 E = green_lagrange(in.F, tangent ? &J_E_F : nullptr);
-  k.E_m = in.Q.transpose() * E * in.Q;
-  if (tangent) k.J_Em_F = sandwich_product(in.Q.transpose(), in.Q) * J_E_F;
+  const Mat2& F = in.F;
+  const double x = F(0, 0) + F(1, 1), y = F(1, 0) - F(0, 1);
+  const double r2 = x * x + y * y, inv_r = 1 / std::sqrt(r2);
+  const double c = x * inv_r, s = y * inv_r;
+  k.R << c, -s, s, c;
+  // E_m = Qᵀ E Q = ½(GᵀG − I) with G = F Q; ∂E_m(i, j)/∂F(k, l) = ½(Q(l, i) G(k, j) + G(k, i) Q(l, j)).
+  const Mat2 G = F * in.Q;
+  k.E_m = 0.5 * (G.transpose() * G - Mat2::Identity());
+  if (tangent) {
+    k.theta_F = Vec4(-y, -x, x, -y) / r2;
+    const Mat2& Q = in.Q;
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        for (int kk = 0; kk < 2; ++kk)
+          for (int l = 0; l < 2; ++l)
+            k.J_Em_F(2 * i + j, 2 * kk + l) = 0.5 * (Q(l, i) * G(kk, j) + G(kk, i) * Q(l, j));
+  }
   return k;
 }
 
@@ -49,24 +63,36 @@ inline void fabric_stress(const LawInput& in, const FabricKinematics& k, const F
                           bool tangent, LawOutput& out) {
   const Mat2& Q = in.Q;
   const Mat2 M = Q * fabric_T(f, G_s, k.E_m) * Q.transpose();
-  out.P = k.polar.R * M;
+  // P = R M entry by entry: as one 2 × 2 product GCC stored it in two 16-byte halves and reloaded it
+  // as one 32-byte vector (a store-forwarding stall, ~1/3 of this function).
+  const Mat2& R = k.R;
+  out.P << R(0, 0) * M(0, 0) + R(0, 1) * M(1, 0), R(0, 0) * M(0, 1) + R(0, 1) * M(1, 1),
+      R(1, 0) * M(0, 0) + R(1, 1) * M(1, 0), R(1, 0) * M(0, 1) + R(1, 1) * M(1, 1);
   out.lambda3 = 1 / in.F.determinant();
   if (tangent) {
-    Mat4 J_T_Em = Mat4::Zero();
-    J_T_Em(0, 0) = f.dFC_deC;
-    J_T_Em(0, 3) = f.dFC_deW;
-    J_T_Em(3, 0) = f.dFW_deC;
-    J_T_Em(3, 3) = f.dFW_deW;
-    J_T_Em(1, 1) = J_T_Em(1, 2) = J_T_Em(2, 1) = J_T_Em(2, 2) = G_s;
-    // dP = dR M + R Q dT Qᵀ.
-    out.A = right_product(M) * k.J_polar.R_F +
-            left_product(k.polar.R) * sandwich_product(Q, Q.transpose()) * J_T_Em * k.J_Em_F;
+    // dP = dR M + R Q dT Qᵀ with dR = R W dθ (W = [[0, −1], [1, 0]]): the first term is the rank-one
+    // flatten(R W M) ⊗ ∂θ/∂F; the second maps each column X_c of X = ∂T/∂E_m ∂E_m/∂F (as a 2 × 2) to
+    // R Q X_c Qᵀ.
+    Mat2 RW;
+    RW << k.R(0, 1), -k.R(0, 0), k.R(1, 1), -k.R(1, 0);
+    out.A.noalias() = flatten(RW * M) * k.theta_F.transpose();
+    const Mat4& J = k.J_Em_F;
+    Eigen::Matrix<double, 3, 4> X;  // rows 0, 1 (= 2), 3 of ∂T/∂F
+    X.row(0) = f.dFC_deC * J.row(0) + f.dFC_deW * J.row(3);
+    X.row(1) = G_s * (J.row(1) + J.row(2));
+    X.row(2) = f.dFW_deC * J.row(0) + f.dFW_deW * J.row(3);
+    const Mat2 RQ = k.R * Q;
+    for (int c = 0; c < 4; ++c) {
+      Mat2 Xc;
+      Xc << X(0, c), X(1, c), X(1, c), X(2, c);
+      out.A.col(c) += flatten(RQ * Xc * Q.transpose());
+    }
   }
 }
 
 /// ∂P/∂c for a coefficient that enters T as T_c (material frame): R Q T_c Qᵀ.
 inline Mat2 fabric_basis(const LawInput& in, const FabricKinematics& k, const Mat2& T_c) {
-  return k.polar.R * in.Q * T_c * in.Q.transpose();
+  return k.R * in.Q * T_c * in.Q.transpose();
 }
 
 

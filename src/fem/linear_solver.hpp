@@ -3,9 +3,9 @@
 // supernodal LLᵀ on a METIS ordering (falling back to CHOLMOD's LDLᵀ when the tangent is not positive
 // definite); SolveOptions::linear_solver picks one, or lets the size pick (LinearSolverKind::automatic,
 // crossover measured in bench/linear_solver_benchmark.cpp). Non-symmetric tangents: with the Eigen
-// backend (small models), a simplicial LU without pivoting on the same AMD ordering (the tangent's
-// pattern is symmetric, so L and Uᵀ have LDLᵀ's pattern); UMFPACK LU for the larger ones, where a
-// pivot of that LU is tiny, or where LDLᵀ breaks down.
+// backend (small models), a simplicial LU without pivoting on 2 × 2 node blocks, AMD-ordered by blocks
+// (the tangent's pattern is symmetric, so L and Uᵀ have the block LDLᵀ's pattern); UMFPACK LU for the
+// larger ones, where a pivot of that LU is tiny, or where LDLᵀ breaks down.
 // The ordering and symbolic analysis are done once per simulation (the pattern is fixed); each
 // factorization is numeric only, and the matrix handed to it is filled through a precomputed map.
 #pragma once
@@ -22,6 +22,11 @@
 #include "tricot/fem/solver.hpp"
 
 namespace tricot::fem::detail {
+
+/// r = b − K x (b, x: n × m). Several columns go through K together (row-major copies: each of K's
+/// entries updates a row of r), not column by column.
+void residual(const Eigen::SparseMatrix<double>& K, const Eigen::MatrixXd& b, const Eigen::MatrixXd& x,
+              Eigen::MatrixXd& r);
 
 class LinearSolver {
  public:
@@ -41,10 +46,21 @@ class LinearSolver {
   /// x = K⁻¹ b with the last factorization (b may have several columns; x may not alias b).
   void solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) const;
 
+  /// Whether `columns` right-hand sides with a nearby tangent (e.g. the converged state's, after the
+  /// last Newton iterate's factorization) cost less through a factorization of that tangent than through
+  /// iterative refinement on the current factorization (~2 sweeps, each a solve and a product with K,
+  /// and another refined solve for the next predictor). True only for the simplicial block LU from 8
+  /// columns: on the 810-dof rig tangent its factorization costs ~205 us against ~145 us per sweep of 14
+  /// columns (bench/linear_solver_benchmark.cpp, BM_SimplicialLuRig*, BM_RigResidual). LDLᵀ, CHOLMOD and
+  /// UMFPACK factorizations cost many sweeps.
+  bool prefers_factorization(Eigen::Index columns) const { return active_ == Active::simplicial_lu && columns >= 8; }
+
   /// The backend in use for symmetric tangents (never `automatic`).
   LinearSolverKind kind() const { return kind_; }
   /// One line naming the factorization, its ordering and the size, e.g. for a --verbose log.
   std::string description() const;
+  /// Entries of the simplicial LU's L, U and D (its 2 × 2 blocks, padding included) after its first factorization (else 0), for benchmarks.
+  Eigen::Index lu_nonzeros() const { return simplicial_lu_ ? 8 * static_cast<Eigen::Index>(simplicial_lu_->Lp.back()) + 4 * simplicial_lu_->blocks : 0; }
 
   double seconds = 0;  ///< wall time in numeric factorizations
   int factorizations = 0;
@@ -68,18 +84,24 @@ class LinearSolver {
   /// analyzed at its first use (same ordering method as cholmod_).
   std::unique_ptr<Cholmod> cholmod_ldlt_;
   std::unique_ptr<Eigen::UmfPackLU<Eigen::SparseMatrix<double>>> lu_;
-  /// The simplicial LU (eigen_ldlt kind only), built at the first non-symmetric tangent:
-  /// B = P K Pᵀ = L D U (P: the AMD ordering of the LDLᵀ path), L and Uᵀ unit lower triangular with the
-  /// pattern of LDLᵀ's L (CSC: Lp, Li; values Lx, and Ux holding Uᵀ). `upper` is B's upper triangle by
-  /// columns, its values K[upper_from[k]] (Bu); B's lower triangle by rows has the same pattern, values
-  /// K[lower_from[k]] (Bl). False on a tiny pivot (then UMFPACK).
+  /// The simplicial LU (eigen_ldlt kind only), built at the first non-symmetric tangent, on 2 × 2 node
+  /// blocks: consecutive equations with the same pattern (a node's two free dofs) form a block, any other
+  /// equation a block of its own with a decoupled dummy unknown beside it (identity row and column:
+  /// exact zeros everywhere else, so the real unknowns' factors are those of the scalar LU). Blocks are
+  /// ordered by AMD on the block pattern; B = P K Pᵀ (padded) = L D U, L and Uᵀ block unit lower
+  /// triangular with the pattern of the block LDLᵀ's L (CSC: Lp, Li), D block diagonal. Entry p's 2 × 2
+  /// blocks L(R, I) and U(I, R)ᵀ, each column-major (m00 m10 m01 m11), share a cache line in LU (at
+  /// lu_at + 8 p and + 4); the row solves' y and w likewise in YW.
+  /// Dinv: D's 2 × 2 inverses (column-major). False on a tiny pivot of D's scalar LDU (then UMFPACK).
   bool factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K);
   struct SimplicialLu {
-    Eigen::SparseMatrix<double> upper;
-    std::vector<int> upper_from, lower_from;
-    std::vector<int> parent, Lp, Li, Lnz, flag, pattern;  // elimination tree, L's columns, workspace
-    std::vector<double> Lx, Ux, Bu, Bl, y, w;
-    Eigen::VectorXd D;
+    int blocks = 0;
+    std::vector<int> pos;  // equation → its row in the padded, permuted system (2 · block + slot)
+    std::vector<int> Ap, Ai;                  // B's upper block triangle by block columns
+    std::vector<int> upper_from, lower_from;  // per block entry 4 sources in K's values (nnz: 0, nnz + 1: 1)
+    std::vector<int> parent, Lp, Li, Lnz, flag, pattern;  // elimination tree, L's block columns, workspace
+    std::vector<double> values, LU, Bu, Bl, YW, Dinv;
+    size_t lu_at = 0, yw_at = 0;  // 64-byte aligned starts in LU and YW
   };
   std::unique_ptr<SimplicialLu> simplicial_lu_;
   /// UMFPACK's factors P K Q = L U (no row scaling), taken out of its Numeric object at the first
