@@ -340,7 +340,7 @@ class Monitor final : public ceres::IterationCallback {
   /// accepted point where f decreases into the box again; where LM stops on δ, that is its KKT test.
   /// A change ends this Ceres solve (held_changed); LM goes on in the next.
   void update_active_set(bool accepted) {
-    if (reason == Termination::objective_below_epsilon) return;
+    if (!options_.active_set || reason == Termination::objective_below_epsilon) return;
     const Eigen::Index n = x_.size();
     if (accepted) {  // f decreases into the box again: free at once (LM goes on if it was stopping)
       if (state_.held.empty()) return;
@@ -504,6 +504,7 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
   if (state.phase != Phase::done && !cost.at(state.x, options.jacobian == JacobianMode::exact))
     finish(Termination::fe_failure, "at the start point: " + cost.last_failure);
 
+  if (!options.active_set) state.held.clear();  // a checkpoint of a run with the active set, resumed without
   // A run resumed in phase lm goes on from its checkpoint's point, whose history entry and
   // checkpoint exist; every later LM run (a stability restart) records its start.
   bool record_start = !(resumed && state.phase == Phase::lm);

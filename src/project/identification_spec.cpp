@@ -145,6 +145,10 @@ SectionSpec identify_section() {
           "With bounds: the most trial points of the projected line search along each LM step (each one\n"
           "FE evaluation with the Jacobian).",
           1, 100),
+      key("active_set", o.active_set,
+          "With bounds: hold a coefficient on its bound when an LM step was projected onto it and f\n"
+          "decreases out of the box there, release it where f decreases into the box (the log names\n"
+          "each). false: Ceres's projected steps alone, which can stall on a bound. See docs/validation.md."),
   };
   return s;
 }
@@ -264,6 +268,7 @@ IdentifyTable IdentifyTable::from_config(const io::Node& s) {
   t.threads = static_cast<int>(s.integer("threads"));
   t.initial_trust_region_radius = s.real("initial_trust_region_radius");
   t.line_search_trials = static_cast<int>(s.integer("line_search_trials"));
+  t.active_set = s.boolean("active_set");
   return t;
 }
 
@@ -287,6 +292,7 @@ ident::IdentifyOptions IdentifyTable::options() const {
   o.threads = threads;
   o.initial_trust_region_radius = initial_trust_region_radius;
   o.line_search_trials = line_search_trials;
+  o.active_set = active_set;
   try {
     o.validate();
   } catch (const InputError& e) {

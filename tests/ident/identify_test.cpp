@@ -227,6 +227,7 @@ TEST(Identify, HoldsAVariableOnItsBoundWhereFDecreasesOutOfTheBox) {
   Reporter rep;
   rep.log = [&](const std::string& line) { log.push_back(line); };
   IdentifyOptions o;
+  o.active_set = true;
   o.delta = 1e-12, o.function_tolerance = 0;  // to round-off
   const IdentifyResult r = identify(p, o, rep);
   ASSERT_TRUE(r.converged()) << r.brief_report();
@@ -253,6 +254,7 @@ TEST(Identify, ReleasesAHeldVariableWhenFDecreasesIntoTheBoxAgain) {
   Reporter rep;
   rep.log = [&](const std::string& line) { log.push_back(line); };
   IdentifyOptions o;
+  o.active_set = true;
   o.delta = 1e-12;
   o.epsilon = 0;
   o.resume_from = held;
@@ -343,6 +345,7 @@ TEST(Identify, ResumedFromAnyCheckpointReachesTheUninterruptedAnswerWithTheSameI
 
 TEST(Identify, ResumedAcrossHoldsAndReleasesOfTheActiveSetReachesTheUninterruptedAnswer) {
   IdentifyOptions o;
+  o.active_set = true;
   o.delta = 1e-9;
   o.epsilon = 0;
   expect_every_checkpoint_resumes_to(coupled_linear(Eigen::Vector2d(-1, 1), Eigen::Vector2d(0.5, 0.5)), o, false);
