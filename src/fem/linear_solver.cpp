@@ -281,6 +281,11 @@ bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& K, bool symmetri
 // fails the factorization (UMFPACK then pivots).
 bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K) {
   constexpr double kTinyPivot = 1e-10;  // growth beyond 1e10 would cost the sensitivities their digits
+  if (!K.isCompressed()) {  // the maps below index K's arrays directly (the assembler's K is compressed)
+    Eigen::SparseMatrix<double> compressed = K;
+    compressed.makeCompressed();
+    return factorize_simplicial_lu(compressed);
+  }
   const int n = static_cast<int>(n_);
   const int nnz = static_cast<int>(K.nonZeros());
   const int* Kp = K.outerIndexPtr();
