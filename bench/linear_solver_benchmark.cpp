@@ -148,11 +148,15 @@ struct RigTangent {
   TestModel test;
   SpMat K;
 };
-const RigTangent& rig_tangent() {
-  static const RigTangent r = [] {
-    RigTangent t;
+const RigTangent& rig_tangent(int nx = 12, int ny = 10) {
+  static std::map<std::pair<int, int>, std::unique_ptr<RigTangent>> cache;
+  auto& slot = cache[{nx, ny}];
+  if (!slot) {
+    slot = std::make_unique<RigTangent>();
+    RigTangent& t = *slot;
     RigOptions o;
     o.transverse_strain = 0.2;
+    o.nx = nx, o.ny = ny;
     t.test = make_rig_test(o);
     const MooneyRivlin law(paper_mooney_rivlin_terms());
     const detail::DofMap dofs = detail::make_dof_map(t.test);
@@ -162,9 +166,27 @@ const RigTangent& rig_tangent() {
     detail::Assembled a;
     assembler.assemble(u, {true, false}, a);
     t.K = a.K;
-    return t;
-  }();
-  return r;
+  }
+  return *slot;
+}
+
+// The rig's tangent on finer meshes (nx × ny: 12 × 10, 24 × 20 the campaign's synthesis, 70 × 58 the
+// paper's ~24 000 dofs), factorized as a non-symmetric tangent by the block LU (second argument 0) or
+// by UMFPACK (1; METIS from LinearSolver::kLuMetisFrom unknowns, AMD below), plus one solve: where the
+// crossover between them lies.
+void BM_RigLu(benchmark::State& state) {
+  const SpMat& K = rig_tangent(static_cast<int>(state.range(0)), static_cast<int>(state.range(1))).K;
+  detail::LinearSolver s(K, state.range(2) == 0 ? LinearSolverKind::eigen_ldlt : LinearSolverKind::cholmod_ldlt);
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Ones(K.rows(), 1);
+  Eigen::MatrixXd x;
+  for (auto _ : state) {
+    if (!s.factorize(K, false)) state.SkipWithError("factorization failed");
+    s.solve(b, x);
+  }
+  state.counters["n"] = static_cast<double>(K.rows());
+  state.counters["fallbacks"] = s.simplicial_lu_fallbacks;
+  state.counters["nnz_LU"] = static_cast<double>(s.lu_nonzeros());
+  state.SetLabel(state.range(2) == 0 ? "block LU" : "UMFPACK");
 }
 
 void BM_SimplicialLuRig(benchmark::State& state) {
@@ -178,7 +200,8 @@ void BM_SimplicialLuRig(benchmark::State& state) {
 }
 
 void BM_SimplicialLuRigSolve(benchmark::State& state) {
-  const SpMat& K = rig_tangent().K;
+  const SpMat& K = state.range(1) > 0 ? rig_tangent(static_cast<int>(state.range(1)), static_cast<int>(state.range(2))).K
+                                      : rig_tangent().K;
   detail::LinearSolver s(K, LinearSolverKind::eigen_ldlt);
   if (!s.factorize(K, false)) state.SkipWithError("factorization failed");
   const Eigen::MatrixXd b = Eigen::MatrixXd::Random(K.rows(), state.range(0));
@@ -193,7 +216,8 @@ void BM_SimplicialLuRigSolve(benchmark::State& state) {
 
 // The refinement's residual b − K x for 1 or 14 columns on the same tangent.
 void BM_RigResidual(benchmark::State& state) {
-  const SpMat& K = rig_tangent().K;
+  const SpMat& K = state.range(1) > 0 ? rig_tangent(static_cast<int>(state.range(1)), static_cast<int>(state.range(2))).K
+                                      : rig_tangent().K;
   const Eigen::MatrixXd b = Eigen::MatrixXd::Random(K.rows(), state.range(0));
   const Eigen::MatrixXd x = Eigen::MatrixXd::Random(K.rows(), state.range(0));
   Eigen::MatrixXd r;
@@ -219,6 +243,7 @@ BENCHMARK(BM_EngineAutomatic)->Apply(sizes);
 BENCHMARK(BM_UmfpackDefault)->Apply(sizes);
 BENCHMARK(BM_UmfpackMetis)->Apply(sizes);
 BENCHMARK(BM_SimplicialLuRig)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_SimplicialLuRigSolve)->Arg(1)->Arg(14)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_RigResidual)->Arg(1)->Arg(14)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SimplicialLuRigSolve)->Args({1, 0, 0})->Args({14, 0, 0})->Args({14, 24, 20})->Args({14, 70, 58})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RigResidual)->Args({1, 0, 0})->Args({14, 0, 0})->Args({14, 24, 20})->Args({14, 70, 58})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RigLu)->ArgsProduct({{12}, {10}, {0, 1}})->Args({24, 20, 0})->Args({24, 20, 1})->Args({70, 58, 0})->Args({70, 58, 1})->Args({100, 84, 0})->Args({100, 84, 1})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ForwardSolve)->ArgsProduct({{10, 20, 40, 80, 160}, {0, 1}})->Unit(benchmark::kMillisecond);

@@ -191,6 +191,9 @@ void residual(const Eigen::SparseMatrix<double>& K, const Eigen::MatrixXd& b, co
 
 LinearSolver::LinearSolver(const Eigen::SparseMatrix<double>& pattern, LinearSolverKind kind)
     : kind_(kind), n_(pattern.rows()) {
+  // Non-symmetric tangents: the block LU with eigen_ldlt, and under `automatic` up to kBlockLuBelow
+  // unknowns whatever takes the symmetric ones; an explicit CHOLMOD kind keeps UMFPACK.
+  block_lu_ = kind_ == LinearSolverKind::eigen_ldlt || (kind_ == LinearSolverKind::automatic && n_ < kBlockLuBelow);
   if (kind_ == LinearSolverKind::automatic)
     kind_ = n_ >= kSupernodalFrom ? LinearSolverKind::cholmod_supernodal : LinearSolverKind::eigen_ldlt;
   if (n_ == 0) return;
@@ -246,7 +249,7 @@ bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& K, bool symmetri
     }
     if (active_ == Active::none) ++lu_fallbacks;
   }
-  if (!symmetric && kind_ == LinearSolverKind::eigen_ldlt) {
+  if (!symmetric && block_lu_) {
     if (factorize_simplicial_lu(K)) active_ = Active::simplicial_lu;
     else ++simplicial_lu_fallbacks;
   }
@@ -281,6 +284,11 @@ bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& K, bool symmetri
 // fails the factorization (UMFPACK then pivots).
 bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K) {
   constexpr double kTinyPivot = 1e-10;  // growth beyond 1e10 would cost the sensitivities their digits
+  if (!K.isCompressed()) {  // the maps below index K's arrays directly (the assembler's K is compressed)
+    Eigen::SparseMatrix<double> compressed = K;
+    compressed.makeCompressed();
+    return factorize_simplicial_lu(compressed);
+  }
   const int n = static_cast<int>(n_);
   const int nnz = static_cast<int>(K.nonZeros());
   const int* Kp = K.outerIndexPtr();
@@ -475,7 +483,7 @@ std::string LinearSolver::description() const {
   }
   char line[256];
   std::snprintf(line, sizeof line, "%s; %sUMFPACK LU, %s ordering, for non-symmetric tangents; %ld unknowns", what,
-                kind_ == LinearSolverKind::eigen_ldlt ? "2 x 2 node-block simplicial LU without pivoting on a block AMD ordering, else " : "",
+                block_lu_ ? "2 x 2 node-block simplicial LU without pivoting on a block AMD ordering, else " : "",
                 n_ >= kLuMetisFrom ? "METIS" : "AMD", static_cast<long>(n_));
   return line;
 }

@@ -3,9 +3,10 @@
 // supernodal LLᵀ on a METIS ordering (falling back to CHOLMOD's LDLᵀ when the tangent is not positive
 // definite); SolveOptions::linear_solver picks one, or lets the size pick (LinearSolverKind::automatic,
 // crossover measured in bench/linear_solver_benchmark.cpp). Non-symmetric tangents: with the Eigen
-// backend (small models), a simplicial LU without pivoting on 2 × 2 node blocks, AMD-ordered by blocks
-// (the tangent's pattern is symmetric, so L and Uᵀ have the block LDLᵀ's pattern); UMFPACK LU for the
-// larger ones, where a pivot of that LU is tiny, or where LDLᵀ breaks down.
+// backend, and under `automatic` below kBlockLuBelow unknowns, a simplicial LU without pivoting on 2 × 2
+// node blocks, AMD-ordered by blocks (the tangent's pattern is symmetric, so L and Uᵀ have the block
+// LDLᵀ's pattern); UMFPACK LU for the larger ones, with an explicit CHOLMOD kind, where a pivot of that
+// LU is tiny, or where LDLᵀ breaks down.
 // The ordering and symbolic analysis are done once per simulation (the pattern is fixed); each
 // factorization is numeric only, and the matrix handed to it is filled through a precomputed map.
 #pragma once
@@ -37,6 +38,16 @@ class LinearSolver {
   /// Non-symmetric tangents of at least this many unknowns are ordered by METIS in UMFPACK (its
   /// default, AMD, below).
   static constexpr Eigen::Index kLuMetisFrom = 20000;
+  /// Under LinearSolverKind::automatic, non-symmetric tangents below this many unknowns go to the block
+  /// LU (factorize_simplicial_lu), larger ones to UMFPACK: on the rig's tangent the block LU with one
+  /// solve took 1.4 / 65 / 152 ms against UMFPACK's 12 / 205 / 619 ms at 2 919 / 24 475 / 50 567 unknowns
+  /// (bench/linear_solver_benchmark.cpp, BM_RigLu); not measured beyond.
+  static constexpr Eigen::Index kBlockLuBelow = 60000;
+  /// The sensitivities factorize (prefers_factorization) below this many unknowns: on the rig's
+  /// tangent a factorization costs ~1.05 refinement sweeps of 14 columns at 739 unknowns, ~1.8 at
+  /// 2 919 (break-even with the predictor's sweep it saves), ~4.2 at 24 475 (BM_RigLu,
+  /// BM_SimplicialLuRigSolve, BM_RigResidual).
+  static constexpr Eigen::Index kFactorizeColumnsBelow = 2000;
 
   /// Ordering and symbolic analysis of the (full, symmetric) pattern for the chosen backend.
   LinearSolver(const Eigen::SparseMatrix<double>& pattern, LinearSolverKind kind);
@@ -49,11 +60,13 @@ class LinearSolver {
   /// Whether `columns` right-hand sides with a nearby tangent (e.g. the converged state's, after the
   /// last Newton iterate's factorization) cost less through a factorization of that tangent than through
   /// iterative refinement on the current factorization (~2 sweeps, each a solve and a product with K,
-  /// and another refined solve for the next predictor). True only for the simplicial block LU from 8
-  /// columns: on the 810-dof rig tangent its factorization costs ~205 us against ~145 us per sweep of 14
-  /// columns (bench/linear_solver_benchmark.cpp, BM_SimplicialLuRig*, BM_RigResidual). LDLᵀ, CHOLMOD and
-  /// UMFPACK factorizations cost many sweeps.
-  bool prefers_factorization(Eigen::Index columns) const { return active_ == Active::simplicial_lu && columns >= 8; }
+  /// and another refined solve for the next predictor). True only for the simplicial block LU, from 8
+  /// columns, below kFactorizeColumnsBelow unknowns: on the 810-dof rig tangent its factorization costs
+  /// ~153 us against ~146 us per sweep of 14 columns (bench/linear_solver_benchmark.cpp,
+  /// BM_SimplicialLuRig*, BM_RigResidual). LDLᵀ, CHOLMOD and UMFPACK factorizations cost many sweeps.
+  bool prefers_factorization(Eigen::Index columns) const {
+    return active_ == Active::simplicial_lu && columns >= 8 && n_ < kFactorizeColumnsBelow;
+  }
 
   /// The backend in use for symmetric tangents (never `automatic`).
   LinearSolverKind kind() const { return kind_; }
@@ -73,6 +86,7 @@ class LinearSolver {
   using Cholmod = Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>;
   LinearSolverKind kind_;
   Eigen::Index n_ = 0;
+  bool block_lu_ = false;  ///< non-symmetric tangents try the block LU first (else UMFPACK directly)
   /// The triangle the LDLᵀ backend reads: Eigen: the upper triangle of P K Pᵀ (AMD ordering P);
   /// CHOLMOD: K's lower triangle (CHOLMOD orders it itself). tri_.valuePtr()[k] = K.valuePtr()[from_[k]].
   Eigen::SparseMatrix<double> tri_;
@@ -84,7 +98,8 @@ class LinearSolver {
   /// analyzed at its first use (same ordering method as cholmod_).
   std::unique_ptr<Cholmod> cholmod_ldlt_;
   std::unique_ptr<Eigen::UmfPackLU<Eigen::SparseMatrix<double>>> lu_;
-  /// The simplicial LU (eigen_ldlt kind only), built at the first non-symmetric tangent, on 2 × 2 node
+  /// The simplicial LU (eigen_ldlt, or automatic below kBlockLuBelow unknowns), built at the first
+  /// non-symmetric tangent, on 2 × 2 node
   /// blocks: consecutive equations with the same pattern (a node's two free dofs) form a block, any other
   /// equation a block of its own with a decoupled dummy unknown beside it (identity row and column:
   /// exact zeros everywhere else, so the real unknowns' factors are those of the scalar LU). Blocks are

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace tricot::fem::detail {
 namespace {
@@ -149,6 +151,61 @@ TEST(LinearSolver, ANonSymmetricTangentWithAZeroPivotFallsBackToUmfpack) {
   ASSERT_TRUE(s.factorize(K, false));
   EXPECT_EQ(s.simplicial_lu_fallbacks, 1);
   const Eigen::MatrixXd b = right_hand_sides(2);
+  Eigen::MatrixXd x;
+  s.solve(b, x);
+  EXPECT_LT(relative_residual(K, x, b), kSolve);
+}
+
+// The simplicial LU works on 2 × 2 node blocks (consecutive equations with the same pattern) and pads
+// every other equation with a decoupled dummy: a chain of 12 two-dof nodes, each coupled to its
+// neighbours within 2, the first node with one free dof only (a singleton, as on a symmetry edge),
+// non-symmetric values. Same answer as UMFPACK, for 1 and 14 right-hand sides (the sensitivities').
+TEST(LinearSolver, NodeBlocksWithASingletonGiveUmfpacksAnswer) {
+  const int nodes = 12, n = 2 * nodes - 1;
+  auto eq = [](int node, int dof) { return node == 0 ? (dof == 1 ? 0 : -1) : 2 * node - 1 + dof; };
+  std::vector<Eigen::Triplet<double>> t;
+  for (int a = 0; a < nodes; ++a)
+    for (int b = std::max(0, a - 2); b <= std::min(nodes - 1, a + 2); ++b)
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) {
+          const int r = eq(a, i), c = eq(b, j);
+          if (r < 0 || c < 0) continue;
+          const double v = a == b ? (i == j ? 9.0 + 0.1 * r : 0.7 - 0.2 * i) : -0.5 - 0.03 * (r - c) + 0.1 * (i - j);
+          t.emplace_back(r, c, v);
+        }
+  Eigen::SparseMatrix<double> K(n, n);
+  K.setFromTriplets(t.begin(), t.end());
+  K.makeCompressed();
+  LinearSolver blocks(K, LinearSolverKind::eigen_ldlt), umfpack(K, LinearSolverKind::cholmod_ldlt);
+  ASSERT_TRUE(blocks.factorize(K, false));
+  ASSERT_TRUE(umfpack.factorize(K, false));
+  EXPECT_EQ(blocks.simplicial_lu_fallbacks, 0);
+  EXPECT_GT(blocks.lu_nonzeros(), 0);  // the block LU, not UMFPACK, answered
+  for (int m : {1, 14}) {
+    Eigen::MatrixXd b(n, m);
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < m; ++c) b(i, c) = std::sin(1.0 + i + 3.0 * c);
+    Eigen::MatrixXd x, x_umfpack;
+    blocks.solve(b, x);
+    umfpack.solve(b, x_umfpack);
+    EXPECT_LT(relative_residual(K, x, b), kSolve) << m;
+    EXPECT_LT((x - x_umfpack).cwiseAbs().maxCoeff() / x_umfpack.cwiseAbs().maxCoeff(), kSolve) << m;
+  }
+}
+
+// The tiny-pivot test looks at both pivots of a node block: K = [[S, I], [I, S]], S = [[1, 1], [1, 1]]
+// (regular: eigenvalues of S ± I are 3, 1, 1, −1), whichever block comes first its second pivot is 0.
+TEST(LinearSolver, ABlocksZeroSecondPivotFallsBackToUmfpack) {
+  const double k[4][4] = {{1, 1, 1, 0}, {1, 1, 0, 1}, {1, 0, 1, 1}, {0, 1, 1, 1}};
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) t.emplace_back(i, j, k[i][j]);  // zeros kept: one pattern for all rows
+  Eigen::SparseMatrix<double> K(4, 4);
+  K.setFromTriplets(t.begin(), t.end());
+  LinearSolver s(K, LinearSolverKind::eigen_ldlt);
+  ASSERT_TRUE(s.factorize(K, false));
+  EXPECT_EQ(s.simplicial_lu_fallbacks, 1);
+  const Eigen::MatrixXd b = right_hand_sides(4);
   Eigen::MatrixXd x;
   s.solve(b, x);
   EXPECT_LT(relative_residual(K, x, b), kSolve);

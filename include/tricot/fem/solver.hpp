@@ -1,7 +1,7 @@
 // Nonlinear quasi-static solution of a test model (THEORY §4–§7): total-Lagrangian assembly, Newton–
 // Raphson with the consistent tangent and a line search, load stepping with automatic cutback, a
 // sparse direct solver (Eigen's SimplicialLDLT or CHOLMOD; for non-symmetric tangents a simplicial LU
-// on node blocks below 20 000 unknowns, UMFPACK above or where that LU meets a tiny pivot) whose
+// on node blocks below 60 000 unknowns, UMFPACK above or where that LU meets a tiny pivot) whose
 // symbolic analysis is kept across iterations and steps, and exact sensitivities du/dc by
 // back-substitution with the converged tangent.
 #pragma once
@@ -18,9 +18,9 @@
 namespace tricot::fem {
 
 /// Sparse direct solver for symmetric tangents (THEORY §4): a factorization on a fill-reducing
-/// ordering computed once per simulation. Non-symmetric tangents: with eigen_ldlt, a simplicial LU
-/// without pivoting on 2 × 2 node blocks (UMFPACK where a pivot is tiny); otherwise, and for LDLᵀ
-/// breakdowns, UMFPACK LU.
+/// ordering computed once per simulation. Non-symmetric tangents: with eigen_ldlt, and with automatic
+/// below 60 000 unknowns, a simplicial LU without pivoting on 2 × 2 node blocks (UMFPACK where a pivot
+/// is tiny); otherwise, and for LDLᵀ breakdowns, UMFPACK LU.
 enum class LinearSolverKind {
   /// By size, on the crossover measured by bench/linear_solver_benchmark.cpp (docs/validation.md,
   /// issue 15): eigen_ldlt for small tangents, cholmod_supernodal for large ones.
