@@ -92,11 +92,16 @@ CampaignTest synthesise(const CampaignSpec& s, fem::PullDirection pull, double t
   const fem::TestModel fine = fem::make_rig_test(rig(s, pull, transverse, 24, 20));
   const fem::SimulationResult r = fem::simulate(fine, truth);
   if (!r.usable()) throw std::runtime_error(r.message);
-  // 6 × 6 points over the quarter, clear of the guides and clips (a DIC window of the centre region).
+  // The example's field points (examples/knit-campaign/experiment.toml, [synth] inset = 9, spacing =
+  // 18): the material points that tricot demo's DIC tracks, every 18 mm from 9 mm up to 9 mm short of
+  // the quarter's edges (3 × 3 on 110, 4 × 4 on 150). Until stop 22: a 6 × 6 grid from 0.05 h.
   const double h = 0.5 * s.side;
-  Eigen::Matrix2Xd points(2, 36);
-  for (int j = 0; j < 6; ++j)
-    for (int i = 0; i < 6; ++i) points.col(6 * j + i) = Eigen::Vector2d(0.05 + 0.7 * i / 5, 0.05 + 0.7 * j / 5) * h;
+  std::vector<double> axis;
+  for (double x = 9; x <= h - 9 + 1e-9; x += 18) axis.push_back(x);
+  const auto m = static_cast<Eigen::Index>(axis.size());
+  Eigen::Matrix2Xd points(2, m * m);
+  for (Eigen::Index j = 0; j < m; ++j)
+    for (Eigen::Index i = 0; i < m; ++i) points.col(m * j + i) = Eigen::Vector2d(axis[i], axis[j]);
   t.data = ident::measure(fine, r, points);
   for (const auto& step : r.steps) {
     const fem::StrainSpread sp = fem::strain_spread(fine, step.u);
@@ -332,6 +337,7 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   run.objective = std::make_unique<ident::Objective>(models, data, law, p);
   ident::IdentifyOptions o;
   o.initial_trust_region_radius = 100, o.line_search_trials = 4;  // examples/knit-campaign/project-110.toml's [identify]
+  o.active_set = true;  // as project-110.toml (docs/validation.md, "Bounded coefficients")
   // The material-stability barrier (ident/stability_barrier.hpp) unless TRICOT_CAMPAIGN_NO_BARRIER.
   if (std::getenv("TRICOT_CAMPAIGN_NO_BARRIER")) {
     run.result = ident::identify(*run.objective, o);
