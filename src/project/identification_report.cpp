@@ -124,6 +124,7 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
                {"max restarts", opt.max_restarts},
                {"initial trust-region radius", Value(opt.initial_trust_region_radius, 3)},
                {"line-search trials per step (bounds)", opt.line_search_trials},
+               {"active set (bounds)", opt.active_set},
                {"resumed from a checkpoint", opt.resume_from.has_value()}};
     s.table(std::move(lm));
     NumericTable p{"Coefficients to identify ([[parameter]]): start, LM scale and bounds", "coefficient",
