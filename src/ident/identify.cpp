@@ -193,13 +193,19 @@ struct Box {
   }
 };
 
-/// The active set's KKT test at a point where LM converged in the free variables: the held
-/// variables whose gradient now points into the box (beyond `tolerance`) are released; returns
-/// their names, empty when the point is a constrained minimum (or the model fails there).
-std::vector<std::string> release_held(const Box& box, const Eigen::VectorXd& x, const Eigen::VectorXd& g,
-                                      double tolerance, const std::vector<std::string>& names, std::vector<int>& held) {
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+/// The active set's release: the held variables whose gradient at x points into the box (beyond
+/// `tolerance`) are freed and named in the log. At a point where LM stopped, this is the KKT test of a
+/// bound-constrained minimum. Returns whether any was freed (none where the model fails at x).
+bool release_held(const Box& box, const Eigen::VectorXd& x, const Eigen::VectorXd& g, double tolerance,
+                  const std::vector<std::string>& names, const Reporter& reporter, std::vector<int>& held) {
+  if (g.size() != x.size()) return false;
   std::vector<std::string> released;
-  if (g.size() != x.size()) return released;
   std::vector<int> keep;
   for (int k : held) {
     const bool inward = box.at_lower(x, k) ? g(k) < -tolerance : g(k) > tolerance;
@@ -207,13 +213,8 @@ std::vector<std::string> release_held(const Box& box, const Eigen::VectorXd& x, 
     else keep.push_back(k);
   }
   held = std::move(keep);
-  return released;
-}
-
-std::string joined(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
+  if (!released.empty()) reporter.info("identify: released from its bound (f decreases into the box): " + joined(released));
+  return !released.empty();
 }
 
 /// Ceres's message for its parameter tolerance, for the test a resumed run makes itself (Monitor).
@@ -343,13 +344,12 @@ class Monitor final : public ceres::IterationCallback {
     if (!options_.active_set || reason == Termination::objective_below_epsilon) return;
     const Eigen::Index n = x_.size();
     if (accepted) {  // f decreases into the box again: free at once (LM goes on if it was stopping)
-      if (state_.held.empty()) return;
-      const auto freed = release_held(box_, x_, cost_.gradient(x_), options_.gradient_tolerance, names_, state_.held);
-      if (freed.empty()) return;
+      if (state_.held.empty() ||
+          !release_held(box_, x_, cost_.gradient(x_), options_.gradient_tolerance, names_, reporter_, state_.held))
+        return;  // a step that LM accepts is not blocked
       reason.reset();
       held_changed = true;
-      reporter_.info("identify: released from its bound (f decreases into the box): " + joined(freed));
-      return;  // a step that LM accepts is not blocked
+      return;
     }
     const Eigen::VectorXd& before = cost_.last_trial;  // the rejected step's candidate
     if (before.size() != n) return;
@@ -514,8 +514,7 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
       // A held variable that a stability restart moved off its bound is free again.
       std::erase_if(state.held, [&](int k) { return !box.at_lower(x, k) && !box.at_upper(x, k); });
       if (static_cast<int>(state.held.size()) == n) {  // nothing left to step in: a KKT test only
-        const auto freed = release_held(box, x, cost.gradient(x), options.gradient_tolerance, names, state.held);
-        if (freed.empty()) {
+        if (!release_held(box, x, cost.gradient(x), options.gradient_tolerance, names, reporter, state.held)) {
           state.termination = Termination::gradient_below_tolerance;
           state.message = "every coefficient is held at a bound, where f decreases only out of the box";
           state.phase = options.stability_test ? Phase::stability : Phase::done;
@@ -526,7 +525,6 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
           checkpoint();
           continue;
         }
-        reporter.info("identify: released from its bound (f decreases into the box): " + joined(freed));
       }
       ceres::Problem::Options po;
       po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -606,14 +604,11 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
       state.message = message;
       const bool converged = termination != Termination::max_iterations;
       // Converged in the free variables: the KKT test of the held ones.
-      if (converged && termination != Termination::objective_below_epsilon && !state.held.empty()) {
-        const auto freed = release_held(box, x, cost.gradient(x), options.gradient_tolerance, names, state.held);
-        if (!freed.empty()) {
-          reporter.info("identify: released from its bound (f decreases into the box): " + joined(freed));
-          checkpoint();
-          record_start = false;
-          continue;
-        }
+      if (converged && termination != Termination::objective_below_epsilon && !state.held.empty() &&
+          release_held(box, x, cost.gradient(x), options.gradient_tolerance, names, reporter, state.held)) {
+        checkpoint();
+        record_start = false;
+        continue;
       }
       if (!converged || !options.stability_test) {
         finish(termination, message);
