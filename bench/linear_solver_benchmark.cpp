@@ -68,18 +68,23 @@ void factorize_and_solve(benchmark::State& state, Solver& s, const SpMat& K) {
   state.counters["n"] = static_cast<double>(K.rows());
 }
 
+// The engine's solver: one numeric factorization (symmetric or not) and one solve per iteration.
+void factorize_and_solve(benchmark::State& state, detail::LinearSolver& s, const SpMat& K, bool symmetric) {
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Ones(K.rows(), 1);
+  Eigen::MatrixXd x;
+  for (auto _ : state) {
+    if (!s.factorize(K, symmetric)) state.SkipWithError("factorization failed");
+    s.solve(b, x);
+  }
+  state.counters["n"] = static_cast<double>(K.rows());
+}
+
 // What simulate() did before issue 15 (LinearSolverKind::eigen_ldlt): AMD once, Eigen's simplicial
 // LDLᵀ in place.
 void BM_EigenSimplicialLdltAmd(benchmark::State& state) {
   const SpMat& K = tangent(static_cast<int>(state.range(0)));
   detail::LinearSolver s(K, LinearSolverKind::eigen_ldlt);
-  const Eigen::MatrixXd b = Eigen::MatrixXd::Ones(K.rows(), 1);
-  Eigen::MatrixXd x;
-  for (auto _ : state) {
-    if (!s.factorize(K, true)) state.SkipWithError("factorization failed");
-    s.solve(b, x);
-  }
-  state.counters["n"] = static_cast<double>(K.rows());
+  factorize_and_solve(state, s, K, true);
 }
 
 // CHOLMOD's supernodal LLᵀ (BLAS on the supernodes) with a given ordering; -1: CHOLMOD's default
@@ -105,14 +110,8 @@ void BM_CholmodSupernodalNesdis(benchmark::State& state) { cholmod_supernodal(st
 void BM_EngineAutomatic(benchmark::State& state) {
   const SpMat& K = tangent(static_cast<int>(state.range(0)));
   detail::LinearSolver s(K, LinearSolverKind::automatic);
-  const Eigen::MatrixXd b = Eigen::MatrixXd::Ones(K.rows(), 1);
-  Eigen::MatrixXd x;
-  for (auto _ : state) {
-    if (!s.factorize(K, true)) state.SkipWithError("factorization failed");
-    s.solve(b, x);
-  }
+  factorize_and_solve(state, s, K, true);
   state.SetLabel(s.description());
-  state.counters["n"] = static_cast<double>(K.rows());
 }
 
 // UMFPACK LU, the path of non-symmetric tangents (response-surface law); the clamped strip's tangent
@@ -177,13 +176,7 @@ const RigTangent& rig_tangent(int nx = 12, int ny = 10) {
 void BM_RigLu(benchmark::State& state) {
   const SpMat& K = rig_tangent(static_cast<int>(state.range(0)), static_cast<int>(state.range(1))).K;
   detail::LinearSolver s(K, state.range(2) == 0 ? LinearSolverKind::eigen_ldlt : LinearSolverKind::cholmod_ldlt);
-  const Eigen::MatrixXd b = Eigen::MatrixXd::Ones(K.rows(), 1);
-  Eigen::MatrixXd x;
-  for (auto _ : state) {
-    if (!s.factorize(K, false)) state.SkipWithError("factorization failed");
-    s.solve(b, x);
-  }
-  state.counters["n"] = static_cast<double>(K.rows());
+  factorize_and_solve(state, s, K, false);
   state.counters["fallbacks"] = s.simplicial_lu_fallbacks;
   state.counters["nnz_LU"] = static_cast<double>(s.lu_nonzeros());
   state.SetLabel(state.range(2) == 0 ? "block LU" : "UMFPACK");
