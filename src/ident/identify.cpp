@@ -415,7 +415,9 @@ Termination from_ceres(const ceres::Solver::Summary& s, const ceres::Solver::Opt
 }
 
 /// The paper's stability test (THEORY §3): f at J* with each coefficient scaled by (1 ± η). Returns
-/// the best trial's LM variables when its f is below f*.
+/// the best trial's LM variables when its f is below f*. A trial whose f the problem bounds from below
+/// by f* or more without the FE (Problem::lower_bound: the stability barrier) cannot be below it, and
+/// is not run (IdentifyResult::skipped_evaluations): the same verdict, without its FE.
 std::optional<Eigen::VectorXd> stability_trial(const Problem& problem, const IdentifyOptions& options,
                                                const Eigen::VectorXd& scales, State& state) {
   const auto& params = problem.parameters();
@@ -429,22 +431,29 @@ std::optional<Eigen::VectorXd> stability_trial(const Problem& problem, const Ide
       if (Jt(k) != J(k)) trials.push_back(Jt);
     }
   const int m = static_cast<int>(trials.size());
+  // A decrease at the level of rounding is no evidence of a better minimum.
+  const double to_beat = state.objective * (1 - 1e-10);
+  std::vector<char> run(m);
+  for (int i = 0; i < m; ++i) run[i] = problem.lower_bound(trials[i]) < to_beat;
+  const int runs = static_cast<int>(std::count(run.begin(), run.end(), 1));
   std::vector<Evaluation> e(m);
   // More threads than cores never speeds this up, and a team of 1024 can fail to start (libgomp aborts).
   const int threads = options.threads > 0 ? std::min(options.threads, omp_get_num_procs()) : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (int i = 0; i < m; ++i) e[i] = problem.evaluate(trials[i], false);
-  state.evaluations += m;
+  for (int i = 0; i < m; ++i)
+    if (run[i]) e[i] = problem.evaluate(trials[i], false);
+  state.evaluations += runs;
+  state.skipped_evaluations += m - runs;
   int best = -1;
   for (int i = 0; i < m; ++i) {
+    if (!run[i]) continue;
     if (!e[i].ok || !e[i].r.allFinite()) {
       ++state.failed_evaluations;
       continue;
     }
     if (best < 0 || e[i].objective() < e[best].objective()) best = i;
   }
-  // A decrease at the level of rounding is no evidence of a better minimum.
-  if (best < 0 || !(e[best].objective() < state.objective * (1 - 1e-10))) return std::nullopt;
+  if (best < 0 || !(e[best].objective() < to_beat)) return std::nullopt;
   return trials[best].cwiseQuotient(scales);
 }
 
@@ -659,6 +668,7 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
   result.evaluations = state.evaluations;
   result.jacobian_evaluations = state.jacobian_evaluations;
   result.failed_evaluations = state.failed_evaluations;
+  result.skipped_evaluations = state.skipped_evaluations;
   result.restarts = state.restarts;
   result.history = std::move(state.history);
   result.wall_seconds = state.wall_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -83,6 +83,25 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
   validate(parameters_);  // the caller's check (project: IdentificationSpec::validate); trusted in release
 #endif
 
+  // The evaluation order: the largest nominal strains first, ² summed over the pull (grip
+  // displacement over the quarter's height) and across it (guide over the quarter's width); a
+  // force-controlled grip counts by its guide only. Ties keep the experiment's order.
+  std::vector<double> stretch(models_.size(), 0.0);
+  for (size_t t = 0; t < models_.size(); ++t) {
+    const fem::TestModel& m = models_[t];
+    const double W = m.mesh.X.row(0).maxCoeff() - m.mesh.X.row(0).minCoeff();
+    const double H = m.mesh.X.row(1).maxCoeff() - m.mesh.X.row(1).minCoeff();
+    const double pull = m.control == fem::GripControl::displacement && !m.loads.empty() && H > 0 ? m.loads.back() / H : 0;
+    double across = 0;
+    for (double g : m.guide) across = std::max(across, W > 0 ? std::abs(g) / W : 0.0);
+    stretch[t] = pull * pull + across * across;
+  }
+  order_.resize(models_.size());
+  for (size_t t = 0; t < models_.size(); ++t) order_[t] = static_cast<int>(t);
+  std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return stretch[a] > stretch[b]; });
+  rank_.resize(models_.size());
+  for (size_t k = 0; k < order_.size(); ++k) rank_[order_[k]] = static_cast<int>(k);
+
   // Field points: located once in each reference mesh; all must be inside.
   for (size_t t = 0; t < models_.size(); ++t)
     reference_locations_.push_back(detail::locate_points(models_[t], experiment_.tests[t]));
@@ -155,9 +174,12 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
   fem::SolveOptions so = options_.solver;
   so.sensitivities = jacobian;
   so.keep_residuals = false;
-  // A failed test fails the evaluation: the tests after the first failed one are not run, or stop at
-  // their next increment. The lowest failing test always runs to its end, whatever the threads do, so
-  // the evaluation's message is the same on any number of threads.
+  // A failed test fails the evaluation: the tests after the first failed one (in order_) are not run,
+  // or stop at their next increment. The first failing test always runs to its end, whatever the
+  // threads do, so the evaluation's message is the same on any number of threads. first_failed holds
+  // its rank.
+  std::vector<int> run(tests);
+  std::sort(run.begin(), run.end(), [&](int a, int b) { return rank_[a] < rank_[b]; });
   std::atomic<int> first_failed{T};
   const auto failed = [&first_failed](int t) {
     int current = first_failed.load();
@@ -166,20 +188,20 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
   };
   // More threads than cores never speeds this up, and a team of 1024 can fail to start (libgomp aborts).
   const int threads = options_.threads > 0 ? std::min(options_.threads, omp_get_num_procs()) : omp_get_max_threads();
-  const int K = static_cast<int>(tests.size());
+  const int K = static_cast<int>(run.size());
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int k = 0; k < K; ++k) {
-    const int t = tests[k];
-    if (first_failed.load(std::memory_order_relaxed) < t) continue;
+    const int t = run[k], rank = rank_[t];
+    if (first_failed.load(std::memory_order_relaxed) < rank) continue;
     fem::SolveOptions st = so;
-    st.cancelled = [&first_failed, t] { return first_failed.load(std::memory_order_relaxed) < t; };
+    st.cancelled = [&first_failed, rank] { return first_failed.load(std::memory_order_relaxed) < rank; };
     TestValues& v = values[t];
     detail::Prediction P;
     try {
       const fem::SimulationResult sim = fem::simulate(models_[t], *law, st);
       if (!sim.usable()) {
         v.message = "test " + models_[t].name + ": " + sim.message;
-        failed(t);
+        failed(rank);
         continue;
       }
       v.ok = detail::predict(models_[t], experiment_.tests[t], reference_locations_[t], sim,
@@ -188,7 +210,7 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
       v.message = "test " + models_[t].name + ": " + e.what();
     }
     if (!v.ok) {
-      failed(t);
+      failed(rank);
       continue;
     }
     // The test's rows of y, its data groups one after the other (as evaluate() reads them back).
@@ -245,7 +267,7 @@ Evaluation Objective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
     for (int t = 0; t < T; ++t) all[t] = t;
     values = local(all);
   }
-  for (int t = 0; t < T; ++t)
+  for (int t : order_)  // the first failed test in the evaluation order
     if (!values[t].ok) {
       out.message = values[t].message;
       return out;

@@ -66,6 +66,7 @@ void write_checkpoint(const fs::path& file, const ident::Checkpoint& c, const st
   j["evaluations"] = c.evaluations;
   j["jacobian_evaluations"] = c.jacobian_evaluations;
   j["failed_evaluations"] = c.failed_evaluations;
+  j["skipped_evaluations"] = c.skipped_evaluations;
   j["restarts"] = c.restarts;
   j["wall_seconds"] = c.wall_seconds;
   j["phase"] = ident::to_string(c.phase);
@@ -107,6 +108,7 @@ ident::Checkpoint read_checkpoint(const fs::path& file, const std::string& finge
   c.evaluations = json_get<int>(j, "evaluations", f);
   c.jacobian_evaluations = json_get<int>(j, "jacobian_evaluations", f);
   c.failed_evaluations = json_get<int>(j, "failed_evaluations", f);
+  c.skipped_evaluations = json_get_or(j, "skipped_evaluations", 0, f);  // none before stop 24
   c.restarts = json_get<int>(j, "restarts", f);
   c.wall_seconds = json_get<double>(j, "wall_seconds", f);
   // A checkpoint written before issue 14 has no phase: LM under way.

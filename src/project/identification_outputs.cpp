@@ -51,6 +51,7 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
   j["stability_passed"] = r.stability_passed;
   j["restarts"] = r.restarts;
   j["failed_evaluations"] = r.failed_evaluations;
+  j["skipped_evaluations"] = r.skipped_evaluations;
   j["jacobian_evaluations"] = r.jacobian_evaluations;
   j["resumed"] = resumed;
   j["start"] = named(r.names, r.start);

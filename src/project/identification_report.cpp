@@ -195,6 +195,7 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
               {"evaluations of r(J)", r.evaluations},
               {"Jacobian evaluations", r.jacobian_evaluations},
               {"failed evaluations", r.failed_evaluations},
+              {"stability trials rejected without the FE (barrier ≥ f*)", r.skipped_evaluations},
               {"stability restarts", r.restarts},
               {"stability test passed", r.stability_passed},
               {"covariance from", u.from_sigma ? "measurement σ (THEORY §8)" : "the fit: σ̂² = 2f/(N − n)"},

@@ -48,6 +48,9 @@ class AnalyticProblem : public Problem {
 
   /// A region of J where the model "does not converge" (evaluate returns ok = false).
   std::function<bool(const Eigen::VectorXd&)> fails;
+  /// Problem::lower_bound (0 when empty).
+  std::function<double(const Eigen::VectorXd&)> bound;
+  double lower_bound(const Eigen::VectorXd& J) const override { return bound ? bound(J) : 0.0; }
   mutable std::atomic<int> calls{0};
   ScaledResiduals data_;
 

@@ -143,6 +143,33 @@ TEST(Identify, StabilityTestRestartsFromABetterPerturbation) {
   EXPECT_EQ(identify(p, o).restarts, 0);
 }
 
+// A stability trial that a lower bound of f without the model (Problem::lower_bound: the stability
+// barrier) puts at f* or above cannot beat f*: it is not evaluated, and the run is the same.
+TEST(Identify, StabilityTrialsBoundedAboveTheOptimumAreNotEvaluated) {
+  AnalyticProblem p = two_minima();
+  IdentifyOptions o;
+  o.stability_eta = 0.1;
+  const IdentifyResult all = identify(p, o);
+  // f = (r1² + r2²)/4 ≥ r1²/4: a true lower bound. At the local minimum (a ≈ 1.001, f* ≈ 5e-5) it
+  // puts the trial a·0.9 at f ≥ 0.0097 and leaves a·1.1 (f ≈ 3e-7 there) to evaluate; at the global
+  // minimum (f* ≈ 0) both trials are bounded above it.
+  p.bound = [](const Eigen::VectorXd& J) {
+    const double r1 = 10 * (J(0) - 1) * (J(0) - 1.1);
+    return r1 * r1 / 4;
+  };
+  const int calls_before = p.calls;
+  const IdentifyResult bounded = identify(p, o);
+  EXPECT_EQ(all.skipped_evaluations, 0);
+  EXPECT_EQ(bounded.skipped_evaluations, 3);
+  EXPECT_EQ(bounded.evaluations, all.evaluations - 3);
+  EXPECT_EQ(p.calls - calls_before, bounded.evaluations);
+  EXPECT_EQ(bounded.restarts, all.restarts);
+  EXPECT_EQ(bounded.restarts, 1);
+  EXPECT_TRUE(bounded.stability_passed);
+  EXPECT_EQ(bounded.parameters, all.parameters);  // the same run, bit for bit
+  EXPECT_EQ(bounded.objective, all.objective);
+}
+
 TEST(Identify, RejectsATrialWhereTheModelFailsAndGoesOn) {
   // r = a² − 4, truth a = 2; from a = 1 the Gauss–Newton step lands at 2.5, where the model fails.
   auto model = [](const Eigen::VectorXd& J) { return Eigen::VectorXd::Constant(1, J(0) * J(0)); };

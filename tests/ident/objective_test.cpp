@@ -232,6 +232,14 @@ TEST(Objective, ThreadsGiveTheSerialResidualsAndJacobianBitForBit) {
   }
 }
 
+// The most stretched tests run first (Objective::order): wale-30 (pull and held strain 0.3), then
+// course-20 (0.3 and 0.2), then the two without a held strain in the experiment's order.
+TEST(Objective, RunsTheMostStretchedTestsFirst) {
+  const RigCampaign c = rig_campaign();
+  const Objective objective(c.models, c.data, c.law, c.parameters);
+  EXPECT_EQ(objective.order(), (std::vector<int>{1, 3, 0, 2}));
+}
+
 // A failed test fails the evaluation; the later tests are cancelled, and the message names the first
 // failed test on any number of threads.
 TEST(Objective, AFailedTestNamesTheFirstFailureOnAnyNumberOfThreads) {

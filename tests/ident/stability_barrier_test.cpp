@@ -96,6 +96,9 @@ TEST(StabilityBarrier, AppendsItsRowsToTheObjectivesEvaluation) {
   EXPECT_EQ((b.r.tail(27) - s.barrier(J)).norm(), 0.0);
   ASSERT_EQ(b.jacobian.rows(), s.residuals());
   EXPECT_EQ((b.jacobian.topRows(a.r.size()) - a.jacobian).norm(), 0.0);
+  // Problem::lower_bound: the barrier's part of f, which needs no FE; the rest of f is ≥ 0.
+  EXPECT_EQ(s.lower_bound(J), 0.5 * s.barrier(J).squaredNorm());
+  EXPECT_NEAR(b.objective(), a.objective() + s.lower_bound(J), 1e-14 * b.objective());
 }
 
 // The margins leave the campaign's truth unpenalised: the reference knit (docs/theory/fabric.md §4)

@@ -56,6 +56,8 @@ struct LmProgress {
   double objective = 0;
   double trust_region_radius = 0;  ///< LM's radius for the next step (1/μ)
   int iterations = 0, evaluations = 0, jacobian_evaluations = 0, failed_evaluations = 0, restarts = 0;
+  /// Stability-test trials rejected without the FE (Problem::lower_bound), not in `evaluations`.
+  int skipped_evaluations = 0;
   double wall_seconds = 0;  ///< spent so far, carried on by a resumed run
   std::vector<HistoryEntry> history;
   Phase phase = Phase::lm;  ///< what comes next
@@ -148,6 +150,9 @@ struct IdentifyResult {
   int evaluations = 0;           ///< r(J) computations: trials, finite-difference columns, stability
   int jacobian_evaluations = 0;  ///< Jacobians LM used
   int failed_evaluations = 0;    ///< trial points where the model failed (steps rejected)
+  /// Stability-test trials rejected without the FE: the part of f that needs none (the stability
+  /// barrier) already reached the f* they had to beat (Problem::lower_bound).
+  int skipped_evaluations = 0;
   int restarts = 0;              ///< stability restarts
   bool stability_passed = false; ///< the last stability test found no lower f
   double wall_seconds = 0;

@@ -80,10 +80,10 @@ class Objective : public Problem {
   /// (incremental data), gives ok = false and a message naming the test.
   /// With a TestSplit, the tests are spread over its processes; the answer is the same bit for bit.
   Evaluation evaluate(const Eigen::VectorXd& J, bool jacobian) const override;
-  /// The values of `tests` (ascending indices into models()) at J, simulated in parallel threads;
-  /// the other entries stay empty. A failed test leaves the later ones of `tests` unrun (empty
-  /// message) or stopped at their next increment; the lowest failing one always runs to its end and
-  /// says why, so the first failed test and its message do not depend on threads or processes.
+  /// The values of `tests` (indices into models()) at J, simulated in parallel threads, in order();
+  /// the other entries stay empty. A failed test leaves the tests after it in order() unrun (empty
+  /// message) or stopped at their next increment; the first failing one in order() always runs to its
+  /// end and says why, so the failed test and its message do not depend on threads or processes.
   std::vector<TestValues> evaluate_tests(const Eigen::VectorXd& J, bool jacobian, const std::vector<int>& tests) const;
   /// evaluate()'s tests go through `split` from now on (nullptr: all in this process).
   void set_split(std::shared_ptr<const TestSplit> split) { split_ = std::move(split); }
@@ -91,6 +91,11 @@ class Objective : public Problem {
 
   const ScaledResiduals& data() const { return data_; }
   const std::vector<fem::TestModel>& models() const { return models_; }
+  /// The tests' evaluation order (indices into models()): the most stretched first (nominal strains
+  /// of the last step, along the pull and across it). They cost the most, so the threads finish
+  /// together, and they are where a trial law fails, so a failed evaluation stops early. A failed
+  /// evaluation reports the first failed test in this order.
+  const std::vector<int>& order() const { return order_; }
   const Experiment& experiment() const { return experiment_; }
   /// A clone of the law with the identified coefficients set to J (the others as given).
   std::unique_ptr<fem::Law> law_at(const Eigen::VectorXd& J) const;
@@ -105,6 +110,8 @@ class Objective : public Problem {
   ScaledResiduals data_;
   std::vector<std::vector<fem::Location>> reference_locations_;  // per test, per point
   std::shared_ptr<const TestSplit> split_;
+  std::vector<int> order_;  // order()
+  std::vector<int> rank_;   // rank_[t]: t's place in order_
 };
 
 }  // namespace tricot::ident

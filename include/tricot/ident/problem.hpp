@@ -59,6 +59,12 @@ class Problem {
   /// THEORY §8: Var(r_i) when every scale is a measurement σ (ScaledResiduals::sigma_variance());
   /// empty = estimate σ̂² = 2f/(N − n) from the fit.
   virtual Eigen::VectorXd residual_variance() const { return {}; }
+  /// A lower bound of f(J) that needs no FE run (the stability barrier's part of f), 0 by default:
+  /// a trial point it puts above the f to beat cannot beat it, and is rejected without the FE.
+  virtual double lower_bound(const Eigen::VectorXd& J) const {
+    (void)J;
+    return 0;
+  }
 };
 
 enum class JacobianMode {

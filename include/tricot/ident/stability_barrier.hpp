@@ -48,6 +48,8 @@ class StabilizedObjective final : public Problem {
   bool has_exact_jacobian() const override { return objective_.has_exact_jacobian(); }
   /// The objective's variances, the barrier's rows at 1 (they are not measurements).
   Eigen::VectorXd residual_variance() const override;
+  /// ½‖barrier(J)‖²: f(J) is the objective's f (≥ 0) plus that.
+  double lower_bound(const Eigen::VectorXd& J) const override { return 0.5 * barrier(J).squaredNorm(); }
 
   int barrier_rows() const { return 3 * static_cast<int>(grid_.size()); }
   /// The barrier's residuals at J, and ∂r/∂J when `jacobian` is given.
