@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -86,6 +87,7 @@ void IdentifyOptions::validate() const {
   check(line_search_trials >= 1 && line_search_trials <= 100, "line_search_trials", line_search_trials, "1 to 100");
   check(initial_trust_region_radius > 0 && initial_trust_region_radius <= 1e16, "initial_trust_region_radius",
         initial_trust_region_radius, "(0, 1e16]");
+  check(barrier_growth >= 0 && barrier_growth < 1, "barrier_growth", barrier_growth, "[0, 1)");
   jacobian_options().validate();
 }
 
@@ -181,6 +183,67 @@ class LmCost final : public ceres::CostFunction {
   static constexpr std::size_t kRecent = 8;
   mutable std::deque<Recent> recent_;
 };
+
+/// LM's steps in x: the variables held at a bound stay (the active set), and with a `fraction` the
+/// step is cut along its direction (IdentifyOptions::barrier_growth). Ceres moves by Plus for each
+/// trust-region step and each trial of its line search; its bounds are applied after.
+class StepManifold final : public ceres::Manifold {
+ public:
+  /// fraction(x, d): the share t ∈ [0, 1] of the step d from x to take; empty = 1.
+  using Fraction = std::function<double(const Eigen::VectorXd&, const Eigen::VectorXd&)>;
+  StepManifold(int n, const std::vector<int>& held, Fraction fraction) : n_(n), fraction_(std::move(fraction)) {
+    for (int k = 0; k < n; ++k)
+      if (!std::binary_search(held.begin(), held.end(), k)) free_.push_back(k);
+  }
+  int AmbientSize() const override { return n_; }
+  int TangentSize() const override { return static_cast<int>(free_.size()); }
+  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(n_);
+    for (size_t i = 0; i < free_.size(); ++i) d(free_[i]) = delta[i];
+    const Eigen::Map<const Eigen::VectorXd> x0(x, n_);
+    const double t = fraction_ && d.squaredNorm() > 0 ? fraction_(x0, d) : 1.0;
+    Eigen::Map<Eigen::VectorXd>(x_plus_delta, n_) = x0 + t * d;
+    return true;
+  }
+  /// At δ = 0 the step is whole (the fraction is 1 for short enough steps): the free variables' selection.
+  bool PlusJacobian(const double*, double* jacobian) const override {
+    const int m = TangentSize();
+    std::fill(jacobian, jacobian + n_ * m, 0.0);
+    for (int i = 0; i < m; ++i) jacobian[free_[i] * m + i] = 1;
+    return true;
+  }
+  bool Minus(const double* y, const double* x, double* y_minus_x) const override {
+    for (size_t i = 0; i < free_.size(); ++i) y_minus_x[i] = y[free_[i]] - x[free_[i]];
+    return true;
+  }
+  bool MinusJacobian(const double*, double* jacobian) const override {
+    const int m = TangentSize();
+    std::fill(jacobian, jacobian + n_ * m, 0.0);
+    for (int i = 0; i < m; ++i) jacobian[i * n_ + free_[i]] = 1;
+    return true;
+  }
+
+ private:
+  int n_;
+  std::vector<int> free_;
+  Fraction fraction_;
+};
+
+/// The largest share t ∈ [0, 1] of the step d from x (LM units) along which the problem's FE-free
+/// part of f (Problem::lower_bound) grows by at most `allowance`: 1 when the whole step keeps within
+/// it, else found by bisection (to 2⁻⁴⁰ of the step).
+double step_fraction(const Problem& problem, const Eigen::VectorXd& scales, const Eigen::VectorXd& x,
+                     const Eigen::VectorXd& d, double allowance) {
+  const double limit = problem.lower_bound(scales.cwiseProduct(x)) + allowance;
+  const auto within = [&](double t) { return problem.lower_bound(scales.cwiseProduct(x + t * d)) <= limit; };
+  if (within(1)) return 1;
+  double lo = 0, hi = 1;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (within(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
 
 /// The box of the LM variables (the parameters' bounds / scale; ±∞ where none), as Ceres gets it.
 struct Box {
@@ -513,7 +576,8 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
   if (state.phase != Phase::done && !cost.at(state.x, options.jacobian == JacobianMode::exact))
     finish(Termination::fe_failure, "at the start point: " + cost.last_failure);
 
-  if (!options.active_set) state.held.clear();  // a checkpoint of a run with the active set, resumed without
+  if (!options.active_set) state.held.clear();
+  const bool cut_steps = options.barrier_growth > 0 && problem.has_lower_bound();  // a checkpoint of a run with the active set, resumed without
   // A run resumed in phase lm goes on from its checkpoint's point, whose history entry and
   // checkpoint exist; every later LM run (a stability restart) records its start.
   bool record_start = !(resumed && state.phase == Phase::lm);
@@ -543,7 +607,12 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
         if (std::isfinite(box.lo(k))) lm.SetParameterLowerBound(x.data(), k, box.lo(k));
         if (std::isfinite(box.hi(k))) lm.SetParameterUpperBound(x.data(), k, box.hi(k));
       }
-      if (!state.held.empty()) lm.SetManifold(x.data(), new ceres::SubsetManifold(n, state.held));
+      StepManifold::Fraction fraction;
+      if (cut_steps)  // the barrier may grow by barrier_growth · f at the accepted point (Monitor keeps it)
+        fraction = [&](const Eigen::VectorXd& x0, const Eigen::VectorXd& d) {
+          return step_fraction(problem, scales, x0, d, options.barrier_growth * state.objective);
+        };
+      if (!state.held.empty() || fraction) lm.SetManifold(x.data(), new StepManifold(n, state.held, std::move(fraction)));
       Monitor monitor(options, reporter, names, scales, x, state, record_start, t0, cost, box);
       bool bounded = false;
       for (const auto& p : params) bounded = bounded || std::isfinite(p.lower) || std::isfinite(p.upper);

@@ -35,6 +35,7 @@ class KillAfterEvaluations final : public ident::Problem {
   bool has_exact_jacobian() const override { return p_.has_exact_jacobian(); }
   Eigen::VectorXd residual_variance() const override { return p_.residual_variance(); }
   double lower_bound(const Eigen::VectorXd& J) const override { return p_.lower_bound(J); }
+  bool has_lower_bound() const override { return p_.has_lower_bound(); }
 
  private:
   const ident::Problem& p_;

@@ -149,6 +149,11 @@ SectionSpec identify_section() {
           "With bounds: hold a coefficient on its bound when an LM step was projected onto it and f\n"
           "decreases out of the box there, release it where f decreases into the box (the log names\n"
           "each). false: Ceres's projected steps alone, which can stall on a bound. See docs/validation.md."),
+      key("barrier_growth", o.barrier_growth,
+          "With [stability]: the most the barrier's part of f may grow along one LM step, as a fraction of\n"
+          "f at the accepted point; each step is cut along its direction where it would grow more (the\n"
+          "barrier needs no FE). 0 = off. See docs/validation.md, issue 12.",
+          0, 1),
   };
   return s;
 }
@@ -269,6 +274,7 @@ IdentifyTable IdentifyTable::from_config(const io::Node& s) {
   t.initial_trust_region_radius = s.real("initial_trust_region_radius");
   t.line_search_trials = static_cast<int>(s.integer("line_search_trials"));
   t.active_set = s.boolean("active_set");
+  t.barrier_growth = s.real("barrier_growth");
   return t;
 }
 
@@ -293,6 +299,7 @@ ident::IdentifyOptions IdentifyTable::options() const {
   o.initial_trust_region_radius = initial_trust_region_radius;
   o.line_search_trials = line_search_trials;
   o.active_set = active_set;
+  o.barrier_growth = barrier_growth;
   try {
     o.validate();
   } catch (const InputError& e) {

@@ -51,6 +51,7 @@ class AnalyticProblem : public Problem {
   /// Problem::lower_bound (0 when empty).
   std::function<double(const Eigen::VectorXd&)> bound;
   double lower_bound(const Eigen::VectorXd& J) const override { return bound ? bound(J) : 0.0; }
+  bool has_lower_bound() const override { return static_cast<bool>(bound); }
   mutable std::atomic<int> calls{0};
   ScaledResiduals data_;
 

@@ -170,6 +170,46 @@ TEST(Identify, StabilityTrialsBoundedAboveTheOptimumAreNotEvaluated) {
   EXPECT_EQ(bounded.objective, all.objective);
 }
 
+// LM's steps are cut where the part of f that needs no FE (the barrier, Problem::lower_bound) would
+// grow by more than barrier_growth · f at the accepted point. r = (a − 3, 10·max(0, a − 2)): the data
+// pull a to 3, the barrier holds it at a* = 203/101. From a = 0 the barrier's row is zero and LM's
+// model does not see it: its undamped step lands at a = 3, where the barrier alone is 25 (f(0) =
+// 2.25); cut, the step stops where the barrier reaches 1 % of f(0), at a = 2.03, and LM goes on
+// from there with the row in its model.
+TEST(Identify, StepsAreCutWhereTheBarrierWouldGrowMoreThanAllowed) {
+  const auto barrier = [](double a) {
+    const double b = 10 * std::max(0.0, a - 2);
+    return b * b / 4;  // its share of f = (r1² + r2²)/4
+  };
+  double worst = 0;  // the largest barrier share among the points evaluated
+  auto model = [&](const Eigen::VectorXd& J) {
+    worst = std::max(worst, barrier(J(0)));
+    return Eigen::Vector2d(J(0), 10 * std::max(0.0, J(0) - 2)).eval();
+  };
+  auto derivative = [](const Eigen::VectorXd& J) {
+    Eigen::MatrixXd D(2, 1);
+    D << 1, J(0) > 2 ? 10 : 0;
+    return D;
+  };
+  AnalyticProblem p({Parameter{"a", 0.0, 1.0}}, model, derivative, Eigen::Vector2d(3, 0), 1.0);
+  p.bound = [&](const Eigen::VectorXd& J) { return barrier(J(0)); };
+  IdentifyOptions o;
+  o.initial_trust_region_radius = 1e4;  // the undamped Gauss–Newton step
+  o.stability_test = false;
+  o.barrier_growth = 0;
+  const IdentifyResult plain = identify(p, o);
+  const double plain_worst = worst;
+  worst = 0;
+  o.barrier_growth = 0.01;
+  const IdentifyResult cut = identify(p, o);
+  ASSERT_TRUE(plain.converged() && cut.converged()) << plain.message << cut.message;
+  EXPECT_NEAR(plain.parameters(0), 203.0 / 101, 1e-4);
+  EXPECT_NEAR(cut.parameters(0), 203.0 / 101, 1e-4);
+  EXPECT_GT(plain_worst, 20);  // ~25: the step to a ≈ 3 (radius 1e4: nearly undamped)
+  EXPECT_NEAR(worst, 0.01 * 2.25, 1e-9);  // the first step's end, cut to 1 % of f(0) to 2⁻⁴⁰
+  EXPECT_LT(cut.evaluations, plain.evaluations);
+}
+
 TEST(Identify, RejectsATrialWhereTheModelFailsAndGoesOn) {
   // r = a² − 4, truth a = 2; from a = 1 the Gauss–Newton step lands at 2.5, where the model fails.
   auto model = [](const Eigen::VectorXd& J) { return Eigen::VectorXd::Constant(1, J(0) * J(0)); };

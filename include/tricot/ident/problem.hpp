@@ -60,11 +60,14 @@ class Problem {
   /// empty = estimate σ̂² = 2f/(N − n) from the fit.
   virtual Eigen::VectorXd residual_variance() const { return {}; }
   /// A lower bound of f(J) that needs no FE run (the stability barrier's part of f), 0 by default:
-  /// a trial point it puts above the f to beat cannot beat it, and is rejected without the FE.
+  /// a trial point it puts above the f to beat cannot beat it, and is rejected without the FE. LM
+  /// also keeps its steps from growing it much (IdentifyOptions::barrier_growth).
   virtual double lower_bound(const Eigen::VectorXd& J) const {
     (void)J;
     return 0;
   }
+  /// Whether lower_bound() can be other than 0.
+  virtual bool has_lower_bound() const { return false; }
 };
 
 enum class JacobianMode {

@@ -44,6 +44,7 @@ struct IdentifyTable {
   double initial_trust_region_radius = ident::IdentifyOptions{}.initial_trust_region_radius;
   int line_search_trials = ident::IdentifyOptions{}.line_search_trials;
   bool active_set = ident::IdentifyOptions{}.active_set;
+  double barrier_growth = ident::IdentifyOptions{}.barrier_growth;
   Origin origin{"identify"};
 
   /// From the [identify] table of a file read with identify_schema().
