@@ -22,6 +22,7 @@
 #include <stdexcept>
 #include <map>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -307,7 +308,14 @@ struct Run {
 Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   fem::ResponseSurface law = fem::ResponseSurface::preset(preset, kShear);
   const Eigen::VectorXd J_fit = polynomial_start(law, c);
-  const Eigen::VectorXd J0 = std::getenv("TRICOT_CAMPAIGN_SLOPE_START") ? polynomial_start(law, c, 1) : J_fit;
+  Eigen::VectorXd J0 = std::getenv("TRICOT_CAMPAIGN_SLOPE_START") ? polynomial_start(law, c, 1) : J_fit;
+  // TRICOT_CAMPAIGN_JITTER=seed: each start coefficient × (1 + u), u uniform in ±1 % (the path's
+  // sensitivity to its start: docs/validation.md, issue 12 "Steps cut at the stability barrier").
+  if (const char* seed = std::getenv("TRICOT_CAMPAIGN_JITTER")) {
+    std::mt19937 g(static_cast<unsigned>(std::strtoul(seed, nullptr, 10)));
+    std::uniform_real_distribution<double> u(-0.01, 0.01);
+    for (Eigen::Index k = 0; k < J0.size(); ++k) J0(k) *= 1 + u(g);
+  }
   law.set_coefficients(J_fit);
   const Surfaces fit_errors = errors(c, law);
   std::printf("# start (%s): coefficients = [", preset.c_str());
@@ -338,6 +346,8 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   ident::IdentifyOptions o;
   o.initial_trust_region_radius = 100, o.line_search_trials = 4;  // examples/knit-campaign/project-110.toml's [identify]
   o.active_set = true;  // as project-110.toml (docs/validation.md, "Bounded coefficients")
+  // TRICOT_CAMPAIGN_BARRIER_GROWTH: identify.barrier_growth (0 = LM's steps not cut at the barrier).
+  if (const char* g = std::getenv("TRICOT_CAMPAIGN_BARRIER_GROWTH")) o.barrier_growth = std::strtod(g, nullptr);
   // The material-stability barrier (ident/stability_barrier.hpp) unless TRICOT_CAMPAIGN_NO_BARRIER.
   if (std::getenv("TRICOT_CAMPAIGN_NO_BARRIER")) {
     run.result = ident::identify(*run.objective, o);

@@ -398,28 +398,29 @@ class Monitor final : public ceres::IterationCallback {
     }
   }
 
-  /// The active set. A free variable is held on its bound when LM's step is blocked by it: the trial
-  /// just rejected was projected onto that bound, and f decreases out of the box there (Ceres's
-  /// projected steps would go on trying to leave, and stall). A held variable is released at any
-  /// accepted point where f decreases into the box again; where LM stops on δ, that is its KKT test.
-  /// A change ends this Ceres solve (held_changed); LM goes on in the next.
+  /// The active set. A free variable is held on its bound when LM's step is blocked by it: the
+  /// accepted step left it there, or the trial just rejected was projected onto it, and f decreases
+  /// out of the box there (Ceres's projected steps would go on trying to leave: its model then
+  /// promises what the projected step cannot give, and LM crawls or stalls). A held variable is
+  /// released at any accepted point where f decreases into the box again; where LM stops on δ, that
+  /// is its KKT test. A change ends this Ceres solve (held_changed); LM goes on in the next.
   void update_active_set(bool accepted) {
     if (!options_.active_set || reason == Termination::objective_below_epsilon) return;
     const Eigen::Index n = x_.size();
-    if (accepted) {  // f decreases into the box again: free at once (LM goes on if it was stopping)
-      if (state_.held.empty() ||
-          !release_held(box_, x_, cost_.gradient(x_), options_.gradient_tolerance, names_, reporter_, state_.held))
-        return;  // a step that LM accepts is not blocked
+    // f decreases into the box again: free at once (LM goes on if it was stopping)
+    if (accepted && !state_.held.empty() &&
+        release_held(box_, x_, cost_.gradient(x_), options_.gradient_tolerance, names_, reporter_, state_.held)) {
       reason.reset();
       held_changed = true;
-      return;
     }
+    if (reason) return;  // LM stops here: the KKT test follows
     const Eigen::VectorXd& before = cost_.last_trial;  // the rejected step's candidate
-    if (before.size() != n) return;
+    if (!accepted && before.size() != n) return;
     std::vector<Eigen::Index> candidates;
     for (Eigen::Index k = 0; k < n; ++k) {
-      const bool blocked = (box_.at_lower(x_, k) && box_.at_lower(before, k)) || (box_.at_upper(x_, k) && box_.at_upper(before, k));
-      if (blocked && !std::binary_search(state_.held.begin(), state_.held.end(), static_cast<int>(k)))
+      const bool lower = box_.at_lower(x_, k) && (accepted || box_.at_lower(before, k));
+      const bool upper = box_.at_upper(x_, k) && (accepted || box_.at_upper(before, k));
+      if ((lower || upper) && !std::binary_search(state_.held.begin(), state_.held.end(), static_cast<int>(k)))
         candidates.push_back(k);
     }
     if (candidates.empty()) return;
