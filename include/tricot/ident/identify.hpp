@@ -129,8 +129,9 @@ struct IdentifyOptions {
   /// direction, where the barrier would grow more (bisection on the barrier alone). The barrier's rows
   /// are zero at the accepted point, so LM's model does not see them: on the §4 campaign its steps
   /// ran deep into them, where f is certain to be higher and the FE often fails; cut, the 110 mm
-  /// identification takes 59 FE evaluations instead of 114, the 150 mm one 70 instead of 154
-  /// (docs/validation.md, issue 12 "Steps cut at the stability barrier").
+  /// identification reaches the same f from any start within ±1 % (uncut: 1 % apart, or walled in)
+  /// in 52–78 FE evaluations instead of 63–213 (docs/validation.md, issue 12 "Steps cut at the
+  /// stability barrier").
   double barrier_growth = 0.01;
   /// Called with the state to save after every accepted step (and at the start), once its ε and δ
   /// tests are made, when LM stops (phase stability or done) and after each stability test; may be
