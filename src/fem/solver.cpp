@@ -72,8 +72,13 @@ class Simulation {
         coefficient_count_(static_cast<int>(law.coefficients().size())) {}
 
   SimulationResult run();
+  /// The sensitivities of `result`'s steps (run without them), from their converged states: the
+  /// arithmetic of run() with SolveOptions::sensitivities. False, with result's termination and
+  /// message set, when a state cannot be evaluated or its tangent is singular.
+  bool add_sensitivities(SimulationResult& result);
 
  private:
+  bool step_sensitivities(StepResult& step, Failure& fail);
   Load load_at(size_t k) const;
   bool evaluate(const Eigen::VectorXd& z, const Load& L, bool tangent = true, bool sensitivities = false);
   bool linear_solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x, Failure& fail, bool refine = false);
@@ -407,6 +412,51 @@ bool Simulation::solve_step(const Load& target, StepResult& step, Failure& fail)
   return true;
 }
 
+// K du_f/dc = −∂R_f/∂c at the converged state (z_, load_) (THEORY §7): one multi-RHS solve, refined on
+// the last iterate's factorization, or on its own where that is cheaper (LinearSolver::prefers_factorization:
+// the response surface's block LU with its 14 columns, where refining took ~2.1 sweeps); that one then
+// serves the next increment's predictor exactly.
+bool Simulation::step_sensitivities(StepResult& step, Failure& fail) {
+  Eigen::MatrixXd dz;
+  // Adds ∂f/∂c, and the tangent at z_ unless the last evaluation (at z_) made it.
+  bool ok = evaluate(z_, load_, !tangent_fresh_, true);
+  Eigen::MatrixXd dR_dc = Eigen::MatrixXd::Zero(dofs_.equations, coefficient_count_);
+  for (size_t d = 0; d < dofs_.eq.size(); ++d)
+    if (dofs_.eq[d] >= 0) dR_dc.row(dofs_.eq[d]) += assembled_.df_dc.row(d);
+  if (ok) ok = linear_solve(dR_dc, dz, fail, !linear_solver_.prefers_factorization(dR_dc.cols()));
+  if (!ok) return false;
+  dz = -dz;
+  step.du_dc.setZero(dofs_.eq.size(), coefficient_count_);
+  for (size_t d = 0; d < dofs_.eq.size(); ++d)
+    if (dofs_.eq[d] >= 0) step.du_dc.row(d) = dz.row(dofs_.eq[d]);
+  step.dforce_dc.setZero(coefficient_count_);
+  if (test_.control == GripControl::displacement) {
+    for (int d : dofs_.top_y) step.dforce_dc += assembled_.df_dc.row(d).transpose();
+    step.dforce_dc += dz.transpose() * assembled_.h_top;
+    step.dforce_dc *= 2;
+  }
+  return true;
+}
+
+bool Simulation::add_sensitivities(SimulationResult& result) {
+  for (size_t k = 0; k < result.steps.size(); ++k) {
+    StepResult& step = result.steps[k];
+    load_ = load_at(k);
+    z_.setZero(dofs_.equations);
+    for (size_t d = 0; d < dofs_.eq.size(); ++d)
+      if (dofs_.eq[d] >= 0) z_(dofs_.eq[d]) = step.u(static_cast<Eigen::Index>(d));
+    tangent_fresh_ = false;
+    Failure fail;
+    if (!step_sensitivities(step, fail)) {
+      result.termination = SolveTermination::not_converged;
+      result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) + ": sensitivities: " +
+                       (fail.why.empty() ? "the converged state cannot be evaluated" : fail.why);
+      return false;
+    }
+  }
+  return true;
+}
+
 // Reactions and sensitivities at a converged step (THEORY §6, §7).
 void Simulation::record(const Load& L, StepResult& step) {
   step.u = u_;
@@ -451,34 +501,11 @@ SimulationResult Simulation::run() {
                        " cutbacks: " + fail.why + ellipticity_note(fail.element);
       break;
     }
-    if (options_.sensitivities) {
-      // K du_f/dc = −∂R_f/∂c with the converged tangent: one multi-RHS solve, refined on the last
-      // iterate's factorization, or on its own where that is cheaper (LinearSolver::prefers_factorization:
-      // the response surface's block LU with its 14 columns, where refining took ~2.1 sweeps); that one
-      // then serves the next increment's predictor exactly.
-      Eigen::MatrixXd dz;
-      // Adds ∂f/∂c, and the tangent at z_ unless the last evaluation (at z_) made it.
-      bool ok = evaluate(z_, load_, !tangent_fresh_, true);
-      Eigen::MatrixXd dR_dc = Eigen::MatrixXd::Zero(dofs_.equations, coefficient_count_);
-      for (size_t d = 0; d < dofs_.eq.size(); ++d)
-        if (dofs_.eq[d] >= 0) dR_dc.row(dofs_.eq[d]) += assembled_.df_dc.row(d);
-      if (ok) ok = linear_solve(dR_dc, dz, fail, !linear_solver_.prefers_factorization(dR_dc.cols()));
-      if (!ok) {
-        result.termination = SolveTermination::not_converged;
-        result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) + ": sensitivities: " +
-                         (fail.why.empty() ? "the converged state cannot be evaluated" : fail.why);
-        break;
-      }
-      dz = -dz;
-      step.du_dc.setZero(dofs_.eq.size(), coefficient_count_);
-      for (size_t d = 0; d < dofs_.eq.size(); ++d)
-        if (dofs_.eq[d] >= 0) step.du_dc.row(d) = dz.row(dofs_.eq[d]);
-      step.dforce_dc.setZero(coefficient_count_);
-      if (test_.control == GripControl::displacement) {
-        for (int d : dofs_.top_y) step.dforce_dc += assembled_.df_dc.row(d).transpose();
-        step.dforce_dc += dz.transpose() * assembled_.h_top;
-        step.dforce_dc *= 2;
-      }
+    if (options_.sensitivities && !step_sensitivities(step, fail)) {
+      result.termination = SolveTermination::not_converged;
+      result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) + ": sensitivities: " +
+                       (fail.why.empty() ? "the converged state cannot be evaluated" : fail.why);
+      break;
     }
     record(load_, step);
     result.steps.push_back(std::move(step));
@@ -503,6 +530,16 @@ SimulationResult simulate(const TestModel& test, const Law& law, const SolveOpti
   test.validate();
   Simulation sim(test, law, options, reporter);
   return sim.run();
+}
+
+bool add_sensitivities(const TestModel& test, const Law& law, SimulationResult& result, const SolveOptions& options) {
+  SolveOptions o = options;
+  o.sensitivities = true;
+  o.validate();
+  if (!result.usable() || result.steps.size() != test.loads.size()) return false;
+  const Reporter quiet;
+  Simulation sim(test, law, o, quiet);
+  return sim.add_sensitivities(result);
 }
 
 }  // namespace tricot::fem

@@ -172,8 +172,18 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
     return values;
   }
   fem::SolveOptions so = options_.solver;
-  so.sensitivities = jacobian;
+  so.sensitivities = false;  // added afterwards (fem::add_sensitivities), from the kept simulations or new ones
   so.keep_residuals = false;
+  std::vector<std::optional<fem::SimulationResult>> kept(T);
+  {
+    const std::lock_guard<std::mutex> lock(simulated_mutex_);
+    for (const Simulated& s : simulated_)
+      if (s.J.size() == J.size() && s.J == J) {
+        kept = s.tests;
+        break;
+      }
+  }
+  std::vector<std::optional<fem::SimulationResult>> fresh(T);
   // A failed test fails the evaluation: the tests after the first failed one (in order_) are not run,
   // or stop at their next increment. The first failing test always runs to its end, whatever the
   // threads do, so the evaluation's message is the same on any number of threads. first_failed holds
@@ -198,8 +208,14 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
     TestValues& v = values[t];
     detail::Prediction P;
     try {
-      const fem::SimulationResult sim = fem::simulate(models_[t], *law, st);
+      fem::SimulationResult sim = kept[t] ? std::move(*kept[t]) : fem::simulate(models_[t], *law, st);
       if (!sim.usable()) {
+        v.message = "test " + models_[t].name + ": " + sim.message;
+        failed(rank);
+        continue;
+      }
+      if (!jacobian) fresh[t] = sim;
+      if (jacobian && !fem::add_sensitivities(models_[t], *law, sim, st)) {
         v.message = "test " + models_[t].name + ": " + sim.message;
         failed(rank);
         continue;
@@ -250,6 +266,11 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
       }
       row += g.size;
     }
+  }
+  if (!jacobian && std::any_of(fresh.begin(), fresh.end(), [](const auto& f) { return f.has_value(); })) {
+    const std::lock_guard<std::mutex> lock(simulated_mutex_);
+    simulated_.push_front({J, std::move(fresh)});
+    if (simulated_.size() > kSimulated) simulated_.pop_back();
   }
   return values;
 }

@@ -326,11 +326,16 @@ TEST(Simulate, BothSparseSolversGiveTheSameSolution) {
 // ---------------------------------------------------------------------------------------------------
 
 // du/dc and d(edge force)/dc at every step against central differences of whole simulations.
-void check_sensitivities(TestModel t, const Law& law0, const char* tag) {
+// `afterwards`: simulated without them, then fem::add_sensitivities from the converged states.
+void check_sensitivities(TestModel t, const Law& law0, const std::string& tag, bool afterwards = false) {
   SolveOptions o = tight();
-  o.sensitivities = true;
-  const SimulationResult r = simulate(t, law0, o);
+  o.sensitivities = !afterwards;
+  SimulationResult r = simulate(t, law0, o);
   ASSERT_TRUE(r.usable()) << r.message;
+  if (afterwards) {
+    ASSERT_TRUE(r.steps.front().du_dc.size() == 0);
+    ASSERT_TRUE(add_sensitivities(t, law0, r, o)) << r.message;
+  }
   const Eigen::VectorXd c = law0.coefficients();
   o.sensitivities = false;
   double worst_u = 0, worst_f = 0;
@@ -371,12 +376,14 @@ TEST(Sensitivities, MatchFiniteDifferencesUnderDisplacementControl) {
   t.guide = {-1.5};
   check_sensitivities(t, test::TestingLaw(1.0, 2.0, 0.5), "displacement");
   check_sensitivities(t, MooneyRivlin(paper_mooney_rivlin_terms()), "displacement_mooney");
+  check_sensitivities(t, MooneyRivlin(paper_mooney_rivlin_terms()), "displacement_mooney_afterwards", true);
 }
 
 TEST(Sensitivities, MatchFiniteDifferencesUnderForceControl) {
   TestModel t = model(strip(ElementType::Q8, 3, 5, 10, 25), {2, 5, 8});
   t.control = GripControl::force;
   check_sensitivities(t, test::TestingLaw(1.0, 2.0, 0.5), "force");
+  check_sensitivities(t, test::TestingLaw(1.0, 2.0, 0.5), "force_afterwards", true);
 }
 
 TEST(MeshConvergence, GripForceOfTheClampedStripConvergesFasterWithQ8) {

@@ -232,6 +232,26 @@ TEST(Objective, ThreadsGiveTheSerialResidualsAndJacobianBitForBit) {
   }
 }
 
+// The sensitivities are added after the simulations (fem::add_sensitivities), so the residuals do not
+// depend on whether the Jacobian was asked for, and a Jacobian asked for at a point evaluated before
+// (LM's accepted trial) comes from its kept simulations: the same numbers, bit for bit, as asking
+// for it at once.
+TEST(Objective, AJacobianAskedForAfterTheValuesIsTheOneAskedForAtOnce) {
+  const RigCampaign c = rig_campaign();
+  Eigen::VectorXd J = c.law.coefficients();
+  J(0) *= 1.1, J(8) *= 0.9;
+  const Objective at_once(c.models, c.data, c.law, c.parameters), after(c.models, c.data, c.law, c.parameters);
+  const Evaluation a = at_once.evaluate(J, true);
+  const Evaluation values = after.evaluate(J, false);
+  const Evaluation b = after.evaluate(J, true);
+  ASSERT_TRUE(a.ok && values.ok && b.ok) << a.message << values.message << b.message;
+  EXPECT_TRUE((values.r.array() == a.r.array()).all());
+  EXPECT_TRUE((b.r.array() == a.r.array()).all());
+  ASSERT_EQ(b.jacobian.rows(), a.jacobian.rows());
+  EXPECT_TRUE((b.jacobian.array() == a.jacobian.array()).all());
+  EXPECT_GT(a.jacobian.cwiseAbs().maxCoeff(), 0);
+}
+
 // The most stretched tests run first (Objective::order): wale-30 (pull and held strain 0.3), then
 // course-20 (0.3 and 0.2), then the two without a held strain in the experiment's order.
 TEST(Objective, RunsTheMostStretchedTestsFirst) {

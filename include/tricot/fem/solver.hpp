@@ -102,4 +102,12 @@ struct SimulationResult {
 SimulationResult simulate(const TestModel& test, const Law& law, const SolveOptions& options = {},
                           const Reporter& reporter = {});
 
+/// The sensitivities (StepResult::du_dc, dforce_dc) of a usable `result` of simulate(test, law,
+/// options) run without them, computed afterwards from its converged states: per step, the tangent
+/// and ∂R/∂c there, one factorization and one multi-column solve (the arithmetic of simulate() with
+/// SolveOptions::sensitivities, which also reuses that factorization for its next predictor). The
+/// Newton solves are not repeated. False, with result's termination and message set, when a state
+/// cannot be evaluated; false and untouched when `result` is not usable.
+bool add_sensitivities(const TestModel& test, const Law& law, SimulationResult& result, const SolveOptions& options = {});
+
 }  // namespace tricot::fem

@@ -3,8 +3,11 @@
 // points and steps, and the exact Jacobian from the FE sensitivities du/dc and dF/dc.
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,8 +78,10 @@ class Objective : public Problem {
 
   const std::vector<Parameter>& parameters() const override { return parameters_; }
   int residuals() const override { return data_.size(); }
-  /// Simulates every test with the law's coefficients set to J (in parallel), with sensitivities
-  /// when `jacobian`. A test that does not converge, or a point that leaves the deformed mesh
+  /// Simulates every test with the law's coefficients set to J (in parallel), then adds their
+  /// sensitivities when `jacobian` (fem::add_sensitivities): the residuals do not depend on whether
+  /// the Jacobian was asked for, and a Jacobian asked for at one of the last points evaluated without
+  /// it costs the sensitivities alone (its simulations are kept). A test that does not converge, or a point that leaves the deformed mesh
   /// (incremental data), gives ok = false and a message naming the test.
   /// With a TestSplit, the tests are spread over its processes; the answer is the same bit for bit.
   Evaluation evaluate(const Eigen::VectorXd& J, bool jacobian) const override;
@@ -112,6 +117,15 @@ class Objective : public Problem {
   std::shared_ptr<const TestSplit> split_;
   std::vector<int> order_;  // order()
   std::vector<int> rank_;   // rank_[t]: t's place in order_
+  /// The simulations (without sensitivities) of the last points evaluated, newest first, per test
+  /// (an unusable or unrun test's is not kept).
+  struct Simulated {
+    Eigen::VectorXd J;
+    std::vector<std::optional<fem::SimulationResult>> tests;
+  };
+  static constexpr std::size_t kSimulated = 4;
+  mutable std::deque<Simulated> simulated_;
+  mutable std::mutex simulated_mutex_;
 };
 
 }  // namespace tricot::ident
