@@ -342,7 +342,9 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
     p.push_back(q);
   }
   Run run;
-  run.objective = std::make_unique<ident::Objective>(models, data, law, p);
+  ident::ObjectiveOptions oo;
+  oo.sensitivities_after = true;  // as a project with bounds (identification_spec.cpp)
+  run.objective = std::make_unique<ident::Objective>(models, data, law, p, oo);
   ident::IdentifyOptions o;
   o.initial_trust_region_radius = 100, o.line_search_trials = 4;  // examples/knit-campaign/project-110.toml's [identify]
   o.active_set = true;  // as project-110.toml (docs/validation.md, "Bounded coefficients")

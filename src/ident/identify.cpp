@@ -102,8 +102,8 @@ struct State : LmProgress {
 
 /// The whole residual vector as one Ceres cost function of x = J / scale. It keeps the last few
 /// evaluations: Ceres evaluates a trial without the Jacobian, then the accepted point again with it;
-/// in exact mode the objective keeps the trial's simulations and adds only their sensitivities
-/// (Objective::evaluate), so no FE run is repeated.
+/// in exact mode the trial carries the sensitivities, or the problem keeps its simulations and adds
+/// them there (Problem::keeps_simulations), so no FE run is repeated.
 class LmCost final : public ceres::CostFunction {
  public:
   LmCost(const Problem& problem, const JacobianOptions& options, const Eigen::VectorXd& scales, State& state)
@@ -132,14 +132,17 @@ class LmCost final : public ceres::CostFunction {
   const Evaluation* at(const Eigen::VectorXd& x, bool jacobian) const {
     auto found = std::find_if(recent_.begin(), recent_.end(), [&](const Recent& c) { return c.x == x; });
     if (found != recent_.end() && (!jacobian || found->e.jacobian.size() > 0)) return &found->e;
-    Evaluation e = evaluate(problem_, scales_.cwiseProduct(x), jacobian, options_,
+    // Exact mode: the sensitivities come with every trial, so the accepted one needs no second run,
+    // unless the problem keeps its simulations (then they are added where LM asks for them).
+    const bool with_jacobian = jacobian || (options_.mode == JacobianMode::exact && !problem_.keeps_simulations());
+    Evaluation e = evaluate(problem_, scales_.cwiseProduct(x), with_jacobian, options_,
                             found != recent_.end() ? &found->e : nullptr);
     state_.evaluations += e.evaluations;
     if (e.ok && !e.r.allFinite()) {
       e.ok = false;
       e.message = "non-finite residual";
     }
-    if (e.ok && jacobian && !e.jacobian.allFinite()) {
+    if (e.ok && with_jacobian && !e.jacobian.allFinite()) {
       e.ok = false;
       e.message = "non-finite Jacobian";
     }
@@ -635,9 +638,9 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
       so.update_state_every_iteration = true;
       so.num_threads = 1;
       so.callbacks.push_back(&monitor);
-      // The bounded line search interpolates f alone: its trials need no Jacobian (cubic interpolation
-      // would ask for the gradient at each one, i.e. for its sensitivities).
-      so.line_search_interpolation_type = ceres::QUADRATIC;
+      // Where the problem keeps its simulations, the bounded line search interpolates f alone: its
+      // trials need no Jacobian (cubic interpolation asks for the gradient at each one).
+      if (problem.keeps_simulations()) so.line_search_interpolation_type = ceres::QUADRATIC;
       ceres::Solver::Summary summary;
       const int base = state.iterations;
       ceres::Solve(so, &lm, &summary);

@@ -172,10 +172,11 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
     return values;
   }
   fem::SolveOptions so = options_.solver;
-  so.sensitivities = false;  // added afterwards (fem::add_sensitivities), from the kept simulations or new ones
+  const bool after = options_.sensitivities_after;
+  so.sensitivities = jacobian && !after;  // else added afterwards (fem::add_sensitivities)
   so.keep_residuals = false;
   std::vector<std::optional<fem::SimulationResult>> kept(T);
-  {
+  if (after) {
     const std::lock_guard<std::mutex> lock(simulated_mutex_);
     for (const Simulated& s : simulated_)
       if (s.J.size() == J.size() && s.J == J) {
@@ -214,8 +215,8 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
         failed(rank);
         continue;
       }
-      if (!jacobian) fresh[t] = sim;
-      if (jacobian && !fem::add_sensitivities(models_[t], *law, sim, st)) {
+      if (after && !jacobian) fresh[t] = sim;
+      if (after && jacobian && !fem::add_sensitivities(models_[t], *law, sim, st)) {
         v.message = "test " + models_[t].name + ": " + sim.message;
         failed(rank);
         continue;
@@ -267,7 +268,7 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
       row += g.size;
     }
   }
-  if (!jacobian && std::any_of(fresh.begin(), fresh.end(), [](const auto& f) { return f.has_value(); })) {
+  if (after && !jacobian && std::any_of(fresh.begin(), fresh.end(), [](const auto& f) { return f.has_value(); })) {
     const std::lock_guard<std::mutex> lock(simulated_mutex_);
     simulated_.push_front({J, std::move(fresh)});
     if (simulated_.size() > kSimulated) simulated_.pop_back();

@@ -36,6 +36,7 @@ class KillAfterEvaluations final : public ident::Problem {
   Eigen::VectorXd residual_variance() const override { return p_.residual_variance(); }
   double lower_bound(const Eigen::VectorXd& J) const override { return p_.lower_bound(J); }
   bool has_lower_bound() const override { return p_.has_lower_bound(); }
+  bool keeps_simulations() const override { return p_.keeps_simulations(); }
 
  private:
   const ident::Problem& p_;

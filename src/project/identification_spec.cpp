@@ -143,7 +143,7 @@ SectionSpec identify_section() {
           0, 1e16),
       key("line_search_trials", std::int64_t{o.line_search_trials},
           "With bounds: the most trial points of the projected line search along each LM step (each one\n"
-          "FE evaluation with the Jacobian).",
+          "FE evaluation).",
           1, 100),
       key("active_set", o.active_set,
           "With bounds: hold a coefficient on its bound when an LM step was projected onto it and f\n"
@@ -634,6 +634,10 @@ Project build_project(const IdentificationSpec& spec, const fs::path& base) {
   oo.weights.field_uv = dn.field_uv;
   oo.solver = P.solver;
   oo.threads = P.options.threads;
+  // With bounds LM's line search makes trials whose Jacobian it never uses: sensitivities afterwards.
+  oo.sensitivities_after = std::any_of(m.parameters.begin(), m.parameters.end(), [](const ident::Parameter& p) {
+    return std::isfinite(p.lower) || std::isfinite(p.upper);
+  });
   P.objective_options = oo;
   try {
     P.objective = std::make_unique<ident::Objective>(P.models, experiment, *P.law, m.parameters, oo);

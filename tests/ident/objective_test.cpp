@@ -232,15 +232,23 @@ TEST(Objective, ThreadsGiveTheSerialResidualsAndJacobianBitForBit) {
   }
 }
 
-// The sensitivities are added after the simulations (fem::add_sensitivities), so the residuals do not
-// depend on whether the Jacobian was asked for, and a Jacobian asked for at a point evaluated before
-// (LM's accepted trial) comes from its kept simulations: the same numbers, bit for bit, as asking
-// for it at once.
+// ObjectiveOptions::sensitivities_after: the sensitivities are added after the simulations
+// (fem::add_sensitivities), so the residuals do not depend on whether the Jacobian was asked for, and a
+// Jacobian asked for at a point evaluated before (LM's accepted trial) comes from its kept
+// simulations: the same numbers, bit for bit, as asking for it at once; and the Jacobian of
+// sensitivities with the solve to 1e-7 (the two runs' Newton paths differ within its tolerance).
 TEST(Objective, AJacobianAskedForAfterTheValuesIsTheOneAskedForAtOnce) {
   const RigCampaign c = rig_campaign();
   Eigen::VectorXd J = c.law.coefficients();
   J(0) *= 1.1, J(8) *= 0.9;
-  const Objective at_once(c.models, c.data, c.law, c.parameters), after(c.models, c.data, c.law, c.parameters);
+  ObjectiveOptions o;
+  o.sensitivities_after = true;
+  const Objective at_once(c.models, c.data, c.law, c.parameters, o), after(c.models, c.data, c.law, c.parameters, o);
+  const Objective inline_(c.models, c.data, c.law, c.parameters);
+  EXPECT_TRUE(at_once.keeps_simulations());
+  EXPECT_FALSE(inline_.keeps_simulations());
+  const Evaluation d = inline_.evaluate(J, true);
+  ASSERT_TRUE(d.ok) << d.message;
   const Evaluation a = at_once.evaluate(J, true);
   const Evaluation values = after.evaluate(J, false);
   const Evaluation b = after.evaluate(J, true);
@@ -250,6 +258,7 @@ TEST(Objective, AJacobianAskedForAfterTheValuesIsTheOneAskedForAtOnce) {
   ASSERT_EQ(b.jacobian.rows(), a.jacobian.rows());
   EXPECT_TRUE((b.jacobian.array() == a.jacobian.array()).all());
   EXPECT_GT(a.jacobian.cwiseAbs().maxCoeff(), 0);
+  EXPECT_LT((d.jacobian - a.jacobian).cwiseAbs().maxCoeff(), 1e-7 * a.jacobian.cwiseAbs().maxCoeff());
 }
 
 // The most stretched tests run first (Objective::order): wale-30 (pull and held strain 0.3), then

@@ -107,14 +107,14 @@ struct IdentifyOptions {
   /// failed FE trials and 5 stability restarts, 10 none, 1 none but more iterations.
   double initial_trust_region_radius = 10;
   /// With bounds on the parameters, Ceres's projected Armijo line search along each LM step (its
-  /// `max_num_line_search_step_size_iterations`). Each of its trials is an FE evaluation with the
-  /// Jacobian, but its backtracking is what saves LM's long steps that fail in the FE: on the §4
+  /// `max_num_line_search_step_size_iterations`; quadratic interpolation of f). Each of its trials
+  /// is an FE evaluation (without sensitivities since stop 24), but its backtracking is what saves LM's long steps that fail in the FE: on the §4
   /// campaign LM without it was still at f = 1.59 after 74 iterations (each failure shrinks the radius,
   /// and the short damped steps run into cliffs of f), with it at 0.39 after 2 (docs/validation.md,
   /// issue 12).
   bool bounds_line_search = true;
   /// The most trial points of that line search per LM step, 1–100 (Ceres's default 20). Each is an
-  /// FE evaluation with the Jacobian: on the §4 campaign a step LM rejects in the end cost 12–13 of
+  /// FE evaluation: on the §4 campaign a step LM rejects in the end cost 12–13 of
   /// them at 20, 5 at 4, with the same accepted points (docs/validation.md, issue 12 "Speed").
   int line_search_trials = 20;
   /// With bounds: an active set (docs/validation.md, issue 12 "Bounded coefficients"). A coefficient

@@ -41,6 +41,14 @@ struct ObjectiveOptions {
   fem::SolveOptions solver;
   /// Tests simulated in parallel, 0–1024; 0 = OpenMP's default, 1 = one after the other.
   int threads = 0;
+  /// true: the tests are simulated without sensitivities, which are added afterwards from their
+  /// converged states (fem::add_sensitivities) when the Jacobian is asked for, and the last
+  /// simulations are kept: the Jacobian at a point evaluated before costs its sensitivities alone.
+  /// It pays where most evaluations are trials whose Jacobian is never used (LM with bounds: its line
+  /// search; `project-110.toml` took 19.5 s CPU instead of 29.1 s) and costs where each
+  /// trial's is (a factorization per step more: the Table 1 identification 2.6 s against 2.0 s).
+  /// The project sets it when a coefficient has bounds.
+  bool sensitivities_after = false;
 
   void validate() const;
 };
@@ -78,10 +86,9 @@ class Objective : public Problem {
 
   const std::vector<Parameter>& parameters() const override { return parameters_; }
   int residuals() const override { return data_.size(); }
-  /// Simulates every test with the law's coefficients set to J (in parallel), then adds their
-  /// sensitivities when `jacobian` (fem::add_sensitivities): the residuals do not depend on whether
-  /// the Jacobian was asked for, and a Jacobian asked for at one of the last points evaluated without
-  /// it costs the sensitivities alone (its simulations are kept). A test that does not converge, or a point that leaves the deformed mesh
+  /// Simulates every test with the law's coefficients set to J (in parallel), with sensitivities
+  /// when `jacobian` (ObjectiveOptions::sensitivities_after: added afterwards, from the simulations
+  /// of the last points when J is one of them). A test that does not converge, or a point that leaves the deformed mesh
   /// (incremental data), gives ok = false and a message naming the test.
   /// With a TestSplit, the tests are spread over its processes; the answer is the same bit for bit.
   Evaluation evaluate(const Eigen::VectorXd& J, bool jacobian) const override;
@@ -101,6 +108,7 @@ class Objective : public Problem {
   /// together, and they are where a trial law fails, so a failed evaluation stops early. A failed
   /// evaluation reports the first failed test in this order.
   const std::vector<int>& order() const { return order_; }
+  bool keeps_simulations() const override { return options_.sensitivities_after; }
   const Experiment& experiment() const { return experiment_; }
   /// A clone of the law with the identified coefficients set to J (the others as given).
   std::unique_ptr<fem::Law> law_at(const Eigen::VectorXd& J) const;

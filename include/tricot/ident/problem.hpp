@@ -68,6 +68,10 @@ class Problem {
   }
   /// Whether lower_bound() can be other than 0.
   virtual bool has_lower_bound() const { return false; }
+  /// Whether a Jacobian asked for at one of the last points evaluated without it costs less than an
+  /// evaluation with it (ObjectiveOptions::sensitivities_after). LM then asks for it only where it
+  /// needs it, and its bounded line search interpolates f alone.
+  virtual bool keeps_simulations() const { return false; }
 };
 
 enum class JacobianMode {

@@ -51,6 +51,7 @@ class StabilizedObjective final : public Problem {
   /// ½‖barrier(J)‖²: f(J) is the objective's f (≥ 0) plus that.
   double lower_bound(const Eigen::VectorXd& J) const override { return 0.5 * barrier(J).squaredNorm(); }
   bool has_lower_bound() const override { return options_.weight > 0; }
+  bool keeps_simulations() const override { return objective_.keeps_simulations(); }
 
   int barrier_rows() const { return 3 * static_cast<int>(grid_.size()); }
   /// The barrier's residuals at J, and ∂r/∂J when `jacobian` is given.
