@@ -47,7 +47,7 @@ class LinearSolver {
   /// tangent a factorization costs ~1.05 refinement sweeps of 14 columns at 739 unknowns, ~1.8 at
   /// 2 919 (break-even with the predictor's sweep it saves), ~4.2 at 24 475 (BM_RigLu,
   /// BM_SimplicialLuRigSolve, BM_RigResidual).
-  static constexpr Eigen::Index kFactorizeColumnsBelow = 2000;
+  static constexpr Eigen::Index kFactorizeColumnsBelow = kSensitivitiesAfterBelow;
 
   /// Ordering and symbolic analysis of the (full, symmetric) pattern for the chosen backend.
   LinearSolver(const Eigen::SparseMatrix<double>& pattern, LinearSolverKind kind);

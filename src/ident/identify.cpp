@@ -579,8 +579,8 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
   if (state.phase != Phase::done && !cost.at(state.x, options.jacobian == JacobianMode::exact))
     finish(Termination::fe_failure, "at the start point: " + cost.last_failure);
 
-  if (!options.active_set) state.held.clear();
-  const bool cut_steps = options.barrier_growth > 0 && problem.has_lower_bound();  // a checkpoint of a run with the active set, resumed without
+  if (!options.active_set) state.held.clear();  // a checkpoint of a run with the active set, resumed without
+  const bool cut_steps = options.barrier_growth > 0 && problem.has_lower_bound();
   // A run resumed in phase lm goes on from its checkpoint's point, whose history entry and
   // checkpoint exist; every later LM run (a stability restart) records its start.
   bool record_start = !(resumed && state.phase == Phase::lm);

@@ -83,6 +83,10 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
   validate(parameters_);  // the caller's check (project: IdentificationSpec::validate); trusted in release
 #endif
 
+  after_ = options_.sensitivities_after &&
+           std::all_of(models_.begin(), models_.end(),
+                       [](const fem::TestModel& m) { return m.mesh.dofs() < fem::kSensitivitiesAfterBelow; });
+
   // The evaluation order: the largest nominal strains first, ² summed over the pull (grip
   // displacement over the quarter's height) and across it (guide over the quarter's width); a
   // force-controlled grip counts by its guide only. Ties keep the experiment's order.
@@ -172,7 +176,7 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
     return values;
   }
   fem::SolveOptions so = options_.solver;
-  const bool after = options_.sensitivities_after;
+  const bool after = after_;
   so.sensitivities = jacobian && !after;  // else added afterwards (fem::add_sensitivities)
   so.keep_residuals = false;
   std::vector<std::optional<fem::SimulationResult>> kept(T);

@@ -261,6 +261,29 @@ TEST(Objective, AJacobianAskedForAfterTheValuesIsTheOneAskedForAtOnce) {
   EXPECT_LT((d.jacobian - a.jacobian).cwiseAbs().maxCoeff(), 1e-7 * a.jacobian.cwiseAbs().maxCoeff());
 }
 
+// Above fem::kSensitivitiesAfterBelow unknowns a test's sensitivities cost a factorization per step
+// more afterwards than with the solve: the objective then keeps to the solve's.
+TEST(Objective, AddsNoSensitivitiesAfterwardsOnLargeMeshes) {
+  fem::RigOptions r;
+  r.name = "large", r.transverse_strain = 0.1, r.pull_strain = 0.1, r.steps = 2, r.nx = 20, r.ny = 20;
+  const fem::TestModel m = fem::make_rig_test(r);
+  ASSERT_GE(m.mesh.dofs(), fem::kSensitivitiesAfterBelow);
+  const fem::ReferenceFabric truth;
+  const fem::SimulationResult s = fem::simulate(m, truth);
+  ASSERT_TRUE(s.usable()) << s.message;
+  Experiment data;
+  data.tests.push_back(measure(m, s, field_points(3, 3, 20) * 1.5));
+  fem::ResponseSurface law = fem::ResponseSurface::preset("paper14", 0.05);
+  Eigen::VectorXd J = Eigen::VectorXd::Zero(14);
+  J(0) = 0.25, J(8) = 0.06, J(6) = 0.01, J(12) = 0.01;
+  law.set_coefficients(J);
+  std::vector<Parameter> p;
+  for (const std::string& name : law.coefficient_names()) p.push_back(Parameter{name});
+  ObjectiveOptions o;
+  o.sensitivities_after = true;
+  EXPECT_FALSE(Objective({m}, data, law, p, o).keeps_simulations());
+}
+
 // The most stretched tests run first (Objective::order): wale-30 (pull and held strain 0.3), then
 // course-20 (0.3 and 0.2), then the two without a held strain in the experiment's order.
 TEST(Objective, RunsTheMostStretchedTestsFirst) {

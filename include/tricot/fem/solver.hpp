@@ -102,6 +102,12 @@ struct SimulationResult {
 SimulationResult simulate(const TestModel& test, const Law& law, const SolveOptions& options = {},
                           const Reporter& reporter = {});
 
+/// Below this many unknowns simulate()'s sensitivities of a non-symmetric tangent factorize the
+/// converged tangent anyway, so add_sensitivities costs no more than they do; above, they are refined
+/// on Newton's last factorization, and add_sensitivities costs a factorization per step more (the
+/// paper-scale evaluation, 24 874 dofs: 17.7 s against 12.2 s wall, bench/knit_campaign_benchmark.cpp).
+constexpr Eigen::Index kSensitivitiesAfterBelow = 2000;
+
 /// The sensitivities (StepResult::du_dc, dforce_dc) of a usable `result` of simulate(test, law,
 /// options) run without them, computed afterwards from its converged states: per step, the tangent
 /// and ∂R/∂c there, one factorization and one multi-column solve (the arithmetic of simulate() with

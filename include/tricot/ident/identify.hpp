@@ -107,9 +107,9 @@ struct IdentifyOptions {
   /// failed FE trials and 5 stability restarts, 10 none, 1 none but more iterations.
   double initial_trust_region_radius = 10;
   /// With bounds on the parameters, Ceres's projected Armijo line search along each LM step (its
-  /// `max_num_line_search_step_size_iterations`; quadratic interpolation of f). Each of its trials
-  /// is an FE evaluation (without sensitivities since stop 24), but its backtracking is what saves LM's long steps that fail in the FE: on the §4
-  /// campaign LM without it was still at f = 1.59 after 74 iterations (each failure shrinks the radius,
+  /// `max_num_line_search_step_size_iterations`). Each of its trials is an FE evaluation (without
+  /// sensitivities, and interpolated on f alone, where the problem keeps its simulations), but its
+  /// backtracking is what saves LM's long steps that fail in the FE: on the §4 campaign LM without it was still at f = 1.59 after 74 iterations (each failure shrinks the radius,
   /// and the short damped steps run into cliffs of f), with it at 0.39 after 2 (docs/validation.md,
   /// issue 12).
   bool bounds_line_search = true;

@@ -47,7 +47,9 @@ struct ObjectiveOptions {
   /// It pays where most evaluations are trials whose Jacobian is never used (LM with bounds: its line
   /// search; `project-110.toml` took 19.5 s CPU instead of 29.1 s) and costs where each
   /// trial's is (a factorization per step more: the Table 1 identification 2.6 s against 2.0 s).
-  /// The project sets it when a coefficient has bounds.
+  /// Used only when every test has fewer than fem::kSensitivitiesAfterBelow unknowns: above, it
+  /// costs a factorization per step more than the sensitivities with the solve. The project sets it
+  /// when a coefficient has bounds.
   bool sensitivities_after = false;
 
   void validate() const;
@@ -88,8 +90,8 @@ class Objective : public Problem {
   int residuals() const override { return data_.size(); }
   /// Simulates every test with the law's coefficients set to J (in parallel), with sensitivities
   /// when `jacobian` (ObjectiveOptions::sensitivities_after: added afterwards, from the simulations
-  /// of the last points when J is one of them). A test that does not converge, or a point that leaves the deformed mesh
-  /// (incremental data), gives ok = false and a message naming the test.
+  /// of the last points when J is one of them). A test that does not converge, or a point that
+  /// leaves the deformed mesh (incremental data), gives ok = false and a message naming the test.
   /// With a TestSplit, the tests are spread over its processes; the answer is the same bit for bit.
   Evaluation evaluate(const Eigen::VectorXd& J, bool jacobian) const override;
   /// The values of `tests` (indices into models()) at J, simulated in parallel threads, in order();
@@ -108,7 +110,7 @@ class Objective : public Problem {
   /// together, and they are where a trial law fails, so a failed evaluation stops early. A failed
   /// evaluation reports the first failed test in this order.
   const std::vector<int>& order() const { return order_; }
-  bool keeps_simulations() const override { return options_.sensitivities_after; }
+  bool keeps_simulations() const override { return after_; }
   const Experiment& experiment() const { return experiment_; }
   /// A clone of the law with the identified coefficients set to J (the others as given).
   std::unique_ptr<fem::Law> law_at(const Eigen::VectorXd& J) const;
@@ -123,6 +125,7 @@ class Objective : public Problem {
   ScaledResiduals data_;
   std::vector<std::vector<fem::Location>> reference_locations_;  // per test, per point
   std::shared_ptr<const TestSplit> split_;
+  bool after_ = false;      // ObjectiveOptions::sensitivities_after, where every test is small enough
   std::vector<int> order_;  // order()
   std::vector<int> rank_;   // rank_[t]: t's place in order_
   /// The simulations (without sensitivities) of the last points evaluated, newest first, per test
