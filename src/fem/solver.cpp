@@ -23,6 +23,16 @@ void SolveOptions::validate() const {
   if (max_cutbacks < 0 || max_cutbacks > 30) bad("solver.max_cutbacks", std::to_string(max_cutbacks), "0 to 30");
 }
 
+namespace {
+// The unknowns of displacements u (a StepResult's u or a column of its du_dc).
+Eigen::VectorXd unknowns(const detail::DofMap& dofs, const Eigen::Ref<const Eigen::VectorXd>& u) {
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(dofs.equations);
+  for (size_t d = 0; d < dofs.eq.size(); ++d)
+    if (dofs.eq[d] >= 0) z(dofs.eq[d]) = u(static_cast<Eigen::Index>(d));
+  return z;
+}
+}  // namespace
+
 const char* to_string(SolveTermination t) {
   switch (t) {
     case SolveTermination::converged: return "converged";
@@ -86,6 +96,9 @@ class Simulation {
   double reaction_norm(const Load& L) const;
   bool factorize(Failure& fail);
   bool newton(const Load& from, const Load& to, StepResult& step, Failure& fail);
+  bool iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Failure& fail);
+  bool warm_step(const Load& to, const Eigen::VectorXd& z_start, StepResult& step);
+  Eigen::VectorXd warm_state(const StepResult& previous) const;
   bool solve_step(const Load& target, StepResult& step, Failure& fail);
   bool set_transverse_dimension(Failure& fail, std::string& where, std::vector<StepResult>& states);
   void record(const Load& L, StepResult& step);
@@ -291,6 +304,12 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
     }
   }
   tangent_next_ = L > 0 ? Eigen::VectorXd(dz_t / L) : Eigen::VectorXd();
+  return iterate(std::move(z), to, step, fail);
+}
+
+// Newton's iterations at `to` from z, the state of the last evaluation (assembled_); z_ = the
+// converged state.
+bool Simulation::iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Failure& fail) {
   Eigen::VectorXd R = free_residual(to);
   double r = R.norm();
   for (int it = 0;; ++it) {
@@ -370,6 +389,33 @@ bool Simulation::set_transverse_dimension(Failure& fail, std::string& where, std
     states.push_back(std::move(scratch));
   }
   return true;
+}
+
+// SolveOptions::warm_start's state for one of its steps: its u, moved by du/dc · Δc where it has them.
+Eigen::VectorXd Simulation::warm_state(const StepResult& previous) const {
+  Eigen::VectorXd z = unknowns(dofs_, previous.u);
+  if (previous.du_dc.size() > 0) z += unknowns(dofs_, previous.du_dc * options_.warm_start_dc);
+  return z;
+}
+
+// Newton at `to` straight from z_start (SolveOptions::warm_start). False when it fails, with the last
+// converged state evaluated again: the caller then takes the load path from there.
+bool Simulation::warm_step(const Load& to, const Eigen::VectorXd& z_start, StepResult& step) {
+  if (options_.cancelled && options_.cancelled()) return false;  // the load path says so
+  const Eigen::VectorXd z_keep = z_;
+  Failure fail;
+  StepResult trial;
+  if (z_start.allFinite() && evaluate(z_start, to) && iterate(z_start, to, trial, fail)) {
+    history_.push_back({load_, z_keep, Eigen::VectorXd()});  // its tangent is unknown
+    if (history_.size() > kHistory) history_.erase(history_.begin());
+    load_ = to;
+    step.iterations += trial.iterations;
+    step.residuals = std::move(trial.residuals);
+    return true;
+  }
+  z_ = z_keep;
+  evaluate(z_, load_);  // converged before: it evaluates
+  return false;
 }
 
 // One step of the list, halving the increment on failure (up to max_cutbacks halvings).
@@ -476,8 +522,12 @@ SimulationResult Simulation::run() {
   if (reporter_.log) reporter_.info("linear solver: " + linear_solver_.description());
   z_.setZero(dofs_.equations);
   Failure fail;
-  // The reference state's tangent starts the first predictor.
-  if (!evaluate(z_, load_) || !factorize(fail)) {
+  const SimulationResult* warm = options_.warm_start;
+  // Without sensitivities a nearby law's states start Newton further off than the load path's predictor.
+  if (warm && (!warm->usable() || warm->steps.size() != n || warm->steps.front().du_dc.cols() != options_.warm_start_dc.size()))
+    warm = nullptr;
+  // The reference state's tangent starts the first predictor (a warm start needs none).
+  if (!evaluate(z_, load_) || (!warm && !factorize(fail))) {
     result.termination = assembled_.status != ElementStatus::ok ? SolveTermination::invalid_state
                                                         : SolveTermination::not_converged;
     result.message = "test '" + test_.name + "': the reference state cannot be solved: " +
@@ -485,7 +535,13 @@ SimulationResult Simulation::run() {
   }
   if (result.usable() && test_.guide_setting_steps > 0) {
     std::string where;
-    if (!set_transverse_dimension(fail, where, result.setting)) {
+    StepResult set;
+    Load to;
+    to.c = test_.guide[0];
+    if (warm && !warm->setting.empty() && warm_step(to, warm_state(warm->setting.back()), set)) {
+      record(load_, set);
+      result.setting.push_back(std::move(set));
+    } else if (!set_transverse_dimension(fail, where, result.setting)) {
       result.termination = termination(fail);
       result.message = "test '" + test_.name + "': " + where + ": " + fail.why + ellipticity_note(fail.element);
     }
@@ -494,7 +550,8 @@ SimulationResult Simulation::run() {
     StepResult step;
     step.load = test_.loads[k];
     if (reporter_.log) reporter_.info("step " + std::to_string(k + 1) + "/" + std::to_string(n) + ", load " + fmt("%.6g", step.load));
-    if (!solve_step(load_at(k), step, fail)) {
+    const bool warm_done = warm && warm_step(load_at(k), warm_state(warm->steps[k]), step);
+    if (!warm_done && !solve_step(load_at(k), step, fail)) {
       result.termination = termination(fail);
       result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) + " of " + std::to_string(n) +
                        " (load " + fmt("%.6g", step.load) + ") failed after " + std::to_string(step.cutbacks) +

@@ -88,6 +88,9 @@ void IdentifyOptions::validate() const {
   check(initial_trust_region_radius > 0 && initial_trust_region_radius <= 1e16, "initial_trust_region_radius",
         initial_trust_region_radius, "(0, 1e16]");
   check(barrier_growth >= 0 && barrier_growth < 1, "barrier_growth", barrier_growth, "[0, 1)");
+  if (start && resume_from)
+    throw InputError(Location{"", 0, "identify.start"}, "a start point and a checkpoint to resume from",
+                     "one of them", "both");
   jacobian_options().validate();
 }
 
@@ -551,6 +554,11 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
                        "parameters and scales of the checkpoint", "those of the project");
     static_cast<LmProgress&>(state) = c;
     resumed = true;
+  } else if (options.start) {
+    if (options.start->size() != n)
+      throw InputError(Location{"", 0, "identify.start"}, "one start value per parameter", std::to_string(n) + " values",
+                       std::to_string(options.start->size()));
+    state.x = options.start->cwiseQuotient(scales);
   } else {
     state.x.resize(n);
     for (int k = 0; k < n; ++k) state.x(k) = params[k].start / scales(k);
@@ -748,6 +756,40 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
   result.history = std::move(state.history);
   result.wall_seconds = state.wall_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
+}
+
+int LevelsResult::evaluations() const {
+  int n = 0;
+  for (const IdentifyResult& r : levels) n += r.evaluations;
+  return n;
+}
+
+LevelsResult identify_by_levels(const std::vector<const Problem*>& levels, const IdentifyOptions& options,
+                                const Reporter& reporter) {
+  const Location where{"", 0, "identify.levels"};
+  if (levels.empty()) throw InputError(where, "no level to identify on", "one problem or more", "none");
+  if (options.resume_from) throw InputError(where, "a checkpoint to resume a run by levels from", "none", "one");
+  const auto same = [](const Parameter& a, const Parameter& b) {
+    return a.name == b.name && a.resolved_scale() == b.resolved_scale() && a.lower == b.lower && a.upper == b.upper;
+  };
+  for (const Problem* p : levels) {
+    const auto& a = p->parameters();
+    const auto& b = levels.front()->parameters();
+    if (a.size() != b.size() || !std::equal(a.begin(), a.end(), b.begin(), same))
+      throw InputError(where, "levels that identify different parameters", "the same names, scales and bounds on every level",
+                       "different ones");
+  }
+  LevelsResult out;
+  IdentifyOptions o = options;
+  for (size_t level = 0; level < levels.size(); ++level) {
+    if (level > 0) o.stability_test = false, o.start = out.levels.back().parameters, o.initial_trust_region_radius = 1e4;
+    out.levels.push_back(identify(*levels[level], o, reporter));
+    out.wall_seconds += out.levels.back().wall_seconds;
+    if (out.levels.back().termination == Termination::fe_failure) break;
+  }
+  out.result = out.levels.back();
+  out.result.stability_passed = out.levels.front().stability_passed;  // the test ran there
+  return out;
 }
 
 }  // namespace tricot::ident

@@ -188,7 +188,13 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
         break;
       }
   }
-  std::vector<std::optional<fem::SimulationResult>> fresh(T);
+  std::shared_ptr<const Warm> warm;
+  if (options_.warm_start) {
+    const std::lock_guard<std::mutex> lock(simulated_mutex_);
+    warm = warm_;
+  }
+  const Eigen::VectorXd dc = warm ? Eigen::VectorXd(law->coefficients() - warm->c) : Eigen::VectorXd();
+  std::vector<std::optional<fem::SimulationResult>> fresh(T), solved(options_.warm_start && jacobian ? T : 0);
   // A failed test fails the evaluation: the tests after the first failed one (in order_) are not run,
   // or stop at their next increment. The first failing test always runs to its end, whatever the
   // threads do, so the evaluation's message is the same on any number of threads. first_failed holds
@@ -210,6 +216,7 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
     if (first_failed.load(std::memory_order_relaxed) < rank) continue;
     fem::SolveOptions st = so;
     st.cancelled = [&first_failed, rank] { return first_failed.load(std::memory_order_relaxed) < rank; };
+    if (warm && warm->tests[t]) st.warm_start = &*warm->tests[t], st.warm_start_dc = dc;
     TestValues& v = values[t];
     detail::Prediction P;
     try {
@@ -227,6 +234,7 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
       }
       v.ok = detail::predict(models_[t], experiment_.tests[t], reference_locations_[t], sim,
                              jacobian ? &coefficient_ : nullptr, P, v.message);
+      if (v.ok && !solved.empty()) solved[t] = std::move(sim);
     } catch (const std::exception& e) {
       v.message = "test " + models_[t].name + ": " + e.what();
     }
@@ -271,6 +279,11 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
       }
       row += g.size;
     }
+  }
+  if (!solved.empty() && std::all_of(tests.begin(), tests.end(), [&](int t) { return values[t].ok; })) {
+    auto next = std::make_shared<Warm>(Warm{law->coefficients(), std::move(solved)});
+    const std::lock_guard<std::mutex> lock(simulated_mutex_);
+    warm_ = std::move(next);
   }
   if (after && !jacobian && std::any_of(fresh.begin(), fresh.end(), [](const auto& f) { return f.has_value(); })) {
     const std::lock_guard<std::mutex> lock(simulated_mutex_);

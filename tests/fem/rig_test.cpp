@@ -10,6 +10,7 @@
 #include "testing/record.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/fem/reference_fabric.hpp"
+#include "tricot/fem/response_surface.hpp"
 #include "tricot/fem/solver.hpp"
 
 using namespace tricot;
@@ -132,4 +133,47 @@ TEST(Rig, ATransverseSettingThatInvertsAnElementIsAStatusNamingTheTestAndTheSett
   EXPECT_FALSE(r.usable());
   EXPECT_NE(r.message.find(o.name), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("transverse"), std::string::npos) << r.message;
+}
+
+TEST(WarmStart, ReachesTheColdStatesOfANearbyLawInFewerFactorizations) {
+  // An identification's next evaluation: the 110 mm wale-40 rig test (setting, then 21 steps) with
+  // paper14, its coefficients moved by ±1 %, solved cold and from the first law's run with its
+  // sensitivities (and from one without them, which is ignored).
+  ResponseSurface law = ResponseSurface::preset("paper14", 0.05);
+  Eigen::VectorXd c(14);
+  c << 0.218, 0.235, -0.137, 0.0186, 0.0205, 0, 0.0755, 0.101, 0.0494, 0.0772, -0.0818, 0.111, 0.101, 0.0851;
+  law.set_coefficients(c);
+  const TestModel t = make_rig_test(campaign_test(PullDirection::wale, 0.4, 0.65));
+  SolveOptions with_sensitivities;
+  with_sensitivities.sensitivities = true;
+  const SimulationResult before = simulate(t, law, with_sensitivities), plain = simulate(t, law);
+  ASSERT_TRUE(before.usable()) << before.message;
+  Eigen::VectorXd c2 = c;
+  for (Eigen::Index k = 0; k < c.size(); ++k) c2(k) *= k % 2 ? 0.99 : 1.01;
+  ResponseSurface moved = law;
+  moved.set_coefficients(c2);
+  const SimulationResult cold = simulate(t, moved);
+  ASSERT_TRUE(cold.usable()) << cold.message;
+  for (const SimulationResult* from : {&before, &plain}) {
+    SolveOptions o;
+    o.warm_start = from;  // `plain` has no sensitivities: it is ignored, and the run is the cold one
+    o.warm_start_dc = c2 - c;
+    const SimulationResult warm = simulate(t, moved, o);
+    ASSERT_TRUE(warm.usable()) << warm.message;
+    ASSERT_EQ(warm.steps.size(), cold.steps.size());
+    if (from == &plain) {
+      EXPECT_EQ(warm.factorizations, cold.factorizations);
+      EXPECT_EQ(warm.steps.back().u, cold.steps.back().u);
+      continue;
+    }
+    EXPECT_EQ(warm.setting.size(), 1u);  // the set state alone
+    EXPECT_LE((warm.setting.back().u - cold.setting.back().u).norm(), 1e-8 * cold.setting.back().u.norm());
+    for (size_t k = 0; k < cold.steps.size(); ++k) {
+      EXPECT_LE((warm.steps[k].u - cold.steps[k].u).norm(), 1e-8 * cold.steps[k].u.norm()) << "step " << k + 1;
+      EXPECT_NEAR(warm.steps[k].edge_force, cold.steps[k].edge_force, 1e-8 * std::abs(cold.steps[k].edge_force));
+    }
+    record("warm_start_factorizations", warm.factorizations, 0);
+    EXPECT_LT(warm.factorizations, cold.factorizations);
+  }
+  record("warm_start_factorizations_cold", cold.factorizations, 0);
 }

@@ -51,6 +51,16 @@ struct SolveOptions {
   /// SolveTermination::cancelled (e.g. an identification whose evaluation already failed in another
   /// test: its result is discarded anyway). Called from the simulating thread; must be thread-safe.
   std::function<bool()> cancelled;
+  /// A converged run of the same test, with sensitivities, under a nearby law to start from (an
+  /// identification's last evaluation with a Jacobian), or null (a run without sensitivities is
+  /// ignored: its states start Newton further off than the load path's predictor); it must outlive
+  /// the call. Each step's Newton starts at that run's state moved by du/dc · warm_start_dc instead
+  /// of the predictor along the load path, and the rig's setting is made in one increment from that
+  /// run's set state (then SimulationResult::setting holds that one state). A step that fails so
+  /// takes the load path. The states are the same to the tolerance, not bit for bit.
+  const struct SimulationResult* warm_start = nullptr;
+  /// The law's coefficients now minus those of warm_start's run (all of them, in the law's order).
+  Eigen::VectorXd warm_start_dc;
 
   /// Throws InputError naming `solver.<field>` when out of range.
   void validate() const;

@@ -141,6 +141,9 @@ struct IdentifyOptions {
   /// or the end, by its phase), so it reaches the same answer with the same iteration count. Its
   /// names and scales must match the problem's (InputError `resume`).
   std::optional<Checkpoint> resume_from;
+  /// J to start from instead of the parameters' start values (one value per parameter), e.g. a coarser
+  /// model's answer (identify_by_levels). Not with resume_from, whose point it would replace.
+  std::optional<Eigen::VectorXd> start;
 
   /// Throws InputError naming `identify.<field>`.
   void validate() const;
@@ -182,5 +185,25 @@ struct IdentifyResult {
 /// Progress: one report per LM iteration, stage "identify", detail "f = …, C10 = …, …".
 IdentifyResult identify(const Problem& problem, const IdentifyOptions& options = {},
                         const Reporter& reporter = {});
+
+/// An identification by mesh levels (issue 15; docs/validation.md "The paper's scale by mesh levels").
+struct LevelsResult {
+  /// The finest level's run: the answer, f, its uncertainty; stability_passed: the first level's.
+  IdentifyResult result;
+  std::vector<IdentifyResult> levels;  ///< every level's run, coarse to fine (the last is `result`)
+  double wall_seconds = 0;             ///< all levels together
+  int evaluations() const;             ///< FE evaluations of all levels together
+};
+
+/// LM on the same model discretised ever finer (`levels`, coarse to fine), each level from the answer
+/// of the one before. Only the discretisation moves the optimum from level to level, so the finest
+/// level's LM starts next to its own and needs a few of its costly evaluations, not the tens a
+/// start far away takes. The paper's stability test (options.stability_test) runs on the first level
+/// only: the finer levels polish the minimum whose neighbourhood it checked, where each of its 2n
+/// trials would cost a fine evaluation. A level that ends in fe_failure ends the run (its result is
+/// the run's). The levels must identify the same parameters (names, scales and bounds; InputError
+/// `identify.levels`); options.start starts the first level, and resume_from is refused (one run per level).
+LevelsResult identify_by_levels(const std::vector<const Problem*>& levels, const IdentifyOptions& options = {},
+                                const Reporter& reporter = {});
 
 }  // namespace tricot::ident

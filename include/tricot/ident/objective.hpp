@@ -51,6 +51,13 @@ struct ObjectiveOptions {
   /// costs a factorization per step more than the sensitivities with the solve. The project sets it
   /// when a coefficient has bounds.
   bool sensitivities_after = false;
+  /// true: every evaluation's FE starts from the simulations of the last evaluation with a Jacobian
+  /// (fem::SolveOptions::warm_start): Newton starts at those states moved by their du/dc · Δc, and
+  /// the rig's setting takes one increment. Along an identification the law moves little from one
+  /// evaluation to the next, so most steps take one Newton iteration (the paper-scale identification:
+  /// docs/validation.md "The paper's scale by mesh levels"). The values then agree with a cold
+  /// evaluation's to the FE tolerance, not bit for bit, and depend on the evaluations before.
+  bool warm_start = false;
 
   void validate() const;
 };
@@ -136,7 +143,14 @@ class Objective : public Problem {
   };
   static constexpr std::size_t kSimulated = 4;
   mutable std::deque<Simulated> simulated_;
-  mutable std::mutex simulated_mutex_;
+  /// ObjectiveOptions::warm_start: the law's coefficients and the simulations (with sensitivities) of
+  /// the last evaluation with a Jacobian where every test ran.
+  struct Warm {
+    Eigen::VectorXd c;
+    std::vector<std::optional<fem::SimulationResult>> tests;
+  };
+  mutable std::shared_ptr<const Warm> warm_;
+  mutable std::mutex simulated_mutex_;  // guards simulated_ and warm_
 };
 
 }  // namespace tricot::ident
