@@ -154,6 +154,11 @@ SectionSpec identify_section() {
           "f at the accepted point; each step is cut along its direction where it would grow more (the\n"
           "barrier needs no FE). 0 = off. See docs/validation.md, issue 12.",
           0, 1),
+      key("warm_start", ident::ObjectiveOptions{}.warm_start,
+          "Start each evaluation's FE from the last evaluation with a Jacobian, moved by its\n"
+          "sensitivities, instead of along the load path: on large meshes an evaluation costs about a\n"
+          "quarter less (the paper-scale fixture, 24 874 dofs: 10.6 s against 14.6 s). The values then\n"
+          "agree with a cold evaluation's to the FE tolerance, not bit for bit. See docs/validation.md."),
   };
   return s;
 }
@@ -275,6 +280,7 @@ IdentifyTable IdentifyTable::from_config(const io::Node& s) {
   t.line_search_trials = static_cast<int>(s.integer("line_search_trials"));
   t.active_set = s.boolean("active_set");
   t.barrier_growth = s.real("barrier_growth");
+  t.warm_start = s.boolean("warm_start");
   return t;
 }
 
@@ -634,6 +640,7 @@ Project build_project(const IdentificationSpec& spec, const fs::path& base) {
   oo.weights.field_uv = dn.field_uv;
   oo.solver = P.solver;
   oo.threads = P.options.threads;
+  oo.warm_start = spec.identify.warm_start;
   // With bounds LM's line search makes trials whose Jacobian it never uses: sensitivities afterwards.
   oo.sensitivities_after = std::any_of(m.parameters.begin(), m.parameters.end(), [](const ident::Parameter& p) {
     return std::isfinite(p.lower) || std::isfinite(p.upper);

@@ -261,6 +261,29 @@ TEST(Objective, AJacobianAskedForAfterTheValuesIsTheOneAskedForAtOnce) {
   EXPECT_LT((d.jacobian - a.jacobian).cwiseAbs().maxCoeff(), 1e-7 * a.jacobian.cwiseAbs().maxCoeff());
 }
 
+// ObjectiveOptions::warm_start: an evaluation starts from the last one with a Jacobian (moved by its
+// sensitivities). Its residuals and Jacobian are a cold evaluation's to the FE tolerance (Newton's
+// 1e-10 of the reactions: 1e-8 here), with threads or without, after values-only evaluations too.
+TEST(Objective, AWarmStartedEvaluationIsTheColdOneToTheSolversTolerance) {
+  const RigCampaign c = rig_campaign();
+  Eigen::VectorXd J = c.law.coefficients(), J2 = J;
+  J2(0) *= 1.02, J2(8) *= 0.98, J2(1) += 0.01;
+  ObjectiveOptions o;
+  const Objective cold(c.models, c.data, c.law, c.parameters, o);
+  o.warm_start = true;
+  for (int threads : {1, 2}) {
+    o.threads = threads;
+    const Objective warm(c.models, c.data, c.law, c.parameters, o);
+    ASSERT_TRUE(warm.evaluate(J, true).ok);
+    ASSERT_TRUE(warm.evaluate(0.5 * (J + J2), false).ok);  // no Jacobian: not a start for the next
+    const Evaluation w = warm.evaluate(J2, true), k = cold.evaluate(J2, true);
+    ASSERT_TRUE(w.ok && k.ok) << w.message << k.message;
+    EXPECT_LT((w.r - k.r).cwiseAbs().maxCoeff(), 1e-8 * k.r.cwiseAbs().maxCoeff()) << threads << " threads";
+    EXPECT_LT((w.jacobian - k.jacobian).cwiseAbs().maxCoeff(), 1e-7 * k.jacobian.cwiseAbs().maxCoeff());
+    EXPECT_FALSE((w.r.array() == k.r.array()).all());  // it did start elsewhere
+  }
+}
+
 // Above fem::kSensitivitiesAfterBelow unknowns a test's sensitivities cost a factorization per step
 // more afterwards than with the solve: the objective then keeps to the solve's.
 TEST(Objective, AddsNoSensitivitiesAfterwardsOnLargeMeshes) {

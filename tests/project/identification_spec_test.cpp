@@ -27,6 +27,9 @@ TEST(IdentifyTable, TheSchemasDefaultsAreTheEnginesDefaults) {
   EXPECT_EQ(read.jacobian, engine.jacobian);
   EXPECT_EQ(read.initial_trust_region_radius, engine.initial_trust_region_radius);
   EXPECT_EQ(read.line_search_trials, engine.line_search_trials);
+  EXPECT_EQ(IdentifyTable::from_config(root.section("identify")).warm_start, ident::ObjectiveOptions{}.warm_start);
+  const io::Node warm = io::parse_config(identify_schema(), "[identify]\nwarm_start = true\n", "project.toml");
+  EXPECT_TRUE(IdentifyTable::from_config(warm.section("identify")).warm_start);
 }
 
 TEST(IdentifyTable, AnEnginesErrorNamesTheConfigKey) {

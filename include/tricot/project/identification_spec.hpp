@@ -45,6 +45,7 @@ struct IdentifyTable {
   int line_search_trials = ident::IdentifyOptions{}.line_search_trials;
   bool active_set = ident::IdentifyOptions{}.active_set;
   double barrier_growth = ident::IdentifyOptions{}.barrier_growth;
+  bool warm_start = ident::ObjectiveOptions{}.warm_start;  ///< the objective's (ObjectiveOptions)
   Origin origin{"identify"};
 
   /// From the [identify] table of a file read with identify_schema().
