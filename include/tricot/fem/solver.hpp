@@ -56,8 +56,10 @@ struct SolveOptions {
   /// ignored: its states start Newton further off than the load path's predictor); it must outlive
   /// the call. Each step's Newton starts at that run's state moved by du/dc · warm_start_dc instead
   /// of the predictor along the load path, and the rig's setting is made in one increment from that
-  /// run's set state (then SimulationResult::setting holds that one state). A step that fails so
-  /// takes the load path. The states are the same to the tolerance, not bit for bit.
+  /// run's set state (then SimulationResult::setting holds that one state). After its first Newton
+  /// iteration such a step keeps the tangent's factorization while the residual falls 10× an
+  /// iteration (chord steps), and it takes the load path when it has not converged in 5. The
+  /// states are the same to the tolerance, not bit for bit.
   const struct SimulationResult* warm_start = nullptr;
   /// The law's coefficients now minus those of warm_start's run (all of them, in the law's order).
   Eigen::VectorXd warm_start_dc;
