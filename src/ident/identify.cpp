@@ -843,13 +843,12 @@ IdentifyResult corrected_level(const Problem& coarse, const Problem& fine, const
     } else {
       ++r.failed_evaluations;
     }
-    if (change < options.delta) {  // at the optimum to δ, whether f still fell (round-off) or not
+    if (!lower) break;  // the corrected model found no step that lowers the fine f: LM takes over
+    if (change < options.delta) {
       r.termination = Termination::step_below_delta;
       r.message = "a corrected-model step changed no coefficient by more than delta = " + format_number(options.delta) +
                   " (relative, eq. 3)";
       done = true;
-    } else if (!lower) {
-      break;
     }
   }
   if (!done && r.termination != Termination::objective_below_epsilon) {  // LM on the fine level from c

@@ -73,7 +73,6 @@ TEST(MooneyIdentification, ByMeshLevelsReachesTheFineAnswerWithFewerFineEvaluati
   }
   EXPECT_LT(levels.levels[1].evaluations, direct.evaluations / 2);
   EXPECT_GT(levels.coarse_evaluations, 0);
-  std::printf("direct %d, levels %d + %d (coarse in corrected %d), it %d, %s\n", direct.evaluations, levels.levels[0].evaluations, levels.levels[1].evaluations, levels.coarse_evaluations, levels.levels[1].iterations, levels.result.message.c_str());
   EXPECT_EQ(levels.evaluations(), levels.levels[0].evaluations + levels.levels[1].evaluations + levels.coarse_evaluations);
 
   std::vector<Parameter> other = params;
