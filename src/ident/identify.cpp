@@ -766,9 +766,10 @@ int LevelsResult::evaluations() const {
 
 namespace {
 
-/// The coarse level's residuals corrected to the fine level's at `at`, to first order (THEORY §3):
+/// The coarse level's residuals corrected to the fine level's at `at`, to first order:
 ///     r̃(J) = r_c(J) + (r_f(at) − r_c(at)) + (∂r_f/∂J(at) − ∂r_c/∂J(at)) (J − at),
-/// so r̃ and ∂r̃/∂J are the fine level's at `at`, and r̃ keeps the coarse model's curvature elsewhere.
+/// so r̃ and ∂r̃/∂J are the fine level's at `at`, and r̃ keeps the coarse model's curvature elsewhere
+/// (space mapping; docs/validation.md "The paper's scale by mesh levels").
 class CorrectedProblem final : public Problem {
  public:
   CorrectedProblem(const Problem& coarse, Eigen::VectorXd at, const Evaluation& fine, const Evaluation& coarse_at)

@@ -200,14 +200,16 @@ struct LevelsResult {
 
 /// LM on the same tests meshed ever finer (`levels`, coarse to fine). The first level runs LM from
 /// the parameters' start (or options.start) with the paper's stability test. Every finer level starts
-/// from the answer before it and is solved through the first level corrected to it (space mapping,
-/// THEORY §3): at its current point c it is evaluated once with its Jacobian, the first level's
-/// residuals are shifted to match its r and ∂r/∂J at c, that corrected coarse problem is minimised by
-/// LM (cheap), and c moves to its minimum when the fine f decreases there. The coarse model carries
-/// the curvature that LM's linear model lacks, so a few fine evaluations take it to the fine optimum
-/// (the paper-scale identification: 4 at 24 874 dofs, where LM on the fine level took 24 after two
-/// levels). Stops on ε (eq. 2) and δ (eq. 3) as LM; where a corrected step does not lower f, LM on
-/// the fine level itself goes on from c. A level that ends in fe_failure ends the run. The levels must
+/// from the answer before it and is solved through the first level corrected to it (space mapping;
+/// docs/validation.md "The paper's scale by mesh levels"). At its current point c:
+/// - it is evaluated once with its Jacobian;
+/// - the first level's residuals are shifted to match its r and ∂r/∂J at c;
+/// - LM minimises that corrected coarse problem (cheap), and c moves to its minimum when the fine f
+///   decreases there.
+/// The coarse model carries the curvature that LM's linear model lacks, so a few fine evaluations
+/// reach the fine optimum (the paper-scale identification: 4 at 24 874 dofs, where LM alone took 37).
+/// Stops on ε (eq. 2) and δ (eq. 3) as LM does. Where a corrected step does not lower f, LM on the
+/// fine level itself goes on from c. A level that ends in fe_failure ends the run. The levels must
 /// identify the same parameters (names, scales and bounds; InputError `identify.levels`), and
 /// resume_from is refused (InputError `identify.levels`).
 LevelsResult identify_by_levels(const std::vector<const Problem*>& levels, const IdentifyOptions& options = {},
