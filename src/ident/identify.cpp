@@ -809,9 +809,10 @@ IdentifyResult corrected_level(const Problem& coarse, const Problem& fine, const
   IdentifyOptions sub = options;
   sub.stability_test = false, sub.on_checkpoint = {}, sub.initial_trust_region_radius = 1e4;
   const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  const JacobianOptions jo = options.jacobian_options();  // exact, or finite differences
   Eigen::VectorXd c = start;
-  Evaluation e = fine.evaluate(c, true);
-  r.evaluations = r.jacobian_evaluations = 1;
+  Evaluation e = evaluate(fine, c, true, jo);
+  r.evaluations = e.evaluations, r.jacobian_evaluations = 1;
   if (!e.ok) {
     r.termination = Termination::fe_failure, r.message = "at the start point: " + e.message, r.parameters = c;
     r.wall_seconds = seconds();
@@ -825,15 +826,15 @@ IdentifyResult corrected_level(const Problem& coarse, const Problem& fine, const
       r.message = "f = " + format_number(e.objective()) + " < epsilon = " + format_number(options.epsilon) + " (eq. 2)";
       break;
     }
-    const Evaluation at = coarse.evaluate(c, true);
-    ++coarse_evaluations;
+    const Evaluation at = evaluate(coarse, c, true, jo);
+    coarse_evaluations += at.evaluations;
     if (!at.ok) break;  // LM on the fine level takes over
     sub.start = c;
     const IdentifyResult step = identify(CorrectedProblem(coarse, c, e, at), sub);
     coarse_evaluations += step.evaluations;
     ++r.iterations;
-    const Evaluation next = fine.evaluate(step.parameters, true);
-    ++r.evaluations, ++r.jacobian_evaluations;
+    const Evaluation next = evaluate(fine, step.parameters, true, jo);
+    r.evaluations += next.evaluations, ++r.jacobian_evaluations;
     const double change = (step.parameters - c).cwiseQuotient(scales).cwiseAbs().maxCoeff();
     const bool lower = next.ok && next.objective() < e.objective();
     if (lower) {
