@@ -501,9 +501,7 @@ bool Simulation::add_sensitivities(SimulationResult& result) {
   for (size_t k = 0; k < result.steps.size(); ++k) {
     StepResult& step = result.steps[k];
     load_ = load_at(k);
-    z_.setZero(dofs_.equations);
-    for (size_t d = 0; d < dofs_.eq.size(); ++d)
-      if (dofs_.eq[d] >= 0) z_(dofs_.eq[d]) = step.u(static_cast<Eigen::Index>(d));
+    z_ = unknowns(dofs_, step.u);
     tangent_fresh_ = false;
     Failure fail;
     if (!step_sensitivities(step, fail)) {

@@ -806,6 +806,7 @@ IdentifyResult corrected_level(const Problem& coarse, const Problem& fine, const
   IdentifyResult r;
   for (Eigen::Index k = 0; k < n; ++k) scales(k) = params[k].resolved_scale(), r.names.push_back(params[k].name);
   r.start = start;
+  r.jacobian = options.jacobian;
   IdentifyOptions sub = options;
   sub.stability_test = false, sub.on_checkpoint = {}, sub.initial_trust_region_radius = 1e4;
   const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
@@ -836,16 +837,14 @@ IdentifyResult corrected_level(const Problem& coarse, const Problem& fine, const
     const Evaluation next = evaluate(fine, step.parameters, true, jo);
     r.evaluations += next.evaluations, ++r.jacobian_evaluations;
     const double change = (step.parameters - c).cwiseQuotient(scales).cwiseAbs().maxCoeff();
-    const bool lower = next.ok && next.objective() < e.objective();
-    if (lower) {
-      c = step.parameters, e = next;
-      r.history.push_back({r.iterations, e.objective(), c, 0});
-      reporter.report({"identify", static_cast<std::size_t>(r.iterations), 0,
-                       "corrected coarse model: f = " + format_number(e.objective()) + ", largest change " + format_number(change)});
-    } else {
+    if (!next.ok || !(next.objective() < e.objective())) {  // no step that lowers the fine f: LM takes over
       ++r.failed_evaluations;
+      break;
     }
-    if (!lower) break;  // the corrected model found no step that lowers the fine f: LM takes over
+    c = step.parameters, e = next;
+    r.history.push_back({r.iterations, e.objective(), c, 0});
+    reporter.report({"identify", static_cast<std::size_t>(r.iterations), 0,
+                     "corrected coarse model: f = " + format_number(e.objective()) + ", largest change " + format_number(change)});
     if (change < options.delta) {
       r.termination = Termination::step_below_delta;
       r.message = "a corrected-model step changed no coefficient by more than delta = " + format_number(options.delta) +
