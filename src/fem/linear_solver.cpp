@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdint>
 #include <cstring>
+#include <mutex>
 #include <type_traits>
 #include <utility>
 
@@ -61,6 +62,36 @@ void ldu_substitute(Eigen::Index n, const int* Lp, const int* Li, const double* 
     for (; p < Lp[j + 1]; ++p) a0 -= Ux[p] * row(p);
     RowMap(Y + j * m) = (a0 + a1) + (a2 + a3);
   }
+}
+
+// A fill-reducing ordering of the symmetric block pattern C: perm[block] = its place. CHOLMOD's nested
+// dissection (METIS bisections, CAMD on the parts), or Eigen's AMD. METIS keeps its random state in
+// globals, so the calls take turns: the ordering is then the same on any number of threads.
+std::vector<int> block_ordering(Eigen::SparseMatrix<double>& C, bool nested) {
+  const int nb = static_cast<int>(C.rows());
+  std::vector<int> perm(nb);
+  if (nested) {
+    static std::mutex metis;
+    const std::lock_guard<std::mutex> lock(metis);
+    C.makeCompressed();
+    cholmod_sparse A = Eigen::viewAsCholmod(C);
+    A.stype = 1;  // C is symmetric: its upper triangle says it all
+    std::vector<int> order(nb), cparent(nb), cmember(nb);
+    cholmod_common common;
+    cholmod_start(&common);
+    const bool ok = cholmod_nested_dissection(&A, nullptr, 0, order.data(), cparent.data(), cmember.data(), &common) > 0;
+    cholmod_finish(&common);
+    if (ok) {
+      for (int k = 0; k < nb; ++k) perm[order[k]] = k;
+      return perm;
+    }
+  }
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> Pinv;
+  Eigen::AMDOrdering<int> amd;
+  amd(C, Pinv);
+  const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> P = Pinv.inverse();
+  std::copy(P.indices().data(), P.indices().data() + nb, perm.begin());
+  return perm;
 }
 
 // The offset in v (8 doubles spare at its end) of its first 64-byte aligned element: a block's L and
@@ -307,17 +338,13 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
       else block[e] = nb, slot[e] = 0, e += 1;
     std::vector<int> dofs(2 * nb, -1);  // block → its equations (−1: dummy)
     for (int e = 0; e < n; ++e) dofs[2 * block[e] + slot[e]] = e;
-    // AMD on the block pattern; B's block (perm[I], perm[J]) = K's block (I, J).
+    // The block pattern, ordered; B's block (perm[I], perm[J]) = K's block (I, J).
     std::vector<Eigen::Triplet<double>> t;
     for (int j = 0; j < n; ++j)
       for (int p = Kp[j]; p < Kp[j + 1]; ++p) t.emplace_back(block[Ki[p]], block[j], 1.0);
     Eigen::SparseMatrix<double> C(nb, nb);
     C.setFromTriplets(t.begin(), t.end());
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> Pinv;
-    Eigen::AMDOrdering<int> amd;
-    amd(C, Pinv);
-    const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> P = Pinv.inverse();
-    const int* perm = P.indices().data();
+    const std::vector<int> perm = block_ordering(C, nested_dissection(n_));  // block → its place
     f->pos.resize(n);
     for (int e = 0; e < n; ++e) f->pos[e] = 2 * perm[block[e]] + slot[e];
     std::vector<int> at(2 * nb, -1);  // padded row → equation (−1: dummy)
@@ -483,7 +510,9 @@ std::string LinearSolver::description() const {
   }
   char line[256];
   std::snprintf(line, sizeof line, "%s; %sUMFPACK LU, %s ordering, for non-symmetric tangents; %ld unknowns", what,
-                block_lu_ ? "2 x 2 node-block simplicial LU without pivoting on a block AMD ordering, else " : "",
+                !block_lu_                ? ""
+                : nested_dissection(n_) ? "2 x 2 node-block simplicial LU without pivoting on a block nested-dissection ordering, else "
+                                        : "2 x 2 node-block simplicial LU without pivoting on a block AMD ordering, else ",
                 n_ >= kLuMetisFrom ? "METIS" : "AMD", static_cast<long>(n_));
   return line;
 }

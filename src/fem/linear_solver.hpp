@@ -4,7 +4,7 @@
 // definite); SolveOptions::linear_solver picks one, or lets the size pick (LinearSolverKind::automatic,
 // crossover measured in bench/linear_solver_benchmark.cpp). Non-symmetric tangents: with the Eigen
 // backend, and under `automatic` below kBlockLuBelow unknowns, a simplicial LU without pivoting on 2 × 2
-// node blocks, AMD-ordered by blocks (the tangent's pattern is symmetric, so L and Uᵀ have the block
+// node blocks, ordered by blocks (AMD, or nested dissection at mid sizes; the tangent's pattern is symmetric, so L and Uᵀ have the block
 // LDLᵀ's pattern); UMFPACK LU for the larger ones, with an explicit CHOLMOD kind, where a pivot of that
 // LU is tiny, or where LDLᵀ breaks down.
 // The ordering and symbolic analysis are done once per simulation (the pattern is fixed); each
@@ -43,6 +43,14 @@ class LinearSolver {
   /// solve took 1.4 / 65 / 152 ms against UMFPACK's 12 / 205 / 619 ms at 2 919 / 24 475 / 50 567 unknowns
   /// (bench/linear_solver_benchmark.cpp, BM_RigLu); not measured beyond.
   static constexpr Eigen::Index kBlockLuBelow = 60000;
+  /// The block LU orders its blocks by nested dissection (CHOLMOD's: METIS bisections, CAMD on the
+  /// parts) from kNestedDissectionFrom to below kNestedDissectionBelow unknowns, by AMD elsewhere: on
+  /// the rig's tangent nested dissection's factorization took 10–27 % less time from 8 227 to 42 103
+  /// unknowns (fewer operations: 3.8e7 block updates against 5.7e7 at 24 475), the same at 739 and
+  /// 2 919 (where it costs more to compute), and 5–27 % more from 50 567 (BM_RigLu).
+  static constexpr Eigen::Index kNestedDissectionFrom = 5000;
+  static constexpr Eigen::Index kNestedDissectionBelow = 45000;
+  static bool nested_dissection(Eigen::Index n) { return n >= kNestedDissectionFrom && n < kNestedDissectionBelow; }
   /// The sensitivities factorize (prefers_factorization) below this many unknowns: on the rig's
   /// tangent a factorization costs ~1.05 refinement sweeps of 14 columns at 739 unknowns, ~1.8 at
   /// 2 919 (break-even with the predictor's sweep it saves), ~4.2 at 24 475 (BM_RigLu,

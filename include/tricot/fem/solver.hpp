@@ -54,9 +54,10 @@ struct SolveOptions {
   /// A converged run of the same test, with sensitivities, under a nearby law to start from (an
   /// identification's last evaluation with a Jacobian), or null (a run without sensitivities is
   /// ignored: its states start Newton further off than the load path's predictor); it must outlive
-  /// the call. Each step's Newton starts at that run's state moved by du/dc · warm_start_dc instead
-  /// of the predictor along the load path, and the rig's setting is made in one increment from that
-  /// run's set state (then SimulationResult::setting holds that one state). After its first Newton
+  /// the call. Each step's Newton starts from this run's last converged state moved by that run's
+  /// increment to the step (its states moved by du/dc · warm_start_dc) instead of the predictor along
+  /// the load path, and the rig's setting is made in one increment to that run's set state (then
+  /// SimulationResult::setting holds that one state). After its first Newton
   /// iteration such a step keeps the tangent's factorization while the residual falls 10× an
   /// iteration (chord steps), and it takes the load path when it has not converged in 5. The
   /// states are the same to the tolerance, not bit for bit.
