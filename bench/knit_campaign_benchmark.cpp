@@ -677,4 +677,3 @@ BENCHMARK_CAPTURE(BM_Identify, 150/paper14, 150, "paper14", false)->Iterations(1
 BENCHMARK_CAPTURE(BM_Identify, 150/paper24, 150, "paper24", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
 
 }  // namespace
-

@@ -57,7 +57,8 @@ class LinearSolver {
   /// BM_SimplicialLuRigSolve, BM_RigResidual).
   static constexpr Eigen::Index kFactorizeColumnsBelow = kSensitivitiesAfterBelow;
 
-  /// Ordering and symbolic analysis of the (full, symmetric) pattern for the chosen backend.
+  /// For the (full, symmetric) pattern: the backend, its ordering and symbolic analysis (the symmetric
+  /// backend's at the first symmetric tangent, the block LU's at the first non-symmetric one).
   LinearSolver(const Eigen::SparseMatrix<double>& pattern, LinearSolverKind kind);
   /// Numeric factorization of K (same pattern as at construction): LDLᵀ when `symmetric` (K's
   /// lower triangle is read), else or on a zero pivot LU. False when both fail (singular tangent).
@@ -95,6 +96,10 @@ class LinearSolver {
   LinearSolverKind kind_;
   Eigen::Index n_ = 0;
   bool block_lu_ = false;  ///< non-symmetric tangents try the block LU first (else UMFPACK directly)
+  /// The symmetric backend's ordering and symbolic analysis, at the first symmetric tangent (a law
+  /// whose tangents are never symmetric, e.g. the response surface, never pays for it).
+  void analyze_symmetric();
+  Eigen::SparseMatrix<double> marked_;  ///< the pattern with K's value indices 1..nnz, until analyze_symmetric
   /// The triangle the LDLᵀ backend reads: Eigen: the upper triangle of P K Pᵀ (AMD ordering P);
   /// CHOLMOD: K's lower triangle (CHOLMOD orders it itself). tri_.valuePtr()[k] = K.valuePtr()[from_[k]].
   Eigen::SparseMatrix<double> tri_;
