@@ -170,16 +170,21 @@ const RigTangent& rig_tangent(int nx = 12, int ny = 10) {
 }
 
 // The rig's tangent on finer meshes (nx × ny: 12 × 10, 24 × 20 the campaign's synthesis, 70 × 58 the
-// paper's ~24 000 dofs), factorized as a non-symmetric tangent by the block LU (second argument 0) or
-// by UMFPACK (1; METIS from LinearSolver::kLuMetisFrom unknowns, AMD below), plus one solve: where the
-// crossover between them lies.
+// paper's ~24 000 dofs), factorized as a non-symmetric tangent by the block LU (third argument 0: its
+// ordering by the size) or by UMFPACK (1; METIS from LinearSolver::kLuMetisFrom unknowns, AMD below),
+// plus one solve: where the crossover between them lies. 2 and 3: the block LU on AMD and on nested
+// dissection whatever the size, where LinearSolver::kNestedDissectionFrom/Below lie.
 void BM_RigLu(benchmark::State& state) {
   const SpMat& K = rig_tangent(static_cast<int>(state.range(0)), static_cast<int>(state.range(1))).K;
-  detail::LinearSolver s(K, state.range(2) == 0 ? LinearSolverKind::eigen_ldlt : LinearSolverKind::cholmod_ldlt);
+  const int64_t how = state.range(2);
+  detail::LinearSolver s(K, how == 1 ? LinearSolverKind::cholmod_ldlt : LinearSolverKind::eigen_ldlt);
+  using Ordering = detail::LinearSolver::BlockOrdering;
+  s.block_ordering = how == 2 ? Ordering::amd : how == 3 ? Ordering::nested_dissection : Ordering::by_size;
   factorize_and_solve(state, s, K, false);
   state.counters["fallbacks"] = s.simplicial_lu_fallbacks;
   state.counters["nnz_LU"] = static_cast<double>(s.lu_nonzeros());
-  state.SetLabel(state.range(2) == 0 ? "block LU" : "UMFPACK");
+  const char* label[] = {"block LU", "UMFPACK", "block LU, AMD", "block LU, nested dissection"};
+  state.SetLabel(label[how]);
 }
 
 void BM_SimplicialLuRig(benchmark::State& state) {
@@ -238,5 +243,8 @@ BENCHMARK(BM_UmfpackMetis)->Apply(sizes);
 BENCHMARK(BM_SimplicialLuRig)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SimplicialLuRigSolve)->Args({1, 0, 0})->Args({14, 0, 0})->Args({14, 24, 20})->Args({14, 70, 58})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RigResidual)->Args({1, 0, 0})->Args({14, 0, 0})->Args({14, 24, 20})->Args({14, 70, 58})->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_RigLu)->ArgsProduct({{12}, {10}, {0, 1}})->Args({24, 20, 0})->Args({24, 20, 1})->Args({70, 58, 0})->Args({70, 58, 1})->Args({100, 84, 0})->Args({100, 84, 1})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RigLu)->ArgsProduct({{12}, {10}, {0, 1}})->Args({24, 20, 0})->Args({24, 20, 1})->Args({70, 58, 0})->Args({70, 58, 1})->Args({100, 84, 0})->Args({100, 84, 1})->Apply([](benchmark::internal::Benchmark* b) {
+  for (const auto& [nx, ny] : {std::pair{12, 10}, {24, 20}, {40, 34}, {70, 58}, {92, 76}, {108, 90}})
+    b->Args({nx, ny, 2})->Args({nx, ny, 3});
+})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ForwardSolve)->ArgsProduct({{10, 20, 40, 80, 160}, {0, 1}})->Unit(benchmark::kMillisecond);

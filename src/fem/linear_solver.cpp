@@ -67,7 +67,7 @@ void ldu_substitute(Eigen::Index n, const int* Lp, const int* Li, const double* 
 // A fill-reducing ordering of the symmetric block pattern C: perm[block] = its place. CHOLMOD's nested
 // dissection (METIS bisections, CAMD on the parts), or Eigen's AMD. METIS keeps its random state in
 // globals, so the calls take turns: the ordering is then the same on any number of threads.
-std::vector<int> block_ordering(Eigen::SparseMatrix<double>& C, bool nested) {
+std::vector<int> order_blocks(Eigen::SparseMatrix<double>& C, bool nested) {
   const int nb = static_cast<int>(C.rows());
   std::vector<int> perm(nb);
   if (nested) {
@@ -348,7 +348,7 @@ bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K)
       for (int p = Kp[j]; p < Kp[j + 1]; ++p) t.emplace_back(block[Ki[p]], block[j], 1.0);
     Eigen::SparseMatrix<double> C(nb, nb);
     C.setFromTriplets(t.begin(), t.end());
-    const std::vector<int> perm = block_ordering(C, nested_dissection(n_));  // block → its place
+    const std::vector<int> perm = order_blocks(C, uses_nested_dissection());  // block → its place
     f->pos.resize(n);
     for (int e = 0; e < n; ++e) f->pos[e] = 2 * perm[block[e]] + slot[e];
     std::vector<int> at(2 * nb, -1);  // padded row → equation (−1: dummy)
@@ -515,7 +515,7 @@ std::string LinearSolver::description() const {
   char line[256];
   std::snprintf(line, sizeof line, "%s; %sUMFPACK LU, %s ordering, for non-symmetric tangents; %ld unknowns", what,
                 !block_lu_                ? ""
-                : nested_dissection(n_) ? "2 x 2 node-block simplicial LU without pivoting on a block nested-dissection ordering, else "
+                : uses_nested_dissection() ? "2 x 2 node-block simplicial LU without pivoting on a block nested-dissection ordering, else "
                                         : "2 x 2 node-block simplicial LU without pivoting on a block AMD ordering, else ",
                 n_ >= kLuMetisFrom ? "METIS" : "AMD", static_cast<long>(n_));
   return line;

@@ -44,13 +44,18 @@ class LinearSolver {
   /// (bench/linear_solver_benchmark.cpp, BM_RigLu); not measured beyond.
   static constexpr Eigen::Index kBlockLuBelow = 60000;
   /// The block LU orders its blocks by nested dissection (CHOLMOD's: METIS bisections, CAMD on the
-  /// parts) from kNestedDissectionFrom to below kNestedDissectionBelow unknowns, by AMD elsewhere: on
-  /// the rig's tangent nested dissection's factorization took 10–27 % less time from 8 227 to 42 103
-  /// unknowns (fewer operations: 3.8e7 block updates against 5.7e7 at 24 475), the same at 739 and
-  /// 2 919 (where it costs more to compute), and 5–27 % more from 50 567 (BM_RigLu).
+  /// parts) from kNestedDissectionFrom to below kNestedDissectionBelow unknowns, by AMD elsewhere. On
+  /// the rig's tangent (BM_RigLu/nx/ny/{2: AMD, 3: nested dissection}) nested dissection's
+  /// factorization took 5–27 % less time from 8 227 to 35 839 unknowns (24 475: 3.8e7 block updates
+  /// against 5.7e7, 44 ms against 57 ms), within ±10 % of AMD's at 42 103, and 5–27 % more from
+  /// 50 567; at 739 and 2 919 the two are alike, and nested dissection costs more to compute.
   static constexpr Eigen::Index kNestedDissectionFrom = 5000;
-  static constexpr Eigen::Index kNestedDissectionBelow = 45000;
+  static constexpr Eigen::Index kNestedDissectionBelow = 40000;
   static bool nested_dissection(Eigen::Index n) { return n >= kNestedDissectionFrom && n < kNestedDissectionBelow; }
+  /// The block LU's ordering: by the size (nested_dissection), or one of them whatever the size (for
+  /// the benchmark that measures the crossover). Set before the first factorization.
+  enum class BlockOrdering { by_size, amd, nested_dissection };
+  BlockOrdering block_ordering = BlockOrdering::by_size;
   /// The sensitivities factorize (prefers_factorization) below this many unknowns: on the rig's
   /// tangent a factorization costs ~1.05 refinement sweeps of 14 columns at 739 unknowns, ~1.8 at
   /// 2 919 (break-even with the predictor's sweep it saves), ~4.2 at 24 475 (BM_RigLu,
@@ -96,6 +101,9 @@ class LinearSolver {
   LinearSolverKind kind_;
   Eigen::Index n_ = 0;
   bool block_lu_ = false;  ///< non-symmetric tangents try the block LU first (else UMFPACK directly)
+  bool uses_nested_dissection() const {
+    return block_ordering == BlockOrdering::by_size ? nested_dissection(n_) : block_ordering == BlockOrdering::nested_dissection;
+  }
   /// The symmetric backend's ordering and symbolic analysis, at the first symmetric tangent (a law
   /// whose tangents are never symmetric, e.g. the response surface, never pays for it).
   void analyze_symmetric();

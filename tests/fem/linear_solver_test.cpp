@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 #include <vector>
 
 namespace tricot::fem::detail {
@@ -140,6 +141,42 @@ TEST(LinearSolver, ASmallNonSymmetricTangentIsSolvedBySimplicialLuAsByUmfpack) {
   for (int c = 0; c < 5; ++c) b5.col(c) = b.col(c % 2) * (c + 1) + Eigen::VectorXd::Constant(81, c);
   simplicial.solve(b5, x);
   EXPECT_LT(relative_residual(K2, x, b5), kSolve);
+}
+
+// From LinearSolver::kNestedDissectionFrom unknowns the block LU orders by nested dissection (METIS,
+// whose random state is global): the answer is UMFPACK's, and two solvers built at once on two
+// threads order alike, so they agree bit for bit.
+TEST(LinearSolver, AMidSizeNonSymmetricTangentIsOrderedByNestedDissectionOnAnyThread) {
+  const int m = 72;  // 5 184 unknowns
+  ASSERT_TRUE(LinearSolver::nested_dissection(m * m));
+  ASSERT_FALSE(LinearSolver::nested_dissection(LinearSolver::kNestedDissectionFrom - 1));
+  ASSERT_FALSE(LinearSolver::nested_dissection(LinearSolver::kNestedDissectionBelow));
+  const Eigen::SparseMatrix<double> K = grid(m, 0.4);
+  const Eigen::MatrixXd b = right_hand_sides(m * m);
+  Eigen::MatrixXd x[2];
+  Eigen::Index entries[2];
+  auto solve = [&](int k) {
+    LinearSolver s(K, LinearSolverKind::eigen_ldlt);
+    if (!s.factorize(K, false) || s.simplicial_lu_fallbacks != 0) return;
+    s.solve(b, x[k]);
+    entries[k] = s.lu_nonzeros();
+    if (k == 0) {
+      EXPECT_NE(s.description().find("nested-dissection"), std::string::npos);
+    }
+  };
+  std::thread other(solve, 1);
+  solve(0);
+  other.join();
+  ASSERT_EQ(x[0].rows(), m * m);
+  ASSERT_EQ(x[1].rows(), m * m);
+  EXPECT_EQ(entries[0], entries[1]);
+  EXPECT_TRUE(x[0] == x[1]);
+  LinearSolver umfpack(K, LinearSolverKind::cholmod_ldlt);
+  ASSERT_TRUE(umfpack.factorize(K, false));
+  Eigen::MatrixXd x_umfpack;
+  umfpack.solve(b, x_umfpack);
+  EXPECT_LT(relative_residual(K, x[0], b), kSolve);
+  EXPECT_LT((x[0] - x_umfpack).cwiseAbs().maxCoeff() / x_umfpack.cwiseAbs().maxCoeff(), kSolve);
 }
 
 // A regular non-symmetric K whose elimination without pivoting meets a zero pivot: the simplicial LU
