@@ -72,6 +72,9 @@ IdentifyOutcome run_identification(const io::Node& root, const IdentifyRequest& 
 IdentifyOutcome run_identification(const IdentificationSpec& spec, const IdentifyRequest& req, const Log& log) {
   const auto started = std::chrono::steady_clock::now();
   Project P = build_project(spec, req.base);
+  if (P.coarse_objective && req.resume)  // identify_by_levels starts afresh
+    spec.identify.origin.fail("coarse_mesh", "a run by mesh levels cannot be resumed", "--resume with coarse_mesh = " + io::to_toml(spec.identify.coarse_mesh),
+                              "a fresh run, or coarse_mesh = [] to resume a run on the project's meshes");
   if (req.distribute) req.distribute(*P.objective);
   const auto& law = P.law;
   const auto& models = P.models;
@@ -130,7 +133,26 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
                                   : fmt::format("identify: domain: {} keeps steps 1–{} of {}, steps {}–{} {} (held {:.3f}, pulled to {:.3f})",
                                                 t.name, t.kept, t.steps, t.kept + 1, t.steps, rest, t.held, t.pulled));
   }
-  outcome.result = ident::identify(killer, options, log.reporter());
+  if (P.coarse_objective) {  // [identify] coarse_mesh: LM on the coarse level, then the corrected one
+    const ident::Problem& coarse =
+        P.coarse_stability ? static_cast<const ident::Problem&>(*P.coarse_stability) : *P.coarse_objective;
+    log.print(fmt::format("identify: by mesh levels: {} dofs first ([identify] coarse_mesh), then {} through the coarse model corrected to it",
+                          P.coarse_models.front().mesh.dofs(), outcome.dofs));
+    ident::IdentifyOptions by_levels = options;
+    by_levels.on_checkpoint = {};  // LM's state on the coarse level is no state to resume the fine one from
+    outcome.levels = ident::identify_by_levels({&coarse, &killer}, by_levels, log.reporter());
+    const ident::LevelsResult& levels = *outcome.levels;
+    outcome.level_dofs = {P.coarse_models.front().mesh.dofs(), outcome.dofs};
+    for (std::size_t l = 0; l < levels.levels.size(); ++l)
+      log.print(fmt::format("identify: level {} ({} dofs): {}", l + 1, outcome.level_dofs[l], levels.levels[l].brief_report()));
+    if (levels.levels.size() > 1)
+      log.print(fmt::format("identify: {} evaluations of the coarse level inside the corrected models", levels.coarse_evaluations));
+    outcome.result = levels.result;
+    outcome.result.start = levels.levels.front().start;
+    outcome.result.wall_seconds = levels.wall_seconds;
+  } else {
+    outcome.result = ident::identify(killer, options, log.reporter());
+  }
 
   // Outputs.
   json result = result_json(outcome, *objective, req.resume);

@@ -55,6 +55,17 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
   j["jacobian_evaluations"] = r.jacobian_evaluations;
   j["resumed"] = resumed;
   j["start"] = named(r.names, r.start);
+  if (o.levels) {  // [identify] coarse_mesh: what each level did; the keys above are the last level's
+    json levels = json::array();
+    for (std::size_t l = 0; l < o.levels->levels.size(); ++l) {
+      const ident::IdentifyResult& x = o.levels->levels[l];
+      levels.push_back({{"dofs", o.level_dofs[l]}, {"iterations", x.iterations}, {"evaluations", x.evaluations},
+                        {"termination", ident::to_string(x.termination)}, {"objective", x.objective},
+                        {"wall_seconds", x.wall_seconds}, {"parameters", named(r.names, x.parameters)}});
+    }
+    j["levels"] = levels;
+    j["coarse_evaluations"] = o.levels->coarse_evaluations;  // the first level's, inside the corrected models
+  }
   j["condition_number"] = u.condition_number;
   j["least_identifiable"] = named(r.names, u.least_identifiable);
   j["singular_values"] = vec_json(u.singular_values);

@@ -366,6 +366,49 @@ TEST_F(Identify, ADomainWeightKeepsEveryStepAndWeighsTheOnesOutside) {
     EXPECT_NEAR(weighted["parameters"][kNames[k]].get<double>() / kTruth[k], 1.0, kRecovered) << kNames[k];
 }
 
+// [identify] coarse_mesh (issue 15): LM on 2 × 4 Q8 with the stability test, then the project's 3 × 8
+// through the coarse model corrected to it. The same answer as LM on 3 × 8 alone, from the project's
+// start, with fewer fine evaluations; result.json says what each level did.
+TEST_F(Identify, ByMeshLevelsReachesTheSameAnswerWithFewerFineEvaluations) {
+  ASSERT_EQ(identify("one_level", small_project("../exp", kStopOnDelta)).exit_code, 0);
+  const auto r = identify("levels", small_project("../exp", std::string(kStopOnDelta) + "coarse_mesh = [2, 4]\n"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json one = result("one_level"), j = result("levels");
+  for (std::size_t k = 0; k < kNames.size(); ++k) {
+    EXPECT_NEAR(j["parameters"][kNames[k]].get<double>() / kTruth[k], 1.0, kRecovered) << kNames[k];
+    EXPECT_NEAR(j["parameters"][kNames[k]].get<double>() / one["parameters"][kNames[k]].get<double>(), 1.0, kRecovered);
+  }
+  EXPECT_TRUE(j["converged"].get<bool>());
+  EXPECT_TRUE(j["stability_passed"].get<bool>());  // the test ran on the coarse level
+  EXPECT_EQ(j["start"]["C10"].get<double>(), 0.05);  // the project's start, not the coarse answer
+  ASSERT_EQ(j["levels"].size(), 2u);
+  EXPECT_LT(j["levels"][0]["dofs"].get<int>(), j["levels"][1]["dofs"].get<int>());
+  EXPECT_EQ(j["levels"][1]["evaluations"], j["evaluations"]);
+  EXPECT_LT(j["evaluations"].get<int>(), one["evaluations"].get<int>());
+  EXPECT_GT(j["coarse_evaluations"].get<int>(), 0);
+}
+
+TEST_F(Identify, ACoarseMeshThatIsNotTwoWholeNumbersOrNotCoarserNamesTheKey) {
+  for (const char* bad : {"[2]", "[2.5, 4]"}) {
+    const auto r = identify("coarse_bad", small_project("../exp", std::string("[identify]\ncoarse_mesh = ") + bad + "\n"));
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.err.find("identify.coarse_mesh: two whole numbers of elements"), std::string::npos) << r.err;
+  }
+  const auto r = identify("coarse_fine", small_project("../exp", "[identify]\ncoarse_mesh = [3, 8]\n"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("identify.coarse_mesh: not coarser than the mesh of test 'tension'"), std::string::npos) << r.err;
+}
+
+TEST_F(Identify, ARunByMeshLevelsRefusesToResume) {
+  const std::string project = small_project("../exp", "[identify]\ncoarse_mesh = [2, 4]\n");
+  ASSERT_EQ(identify("levels_resume", project).exit_code, 0);
+  const fs::path dir = root_ / "levels_resume";
+  const auto r = run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() +
+                            " -q --no-plots --resume");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("identify.coarse_mesh: a run by mesh levels cannot be resumed"), std::string::npos) << r.err;
+}
+
 TEST_F(Identify, ADomainWeightWithoutADomainNamesTheKey) {
   const auto r = identify("weight_alone", small_project("../exp", "[data]\ndomain_weight = 0.5\n"));
   EXPECT_EQ(r.exit_code, 2);

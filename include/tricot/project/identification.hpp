@@ -45,6 +45,11 @@ struct Project {
   ident::IdentifiabilityOptions identifiability;  ///< [identifiability] (sigma2 from the run)
   /// [stability] enabled: the objective with the material-stability barrier; LM minimises it.
   std::unique_ptr<ident::StabilizedObjective> stability;
+  /// [identify] coarse_mesh: the first level of an identification by mesh levels (the tests meshed
+  /// coarse, their objective on the same data, with the barrier under [stability]); empty without.
+  std::vector<fem::TestModel> coarse_models;
+  std::unique_ptr<ident::Objective> coarse_objective;
+  std::unique_ptr<ident::StabilizedObjective> coarse_stability;
 };
 
 /// Eq. 9's experimental points of tests and their data (THEORY §9 [choice]): [0] course (tests with
@@ -88,6 +93,10 @@ struct IdentifyOutcome {
   int residuals = 0;           ///< N, the data values in f
   std::string data;            ///< the data groups, e.g. "tension/edge_displacement (35)"
   int dofs = 0;                ///< of the identification mesh (first test)
+  /// [identify] coarse_mesh: each level's run (result holds the last one's, with the project's start
+  /// and the whole wall time) and its dofs (first test); empty otherwise.
+  std::optional<ident::LevelsResult> levels;
+  std::vector<int> level_dofs;
   /// `--resume` found the run finished: nothing was run or written; `result` is the checkpoint's.
   bool already_finished = false;
 };

@@ -46,6 +46,9 @@ struct IdentifyTable {
   bool active_set = ident::IdentifyOptions{}.active_set;
   double barrier_growth = ident::IdentifyOptions{}.barrier_growth;
   bool warm_start = ident::ObjectiveOptions{}.warm_start;  ///< the objective's (ObjectiveOptions)
+  /// [nx, ny]: identify by mesh levels, every test first on nx × ny elements (ident::identify_by_levels);
+  /// empty: on the project's meshes alone.
+  io::Reals coarse_mesh;
   Origin origin{"identify"};
 
   /// From the [identify] table of a file read with identify_schema().
