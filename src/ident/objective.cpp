@@ -293,7 +293,44 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
   return values;
 }
 
+std::vector<fem::SimulationResult> Objective::simulations(const Eigen::VectorXd& J) const {
+  const std::unique_ptr<fem::Law> law = law_at(J);
+  const int T = static_cast<int>(models_.size());
+  std::vector<fem::SimulationResult> out(T);
+  std::vector<bool> have(T, false);
+  {
+    const std::lock_guard<std::mutex> lock(simulated_mutex_);
+    if (warm_ && warm_->c == law->coefficients())
+      for (int t = 0; t < T; ++t)
+        if (warm_->tests[t]) out[t] = *warm_->tests[t], have[t] = true;
+    for (const Simulated& s : simulated_)
+      if (s.J.size() == J.size() && s.J == J)
+        for (int t = 0; t < T; ++t)
+          if (!have[t] && s.tests[t]) out[t] = *s.tests[t], have[t] = true;
+  }
+  const int threads = options_.threads > 0 ? std::min(options_.threads, omp_get_num_procs()) : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+  for (int k = 0; k < T; ++k) {
+    const int t = order_[k];
+    if (!have[t]) out[t] = fem::simulate(models_[t], *law, options_.solver);
+  }
+  return out;
+}
+
 Evaluation Objective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
+  if (jacobian) {
+    const std::lock_guard<std::mutex> lock(simulated_mutex_);
+    if (last_jacobian_ && last_jacobian_at_.size() == J.size() && last_jacobian_at_ == J) return *last_jacobian_;
+  }
+  Evaluation out = evaluate_afresh(J, jacobian);
+  if (jacobian && out.ok) {
+    const std::lock_guard<std::mutex> lock(simulated_mutex_);
+    last_jacobian_ = out, last_jacobian_at_ = J;
+  }
+  return out;
+}
+
+Evaluation Objective::evaluate_afresh(const Eigen::VectorXd& J, bool jacobian) const {
   Evaluation out;
   out.evaluations = 1;
   const int T = static_cast<int>(models_.size());

@@ -78,7 +78,6 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   if (req.distribute) req.distribute(*P.objective);
   const auto& law = P.law;
   const auto& models = P.models;
-  const auto& solver = P.solver;
   auto& options = P.options;
   const auto& objective = P.objective;
   const auto& parameters = objective->parameters();
@@ -175,7 +174,7 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   write_history(dir / "history.csv", outcome.result);
   if (req.plots) fs::create_directories(dir / "plots");
   if (outcome.result.termination != ident::Termination::fe_failure)
-    write_fit(dir, *objective, outcome.result, solver, req.plots, log);
+    write_fit(dir, *objective, outcome.result, req.plots, log);
   if (req.plots) plot_history(dir, outcome, log);
   if (eq9) write_eq9(dir, P.eq9_points, *identified, P.eq9_practical, req.plots, log);
   if (req.print_summary) print_summary(outcome, req.out, log);

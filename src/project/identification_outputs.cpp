@@ -340,13 +340,13 @@ unset multiplot
 }
 
 // The identified model against the measured edge data, per test: DIR/fit_<test>.csv and plots/fit_<test>.png.
-void write_fit(const fs::path& dir, const ident::Objective& objective, const ident::IdentifyResult& r,
-               const fem::SolveOptions& solver, bool plots, const Log& log) {
-  const auto law = objective.law_at(r.parameters);
+void write_fit(const fs::path& dir, const ident::Objective& objective, const ident::IdentifyResult& r, bool plots,
+               const Log& log) {
+  const std::vector<fem::SimulationResult> sims = objective.simulations(r.parameters);
   for (std::size_t t = 0; t < objective.models().size(); ++t) {
     const fem::TestModel& m = objective.models()[t];
     const ident::TestData& d = objective.experiment().tests[t];
-    const fem::SimulationResult sim = fem::simulate(m, *law, solver);
+    const fem::SimulationResult& sim = sims[t];
     if (!sim.usable()) continue;
     io::Table tab;
     tab.columns = {"step", "load", "model_edge_displacement", "model_edge_force"};

@@ -39,8 +39,9 @@ json design_json(const IdentificationSpec& spec, const Project& P, const ident::
 void write_history(const std::filesystem::path& file, const ident::IdentifyResult& r);
 /// DIR/plots/history.png: f and every coefficient (over the truth or the identified value) per iteration.
 void plot_history(const std::filesystem::path& dir, const IdentifyOutcome& o, const Log& log);
-/// DIR/fit_<test>.csv and DIR/plots/fit_<test>.png: the identified model against the edge data.
+/// DIR/fit_<test>.csv and DIR/plots/fit_<test>.png: the identified model against the edge data (the
+/// objective's simulations at the answer: Objective::simulations).
 void write_fit(const std::filesystem::path& dir, const ident::Objective& objective, const ident::IdentifyResult& r,
-               const fem::SolveOptions& solver, bool plots, const Log& log);
+               bool plots, const Log& log);
 
 }  // namespace tricot::project

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "testing/fd_check.hpp"
@@ -281,6 +282,42 @@ TEST(Objective, AWarmStartedEvaluationIsTheColdOneToTheSolversTolerance) {
     EXPECT_LT((w.r - k.r).cwiseAbs().maxCoeff(), 1e-8 * k.r.cwiseAbs().maxCoeff()) << threads << " threads";
     EXPECT_LT((w.jacobian - k.jacobian).cwiseAbs().maxCoeff(), 1e-7 * k.jacobian.cwiseAbs().maxCoeff());
     EXPECT_FALSE((w.r.array() == k.r.array()).all());  // it did start elsewhere
+  }
+}
+
+// evaluate() keeps its last Jacobian evaluation and gives it back at that point (the identifiability
+// report at LM's answer costs no FE): never another point's. simulations(J) gives each test's run at
+// J: the last evaluation's where it is at J, else fresh; both are fem::simulate's to the FE tolerance.
+TEST(Objective, TheLastJacobianEvaluationAndItsSimulationsServeItsPointOnly) {
+  const RigCampaign c = rig_campaign();
+  Eigen::VectorXd J = c.law.coefficients(), J2 = J;
+  J2(0) *= 1.02, J2(8) *= 0.98;
+  ObjectiveOptions o;
+  o.warm_start = true;
+  const Objective objective(c.models, c.data, c.law, c.parameters, o);
+  const Evaluation a = objective.evaluate(J, true), b = objective.evaluate(J2, true);
+  ASSERT_TRUE(a.ok && b.ok) << a.message << b.message;
+  const Evaluation b_again = objective.evaluate(J2, true), a_again = objective.evaluate(J, true);
+  ASSERT_TRUE(b_again.ok && a_again.ok);
+  EXPECT_TRUE((b_again.r.array() == b.r.array()).all() && (b_again.jacobian.array() == b.jacobian.array()).all());
+  const double scale = a.r.cwiseAbs().maxCoeff();
+  EXPECT_GT((a.r - b.r).cwiseAbs().maxCoeff(), 1e-4 * scale);  // the two points differ
+  EXPECT_LT((a_again.r - a.r).cwiseAbs().maxCoeff(), 1e-8 * scale);  // J's evaluation, not J2's
+  EXPECT_LT((a_again.jacobian - a.jacobian).cwiseAbs().maxCoeff(), 1e-7 * a.jacobian.cwiseAbs().maxCoeff());
+
+  // The last Jacobian evaluation is now at J: simulations(J) are its runs, simulations(J2) fresh ones.
+  for (const Eigen::VectorXd& at : {J, J2}) {
+    const std::vector<fem::SimulationResult> sims = objective.simulations(at);
+    ASSERT_EQ(sims.size(), c.models.size());
+    const auto law = objective.law_at(at);
+    for (std::size_t t = 0; t < c.models.size(); ++t) {
+      const fem::SimulationResult ref = fem::simulate(c.models[t], *law);
+      ASSERT_TRUE(sims[t].usable() && ref.usable()) << sims[t].message;
+      ASSERT_EQ(sims[t].steps.size(), ref.steps.size());
+      for (std::size_t k = 0; k < ref.steps.size(); ++k)
+        EXPECT_NEAR(sims[t].steps[k].edge_force, ref.steps[k].edge_force, 1e-8 * std::abs(ref.steps.back().edge_force))
+            << c.models[t].name << " step " << k;
+    }
   }
 }
 

@@ -98,7 +98,8 @@ class Objective : public Problem {
   int residuals() const override { return data_.size(); }
   /// Simulates every test with the law's coefficients set to J (in parallel), with sensitivities
   /// when `jacobian` (ObjectiveOptions::sensitivities_after: added afterwards, from the simulations
-  /// of the last points when J is one of them). A test that does not converge, or a point that
+  /// of the last points when J is one of them). A Jacobian evaluation at the point of the last one
+  /// is that one again. A test that does not converge, or a point that
   /// leaves the deformed mesh (incremental data), gives ok = false and a message naming the test.
   /// With a TestSplit, the tests are spread over its processes; the answer is the same bit for bit.
   Evaluation evaluate(const Eigen::VectorXd& J, bool jacobian) const override;
@@ -122,6 +123,10 @@ class Objective : public Problem {
   const Experiment& experiment() const { return experiment_; }
   /// A clone of the law with the identified coefficients set to J (the others as given).
   std::unique_ptr<fem::Law> law_at(const Eigen::VectorXd& J) const;
+  /// Every test simulated with the law at J (e.g. the answer's fits): the last evaluation's
+  /// simulations where they are at J (warm_start, sensitivities_after), else fresh runs in parallel
+  /// threads; an unusable run says why in its message.
+  std::vector<fem::SimulationResult> simulations(const Eigen::VectorXd& J) const;
 
  private:
   std::vector<fem::TestModel> models_;  // in the experiment's test order
@@ -136,6 +141,7 @@ class Objective : public Problem {
   bool after_ = false;      // ObjectiveOptions::sensitivities_after, where every test is small enough
   std::vector<int> order_;  // order()
   std::vector<int> rank_;   // rank_[t]: t's place in order_
+  Evaluation evaluate_afresh(const Eigen::VectorXd& J, bool jacobian) const;  // evaluate() without the memo
   /// The simulations (without sensitivities) of the last points evaluated, newest first, per test
   /// (an unusable or unrun test's is not kept).
   struct Simulated {
@@ -151,7 +157,11 @@ class Objective : public Problem {
     std::vector<std::optional<fem::SimulationResult>> tests;
   };
   mutable std::shared_ptr<const Warm> warm_;
-  mutable std::mutex simulated_mutex_;  // guards simulated_ and warm_
+  /// The last evaluation with a Jacobian that succeeded (computed in this process): evaluate() at
+  /// the same point returns it (e.g. the identifiability report at LM's answer).
+  mutable std::optional<Evaluation> last_jacobian_;
+  mutable Eigen::VectorXd last_jacobian_at_;
+  mutable std::mutex simulated_mutex_;  // guards simulated_, warm_ and last_jacobian_
 };
 
 }  // namespace tricot::ident
