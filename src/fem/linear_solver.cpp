@@ -227,36 +227,35 @@ LinearSolver::LinearSolver(const Eigen::SparseMatrix<double>& pattern, LinearSol
   block_lu_ = kind_ == LinearSolverKind::eigen_ldlt || (kind_ == LinearSolverKind::automatic && n_ < kBlockLuBelow);
   if (kind_ == LinearSolverKind::automatic)
     kind_ = n_ >= kSupernodalFrom ? LinearSolverKind::cholmod_supernodal : LinearSolverKind::eigen_ldlt;
-  if (n_ > 0) marked_ = numbered(pattern);
 }
 
-void LinearSolver::analyze_symmetric() {
+void LinearSolver::analyze_symmetric(const Eigen::SparseMatrix<double>& pattern) {
+  const Eigen::SparseMatrix<double> marked = numbered(pattern);
   if (kind_ == LinearSolverKind::eigen_ldlt) {
     // AMD on the symmetric pattern, then the upper triangle of P K Pᵀ: SimplicialLDLT with the
     // natural ordering factorizes it in place, without the permuted copy it makes otherwise.
     Eigen::AMDOrdering<int> amd;
-    amd(marked_, Pinv_);
+    amd(marked, Pinv_);
     P_ = Pinv_.inverse();
     tri_.resize(n_, n_);
-    tri_.template selfadjointView<Eigen::Upper>() = marked_.template selfadjointView<Eigen::Lower>().twistedBy(P_);
+    tri_.template selfadjointView<Eigen::Upper>() = marked.template selfadjointView<Eigen::Lower>().twistedBy(P_);
     tri_.makeCompressed();
     ldlt_ = std::make_unique<Ldlt>();
     ldlt_->analyzePattern(tri_);
   } else {
     // CHOLMOD reads one triangle; handing it only that one saves a transpose per factorization.
-    tri_ = marked_.triangularView<Eigen::Lower>();
+    tri_ = marked.triangularView<Eigen::Lower>();
     tri_.makeCompressed();
     const bool supernodal = kind_ == LinearSolverKind::cholmod_supernodal;
     cholmod_ = make_cholmod(supernodal ? Eigen::CholmodSupernodalLLt : Eigen::CholmodLDLt, supernodal);
     cholmod_->analyzePattern(tri_);
   }
   from_ = sources(tri_);
-  marked_ = Eigen::SparseMatrix<double>();
 }
 
 bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& K, bool symmetric) {
   if (n_ == 0) return true;
-  if (symmetric && !ldlt_ && !cholmod_) analyze_symmetric();  // not timed: symbolic
+  if (symmetric && !ldlt_ && !cholmod_) analyze_symmetric(K);  // not timed: symbolic (K has the pattern)
   const auto t0 = std::chrono::steady_clock::now();
   ++factorizations;
   active_ = Active::none;

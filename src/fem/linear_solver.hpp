@@ -106,8 +106,7 @@ class LinearSolver {
   }
   /// The symmetric backend's ordering and symbolic analysis, at the first symmetric tangent (a law
   /// whose tangents are never symmetric, e.g. the response surface, never pays for it).
-  void analyze_symmetric();
-  Eigen::SparseMatrix<double> marked_;  ///< the pattern with K's value indices 1..nnz, until analyze_symmetric
+  void analyze_symmetric(const Eigen::SparseMatrix<double>& pattern);
   /// The triangle the LDLᵀ backend reads: Eigen: the upper triangle of P K Pᵀ (AMD ordering P);
   /// CHOLMOD: K's lower triangle (CHOLMOD orders it itself). tri_.valuePtr()[k] = K.valuePtr()[from_[k]].
   Eigen::SparseMatrix<double> tri_;

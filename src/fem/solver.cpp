@@ -570,7 +570,7 @@ SimulationResult Simulation::run() {
     bool warm_done = false;
     if (warm) {  // from this run's last state, moved by the warm run's increment to the step: that
       // increment's error is the change over one step of the two runs' difference, far smaller than the
-      // difference itself when c moved far (docs/validation.md "Incremental warm starts")
+      // difference itself when c moved far (docs/validation.md, "Issue 15: the paper's scale under 60 s")
       const StepResult* before = k > 0 ? &warm->steps[k - 1] : warm->setting.empty() ? nullptr : &warm->setting.back();
       Eigen::VectorXd z_start = z_ + warm_state(warm->steps[k]);
       if (before) z_start -= warm_state(*before);

@@ -4,7 +4,6 @@
 #include "tricot/ident/identify.hpp"
 
 #include <ceres/ceres.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -506,8 +505,7 @@ std::optional<Eigen::VectorXd> stability_trial(const Problem& problem, const Ide
   for (int i = 0; i < m; ++i) run[i] = problem.lower_bound(trials[i]) < to_beat;
   const int runs = static_cast<int>(std::count(run.begin(), run.end(), 1));
   std::vector<Evaluation> e(m);
-  // More threads than cores never speeds this up, and a team of 1024 can fail to start (libgomp aborts).
-  const int threads = options.threads > 0 ? std::min(options.threads, omp_get_num_procs()) : omp_get_max_threads();
+  const int threads = thread_team(options.threads);
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int i = 0; i < m; ++i)
     if (run[i]) e[i] = problem.evaluate(trials[i], false);

@@ -2,7 +2,6 @@
 // steps, scale them by eq. (1); the Jacobian from the FE sensitivities.
 #include "tricot/ident/objective.hpp"
 
-#include <omp.h>
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -207,8 +206,7 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
     while (t < current && !first_failed.compare_exchange_weak(current, t)) {
     }
   };
-  // More threads than cores never speeds this up, and a team of 1024 can fail to start (libgomp aborts).
-  const int threads = options_.threads > 0 ? std::min(options_.threads, omp_get_num_procs()) : omp_get_max_threads();
+  const int threads = thread_team(options_.threads);
   const int K = static_cast<int>(run.size());
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int k = 0; k < K; ++k) {
@@ -308,7 +306,7 @@ std::vector<fem::SimulationResult> Objective::simulations(const Eigen::VectorXd&
         for (int t = 0; t < T; ++t)
           if (!have[t] && s.tests[t]) out[t] = *s.tests[t], have[t] = true;
   }
-  const int threads = options_.threads > 0 ? std::min(options_.threads, omp_get_num_procs()) : omp_get_max_threads();
+  const int threads = thread_team(options_.threads);
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int k = 0; k < T; ++k) {
     const int t = order_[k];
@@ -320,7 +318,11 @@ std::vector<fem::SimulationResult> Objective::simulations(const Eigen::VectorXd&
 Evaluation Objective::evaluate(const Eigen::VectorXd& J, bool jacobian) const {
   if (jacobian) {
     const std::lock_guard<std::mutex> lock(simulated_mutex_);
-    if (last_jacobian_ && last_jacobian_at_.size() == J.size() && last_jacobian_at_ == J) return *last_jacobian_;
+    if (last_jacobian_ && last_jacobian_at_.size() == J.size() && last_jacobian_at_ == J) {
+      Evaluation again = *last_jacobian_;
+      again.evaluations = 0;  // no FE ran
+      return again;
+    }
   }
   Evaluation out = evaluate_afresh(J, jacobian);
   if (jacobian && out.ok) {

@@ -72,8 +72,7 @@ Evaluation evaluate(const Problem& problem, const Eigen::VectorXd& J, bool jacob
     Jt(k) += sign * h[k];
     return problem.evaluate(Jt, false);
   };
-  // More threads than cores never speeds this up, and a team of 1024 can fail to start (libgomp aborts).
-  const int threads = options.threads > 0 ? std::min(options.threads, omp_get_num_procs()) : omp_get_max_threads();
+  const int threads = thread_team(options.threads);
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int i = 0; i < trials; ++i) trial[i] = run(i, i < n ? 1.0 : -1.0);
   e.evaluations += trials;
@@ -110,5 +109,7 @@ Evaluation evaluate(const Problem& problem, const Eigen::VectorXd& J, bool jacob
   }
   return e;
 }
+
+int thread_team(int threads) { return threads > 0 ? std::min(threads, omp_get_num_procs()) : omp_get_max_threads(); }
 
 }  // namespace tricot::ident

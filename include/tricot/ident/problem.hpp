@@ -100,4 +100,8 @@ struct JacobianOptions {
 Evaluation evaluate(const Problem& problem, const Eigen::VectorXd& J, bool jacobian,
                     const JacobianOptions& options, const Evaluation* base = nullptr);
 
+/// The OpenMP team for `threads` asked (0: OpenMP's default): at most the cores, since more never
+/// speeds an evaluation up and a team of 1024 can fail to start (libgomp aborts).
+int thread_team(int threads);
+
 }  // namespace tricot::ident
