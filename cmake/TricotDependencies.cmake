@@ -43,3 +43,11 @@ endforeach()
 
 find_program(GNUPLOT_EXECUTABLE gnuplot)
 find_program(DEBIAN_PYTHON3 python3 PATHS /usr/bin NO_DEFAULT_PATH)
+
+# Gmsh (Debian's libgmsh-dev, issue 28): fem reads .msh files and meshes .geo geometries through its
+# C++ API; no CMake config is shipped, so find the header and library directly.
+find_path(GMSH_INCLUDE_DIR gmsh.h REQUIRED)
+find_library(GMSH_LIBRARY gmsh REQUIRED)
+add_library(tricot_gmsh INTERFACE)
+target_include_directories(tricot_gmsh SYSTEM INTERFACE ${GMSH_INCLUDE_DIR})
+target_link_libraries(tricot_gmsh INTERFACE ${GMSH_LIBRARY})

@@ -9,6 +9,26 @@
 
 namespace tricot::fem::detail {
 
+namespace {
+
+// Conditions per named boundary (TestModel::conditions): fixed or series dofs; the force boundary's
+// component plays the quarter's top u_y (DofMap::top_y).
+void map_conditions(const TestModel& test, DofMap& d) {
+  const Mesh& m = test.mesh;
+  for (const BoundaryCondition& c : test.conditions) {
+    const int s = c.values.empty() ? -1 : static_cast<int>(d.series_values.size());
+    if (s >= 0) d.series_values.push_back(c.values);
+    for (int n : m.boundary(c.boundary)) {
+      d.eq[2 * n + c.component] = -1;
+      d.series[2 * n + c.component] = s;
+    }
+  }
+  if (!test.force_boundary.empty())
+    for (int n : m.boundary(test.force_boundary)) d.top_y.push_back(2 * n + test.force_component);
+}
+
+}  // namespace
+
 DofMap make_dof_map(const TestModel& test) {
   const Mesh& m = test.mesh;
   const int ndof = m.dofs();
@@ -17,6 +37,14 @@ DofMap make_dof_map(const TestModel& test) {
   d.grip.assign(ndof, 0);
   d.guide.assign(ndof, 0.0);
   d.tie.assign(ndof, 0.0);
+  d.series.assign(ndof, -1);
+  for (const std::string& name : test.resultant_boundaries()) d.resultant_nodes.push_back(m.boundary(name));
+  if (test.has_conditions()) {
+    map_conditions(test, d);
+    for (int k = 0; k < ndof; ++k)
+      if (d.eq[k] == 0) d.eq[k] = d.equations++;
+    return d;
+  }
   const double W = m.X.row(0).maxCoeff();
   for (int n : m.left) d.eq[2 * n] = -1;    // symmetry: u_x = 0
   for (int n : m.bottom) d.eq[2 * n + 1] = -1;  // symmetry: u_y = 0
@@ -76,11 +104,38 @@ DofMap make_dof_map(const TestModel& test) {
   return d;
 }
 
+namespace {
+
+// A series' value at step parameter t: 0 at t = 0, values[k] at t = k + 1, linear in between.
+double series_value(const std::vector<double>& values, double t) {
+  if (!(t > 0)) return 0;
+  const double last = static_cast<double>(values.size());
+  if (t >= last) return values.back();
+  const int k = static_cast<int>(t);  // t in [k, k + 1)
+  const double before = k == 0 ? 0.0 : values[k - 1];
+  return before + (t - k) * (values[k] - before);
+}
+
+}  // namespace
+
 void expand(const DofMap& dofs, const Eigen::VectorXd& z, const Load& load, Eigen::VectorXd& u) {
   const int ndof = static_cast<int>(dofs.eq.size());
   u.resize(ndof);
-  for (int k = 0; k < ndof; ++k)
-    u(k) = dofs.eq[k] >= 0 ? z(dofs.eq[k]) : load.d * dofs.grip[k] + load.c * dofs.guide[k];
+  for (int k = 0; k < ndof; ++k) {
+    if (dofs.eq[k] >= 0) {
+      u(k) = z(dofs.eq[k]);
+    } else {
+      u(k) = load.d * dofs.grip[k] + load.c * dofs.guide[k];
+      if (dofs.series[k] >= 0) u(k) += series_value(dofs.series_values[dofs.series[k]], load.t);
+    }
+  }
+}
+
+Eigen::VectorXd series_displacements(const DofMap& dofs, double t) {
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dofs.eq.size()));
+  for (size_t k = 0; k < dofs.eq.size(); ++k)
+    if (dofs.series[k] >= 0) u(static_cast<Eigen::Index>(k)) = series_value(dofs.series_values[dofs.series[k]], t);
+  return u;
 }
 
 namespace {
@@ -129,6 +184,29 @@ Assembler::Assembler(const TestModel& test, const DofMap& dofs, const Law& law)
         if (qi < 0 || qj < 0) continue;
         const int* p = std::lower_bound(inner + outer[qj], inner + outer[qj + 1], qi);
         slot_[(static_cast<size_t>(e) * D_ + i) * D_ + j] = static_cast<int>(p - inner);
+      }
+
+  // The free-row × series-column block, for the predictor of a series increment.
+  std::vector<Eigen::Triplet<double>> ts;
+  for (int e = 0; e < ne; ++e)
+    for (int i = 0; i < D_; ++i)
+      for (int j = 0; j < D_; ++j) {
+        const int qi = dofs.eq[element_dof(m, e, i)], dj = element_dof(m, e, j);
+        if (qi >= 0 && dofs.series[dj] >= 0) ts.emplace_back(qi, dj, 0.0);
+      }
+  pattern_fs_.resize(dofs.equations, m.dofs());
+  pattern_fs_.setFromTriplets(ts.begin(), ts.end());
+  pattern_fs_.makeCompressed();
+  series_entries_.resize(ts.empty() ? 0 : ne);
+  for (int e = 0; e < ne && !ts.empty(); ++e)
+    for (int i = 0; i < D_; ++i)
+      for (int j = 0; j < D_; ++j) {
+        const int qi = dofs.eq[element_dof(m, e, i)], dj = element_dof(m, e, j);
+        if (qi < 0 || dofs.series[dj] < 0) continue;
+        const int* begin = pattern_fs_.innerIndexPtr() + pattern_fs_.outerIndexPtr()[dj];
+        const int* end = pattern_fs_.innerIndexPtr() + pattern_fs_.outerIndexPtr()[dj + 1];
+        const int* p = std::lower_bound(begin, end, qi);
+        series_entries_[e].push_back({i, j, static_cast<int>(p - pattern_fs_.innerIndexPtr())});
       }
 
   // Per element: dofs, equations, and the few local dofs that feed g_grip, g_guide and h_top.
@@ -185,6 +263,8 @@ bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assemb
     a.g_grip.setZero(neq);
     a.g_guide.setZero(neq);
     a.h_top.setZero(neq);
+    if (a.K_fs.nonZeros() != pattern_fs_.nonZeros() || a.K_fs.rows() != neq) a.K_fs = pattern_fs_;
+    std::fill(a.K_fs.valuePtr(), a.K_fs.valuePtr() + a.K_fs.nonZeros(), 0.0);
   }
   if (req.sensitivities) a.df_dc.setZero(ndof, coefficient_count_);
   if (req.tangent) a.symmetric = true;  // else K and its flag stay those of the last tangent
@@ -194,6 +274,7 @@ bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assemb
 
   std::atomic<bool> failed{false};
   double* K = req.tangent ? a.K.valuePtr() : nullptr;
+  double* K_fs = req.tangent ? a.K_fs.valuePtr() : nullptr;
 
   // Threads pay off on an idle machine but cost a scheduler slice per color barrier on a loaded one:
   // the first kProbes tangent assemblies alternate serial and threaded (the first threaded one also
@@ -246,6 +327,8 @@ bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assemb
         for (int i : top_local_[e])
           for (int j = 0; j < D_; ++j)
             if (eq[j] >= 0) a.h_top(eq[j]) += r.K(i, j);
+        if (!series_entries_.empty())
+          for (const auto& [i, j, slot_fs] : series_entries_[e]) K_fs[slot_fs] += r.K(i, j);
       }
     }
 #pragma omp critical(tricot_fem_assembly_reduce)

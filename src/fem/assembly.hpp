@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <array>
 #include <vector>
 
 #include "tricot/fem/element.hpp"
@@ -14,9 +15,11 @@
 
 namespace tricot::fem::detail {
 
-/// The load parameters of a state: grip displacement d (mm) or full-specimen force F (N), guide c (mm).
+/// The load parameters of a state: grip displacement d (mm) or full-specimen force F (N), guide c (mm),
+/// and the step parameter t of the boundary series (TestModel::conditions: t = k + 1 at step k, 0 at
+/// the reference state, between steps linear).
 struct Load {
-  double d = 0, F = 0, c = 0;
+  double d = 0, F = 0, c = 0, t = 0;
 };
 
 /// How node dofs map onto the unknowns (THEORY §6). A prescribed dof has eq = −1 and the value
@@ -33,6 +36,11 @@ struct DofMap {
   /// Per node dof: stiffness of a tie (N/mm; a free dof with a spring t·(u − c·guide)), else 0. The
   /// guide's ties anchor at c (guide = 1), the clips' at c·X/W or 0.
   std::vector<double> tie;
+  /// Per node dof: the boundary series (index into `series_values`) that prescribes it, or −1.
+  std::vector<int> series;
+  std::vector<std::vector<double>> series_values;  ///< TestModel::conditions' values, one per step
+  /// Nodes of each boundary whose resultant is recorded (TestModel::resultant_boundaries()).
+  std::vector<std::vector<int>> resultant_nodes;
 };
 /// The guide wins over a clamped grip at the top-right corner node: the guide sets the width (unless
 /// it ends short of the grip, TestModel::guide_gap). A grip that
@@ -41,6 +49,8 @@ DofMap make_dof_map(const TestModel& test);
 
 /// Node displacements from the unknowns z and the load.
 void expand(const DofMap& dofs, const Eigen::VectorXd& z, const Load& load, Eigen::VectorXd& u);
+/// The boundary series' values at step parameter t on their dofs, 0 on every other dof (2·nodes).
+Eigen::VectorXd series_displacements(const DofMap& dofs, double t);
 
 /// Everything one assembly returns.
 struct Assembled {
@@ -48,6 +58,9 @@ struct Assembled {
   Eigen::SparseMatrix<double> K;   ///< free-free tangent ∂R_f/∂z, fixed pattern
   Eigen::VectorXd g_grip, g_guide; ///< ∂R_f/∂d and ∂R_f/∂c at fixed z (K_fp times the load pattern)
   Eigen::VectorXd h_top;           ///< ∂(Σ_top f_y)/∂z, for the force sensitivity
+  /// ∂R_f/∂u_s: free equations × node dofs, non-zero in the columns of series dofs (DofMap::series),
+  /// for the predictor of an increment of the boundary series.
+  Eigen::SparseMatrix<double> K_fs;
   Eigen::MatrixXd df_dc;           ///< ∂f/∂c_k at every node dof (when asked)
   bool symmetric = true;           ///< every element tangent symmetric: Cholesky applies
   ElementStatus status = ElementStatus::ok;
@@ -78,6 +91,9 @@ class Assembler {
   std::vector<int> dof_, eq_;             ///< per element, D: node dof and its equation (−1: prescribed)
   /// Per element: local dofs that are grip / guide dofs, and local dofs on the top edge (u_y).
   std::vector<std::vector<int>> grip_local_, guide_local_, top_local_;
+  /// Per element: (local i, local j, index into K_fs.valuePtr()) of a free row and a series column.
+  std::vector<std::vector<std::array<int, 3>>> series_entries_;
+  Eigen::SparseMatrix<double> pattern_fs_;
   int D_ = 0;                             ///< element dofs
   Eigen::SparseMatrix<double> pattern_;
   // Serial or threaded, decided by timing one of each (see assemble()).

@@ -1,4 +1,4 @@
-// Q4/Q8 total-Lagrangian membrane elements (THEORY §4, §6).
+// T3/T6/Q4/Q8 total-Lagrangian membrane elements (THEORY §4, §6).
 #include "tricot/fem/element.hpp"
 
 #include <cmath>
@@ -10,6 +10,23 @@ ShapeValues shape(ElementType type, const Vec2& xi) {
   static constexpr double kCorner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
   const double x = xi(0), y = xi(1);
   ShapeValues s;
+  if (is_triangle(type)) {
+    // Area coordinates L0 = 1 − ξ − η, L1 = ξ, L2 = η; T6 adds the mid-sides 4 La Lb (edges 0-1, 1-2, 2-0).
+    const double L[3] = {1 - x - y, x, y};
+    const double dL[3][2] = {{-1, -1}, {1, 0}, {0, 1}};
+    if (type == ElementType::T3) {
+      for (int a = 0; a < 3; ++a) s.N(a) = L[a], s.dN_dxi(a, 0) = dL[a][0], s.dN_dxi(a, 1) = dL[a][1];
+      return s;
+    }
+    for (int a = 0; a < 3; ++a) {
+      s.N(a) = L[a] * (2 * L[a] - 1);
+      for (int j = 0; j < 2; ++j) s.dN_dxi(a, j) = (4 * L[a] - 1) * dL[a][j];
+      const int b = (a + 1) % 3;
+      s.N(3 + a) = 4 * L[a] * L[b];
+      for (int j = 0; j < 2; ++j) s.dN_dxi(3 + a, j) = 4 * (dL[a][j] * L[b] + L[a] * dL[b][j]);
+    }
+    return s;
+  }
   if (type == ElementType::Q4) {
     for (int a = 0; a < 4; ++a) {
       const double xa = kCorner[a][0], ya = kCorner[a][1];
@@ -55,7 +72,17 @@ std::span<const QuadraturePoint> quadrature(ElementType type) {
       for (int i = 0; i < 3; ++i) r[3 * j + i] = {{p[i], p[j]}, w[i] * w[j]};
     return r;
   }();
-  if (type == ElementType::Q4) return q4;
+  // Triangles on ξ, η ≥ 0, ξ + η ≤ 1 (area 1/2): T3 the centroid (exact for its constant gradients),
+  // T6 the three-point rule of degree 2 (exact for the linear-elastic stiffness of a straight T6).
+  static const std::array<QuadraturePoint, 1> t3 = {QuadraturePoint{{1.0 / 3, 1.0 / 3}, 0.5}};
+  static const std::array<QuadraturePoint, 3> t6 = {
+      QuadraturePoint{{1.0 / 6, 1.0 / 6}, 1.0 / 6}, {{2.0 / 3, 1.0 / 6}, 1.0 / 6}, {{1.0 / 6, 2.0 / 3}, 1.0 / 6}};
+  switch (type) {
+    case ElementType::Q4: return q4;
+    case ElementType::Q8: return q8;
+    case ElementType::T3: return t3;
+    case ElementType::T6: return t6;
+  }
   return q8;
 }
 
@@ -197,8 +224,12 @@ ElementStatus response(const ElementGeometry& g, const ElementVector& ue, const 
 ElementStatus element_response(const ElementGeometry& g, const ElementVector& ue, const Law& law,
                                const Mat2& Q, const LawRequest& request, LawOutput& scratch,
                                ElementResponse& out) {
-  return g.nodes == 4 ? response<4>(g, ue, law, Q, request, scratch, out)
-                      : response<8>(g, ue, law, Q, request, scratch, out);
+  switch (g.nodes) {
+    case 3: return response<3>(g, ue, law, Q, request, scratch, out);
+    case 4: return response<4>(g, ue, law, Q, request, scratch, out);
+    case 6: return response<6>(g, ue, law, Q, request, scratch, out);
+    default: return response<8>(g, ue, law, Q, request, scratch, out);
+  }
 }
 
 }  // namespace tricot::fem

@@ -1,4 +1,4 @@
-// Point location in a quad mesh (THEORY §7): a uniform grid of element bounding boxes gives the
+// Point location in a mesh (THEORY §7): a uniform grid of element bounding boxes gives the
 // candidates, the paper's "capable angles" test picks the element, Newton on the isoparametric map
 // gives ξ.
 #include "tricot/fem/locate.hpp"
@@ -22,19 +22,21 @@ constexpr double kXiTolerance = 2e-9;
 constexpr double kNewtonTolerance = 1e-13;
 constexpr int kNewtonIterations = 50;
 
-// The element's boundary polygon, counter-clockwise: corners for Q4, corners and mid-side nodes
-// (0 4 1 5 2 6 3 7) for Q8 so that curved edges are followed.
+// The element's boundary polygon, counter-clockwise: the corners of a linear element; corners and
+// mid-side nodes (0 4 1 5 2 6 3 7 for Q8, 0 3 1 4 2 5 for T6) of a quadratic one, so that curved edges
+// are followed.
 int boundary(const Mesh& mesh, const Eigen::Matrix2Xd& x, int e, Vec2* out) {
   const auto& c = mesh.connectivity[e];
-  if (mesh.type == ElementType::Q4) {
-    for (int a = 0; a < 4; ++a) out[a] = x.col(c[a]);
-    return 4;
+  const int k = corners(mesh.type);
+  if (nodes_per_element(mesh.type) == k) {
+    for (int a = 0; a < k; ++a) out[a] = x.col(c[a]);
+    return k;
   }
-  for (int a = 0; a < 4; ++a) {
+  for (int a = 0; a < k; ++a) {
     out[2 * a] = x.col(c[a]);
-    out[2 * a + 1] = x.col(c[4 + a]);
+    out[2 * a + 1] = x.col(c[k + a]);
   }
-  return 8;
+  return 2 * k;
 }
 
 // The paper's capable-angles test: the signed angles that p makes with each pair of consecutive
@@ -53,7 +55,7 @@ bool capable_angles_inside(const Vec2* poly, int n, const Vec2& p, double size) 
 bool inverse_map(const Mesh& mesh, const Eigen::Matrix2Xd& x, int e, const Vec2& p, Vec2& xi) {
   const int n = nodes_per_element(mesh.type);
   const auto& c = mesh.connectivity[e];
-  xi.setZero();
+  xi = element_centre(mesh.type);
   for (int it = 0; it < kNewtonIterations; ++it) {
     const ShapeValues s = shape(mesh.type, xi);
     Vec2 xp = Vec2::Zero();
@@ -72,7 +74,20 @@ bool inverse_map(const Mesh& mesh, const Eigen::Matrix2Xd& x, int e, const Vec2&
   return false;
 }
 
-bool within(const Vec2& xi) { return xi.cwiseAbs().maxCoeff() <= 1 + kXiTolerance; }
+// Inside the reference element within the tolerance: [−1, 1]², or the triangle ξ, η ≥ 0, ξ + η ≤ 1
+// (which spans 1 in ξ: half the tolerance).
+bool within(ElementType type, const Vec2& xi) {
+  if (is_triangle(type)) return xi.minCoeff() >= -0.5 * kXiTolerance && xi.sum() <= 1 + 0.5 * kXiTolerance;
+  return xi.cwiseAbs().maxCoeff() <= 1 + kXiTolerance;
+}
+
+// ξ moved onto the reference element.
+Vec2 clamp_to(ElementType type, Vec2 xi) {
+  if (!is_triangle(type)) return xi.cwiseMax(-1).cwiseMin(1);
+  xi = xi.cwiseMax(0);
+  if (const double sum = xi.sum(); sum > 1) xi /= sum;
+  return xi;
+}
 
 }  // namespace
 
@@ -127,13 +142,12 @@ std::optional<Location> PointLocator::locate(const Vec2& p) const {
     for (int a = 0; a < n; ++a) box.extend(poly[a]);
     const double size = box.sizes().maxCoeff();
     if (!capable_angles_inside(poly, n, p, size)) continue;
-    if (inverse_map(*mesh_, x_, e, p, xi) && within(xi))
-      return Location{e, xi.cwiseMax(-1).cwiseMin(1)};
+    if (inverse_map(*mesh_, x_, e, p, xi) && within(mesh_->type, xi)) return Location{e, clamp_to(mesh_->type, xi)};
   }
   // Second pass: points on an edge (the angle sum is ±π), within the tolerance outside it, or in
   // the bulge of a curved Q8 edge beyond its boundary polygon: Newton alone decides.
   for (int e : candidates)
-    if (inverse_map(*mesh_, x_, e, p, xi) && within(xi)) return Location{e, xi.cwiseMax(-1).cwiseMin(1)};
+    if (inverse_map(*mesh_, x_, e, p, xi) && within(mesh_->type, xi)) return Location{e, clamp_to(mesh_->type, xi)};
   return std::nullopt;
 }
 

@@ -1,6 +1,7 @@
 // Consistency checks of a test model (THEORY §6).
 #include "tricot/fem/model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -8,6 +9,56 @@
 #include "tricot/fem/element.hpp"
 
 namespace tricot::fem {
+
+std::vector<std::string> TestModel::resultant_boundaries() const {
+  if (!resultants.empty()) return resultants;
+  std::vector<std::string> names;
+  for (const BoundaryCondition& c : conditions)
+    if (std::find(names.begin(), names.end(), c.boundary) == names.end()) names.push_back(c.boundary);
+  return names;
+}
+
+void TestModel::validate_conditions() const {
+  const std::string who = "test '" + name + "': ";
+  auto bad = [&](const std::string& key, const std::string& problem, const std::string& got = {},
+                 const std::string& expected = {}) {
+    throw InputError(Location{"", 0, key}, who + problem, got, expected);
+  };
+  if (loads.empty()) bad("test.loads", "no load steps", "[]", "at least one step");
+  for (size_t k = 0; k < loads.size(); ++k) {
+    if (!std::isfinite(loads[k]))
+      bad("test.loads", "step " + std::to_string(k + 1) + " is not a finite number", format_number(loads[k]));
+    if (k > 0 && !(loads[k] > loads[k - 1]))
+      bad("test.loads", "step labels must increase strictly (step " + std::to_string(k + 1) + ")",
+          format_number(loads[k]) + " after " + format_number(loads[k - 1]), "strictly increasing labels");
+  }
+  // The quarter's own conditions do not apply to a model of any mesh.
+  if (control != GripControl::displacement || side != SideEdge::free || !guide.empty() ||
+      guide_gap != 0 || guide_setting_steps != 0 || guide_tie_stiffness != 0 || guide_taper != 0 ||
+      grip_tie_stiffness != 0 || grip_taper != 0 || grip_follows_guide)
+    bad("test.conditions", "boundary conditions per named boundary replace the quarter model's grip and guide",
+        "both", "conditions, or the quarter's grip and guide");
+  for (size_t i = 0; i < conditions.size(); ++i) {
+    const BoundaryCondition& c = conditions[i];
+    const std::string key = "test.conditions[" + std::to_string(i) + "]";
+    mesh.boundary(c.boundary, key + ".boundary");
+    if (c.component != 0 && c.component != 1)
+      bad(key + ".component", "not a component", std::to_string(c.component), "0 (x) or 1 (y)");
+    if (!c.values.empty() && c.values.size() != loads.size())
+      bad(key + ".values", "the series on boundary '" + c.boundary + "' has " + std::to_string(c.values.size()) +
+              " values for " + std::to_string(loads.size()) + " steps",
+          std::to_string(c.values.size()) + " values", "one per step (" + std::to_string(loads.size()) + "), or none (fixed)");
+    for (size_t k = 0; k < c.values.size(); ++k)
+      if (!std::isfinite(c.values[k]))
+        bad(key + ".values", "step " + std::to_string(k + 1) + " is not a finite displacement", format_number(c.values[k]), "mm");
+  }
+  if (!force_boundary.empty()) mesh.boundary(force_boundary, "test.force_boundary");
+  if (force_component != 0 && force_component != 1)
+    bad("test.force_component", "not a component", std::to_string(force_component), "0 (x) or 1 (y)");
+  if (!(force_scale > 0) || !std::isfinite(force_scale))
+    bad("test.force_scale", "out of range", format_number(force_scale), "> 0");
+  for (size_t i = 0; i < resultants.size(); ++i) mesh.boundary(resultants[i], "test.resultants");
+}
 
 void TestModel::validate() const {
   const std::string who = "test '" + name + "': ";
@@ -33,6 +84,7 @@ void TestModel::validate() const {
   const std::pair<const char*, const std::vector<int>*> edges[] = {
       {"left", &mesh.left}, {"bottom", &mesh.bottom}, {"top", &mesh.top}, {"right", &mesh.right}};
   for (const auto& [edge, set] : edges) {
+    if (has_conditions()) break;  // a model of any mesh names its boundaries instead
     if (set->empty()) bad("test.mesh", std::string("no nodes on the ") + edge + " edge");
     for (int v : *set)
       if (v < 0 || v >= n) bad("test.mesh", std::string("bad node on the ") + edge + " edge", std::to_string(v));
@@ -42,6 +94,11 @@ void TestModel::validate() const {
     if (!(det > 0))
       bad("test.mesh", "element " + std::to_string(e) + " is inverted or degenerate in the reference mesh",
           "det(dX/dxi) = " + format_number(det), "> 0");
+  }
+
+  if (has_conditions()) {
+    validate_conditions();
+    return;
   }
 
   // Steps: strictly increasing from > 0.

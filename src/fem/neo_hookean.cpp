@@ -19,7 +19,12 @@ void check(double mu, double lambda) {
 
 }  // namespace
 
-NeoHookean::NeoHookean(double mu, double lambda) : mu_(mu), lambda_(lambda) { check(mu, lambda); }
+const char* to_string(Kinematics k) { return k == Kinematics::plane_strain ? "plane_strain" : "plane_stress"; }
+
+NeoHookean::NeoHookean(double mu, double lambda, Kinematics kinematics)
+    : mu_(mu), lambda_(lambda), kinematics_(kinematics) {
+  check(mu, lambda);
+}
 
 void NeoHookean::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != 2)
@@ -35,6 +40,23 @@ void NeoHookean::evaluate(const LawInput& in, const LawRequest& req, LawOutput& 
   const double detF = F.determinant();
   if (detail::invalid_state(detF, req, 2, out)) return;
   const double mu = mu_, lam = lambda_;
+  if (kinematics_ == Kinematics::plane_strain) {
+    // C33 = 1: P = μ (F − F⁻ᵀ) + λ ln J F⁻ᵀ; dP = μ dF + (μ − λ ln J) F⁻ᵀ dFᵀ F⁻ᵀ + λ (F⁻ᵀ : dF) F⁻ᵀ.
+    const Mat2 Fit = F.inverse().transpose();
+    const double lnJ = std::log(detF);
+    out.P = mu * (F - Fit) + lam * lnJ * Fit;
+    out.lambda3 = 1;
+    if (req.tangent)
+      for (int k = 0; k < 2; ++k)
+        for (int l = 0; l < 2; ++l) {
+          Mat2 dF = Mat2::Zero();
+          dF(k, l) = 1;
+          out.A.col(2 * k + l) = flatten(mu * dF + (mu - lam * lnJ) * Fit * dF.transpose() * Fit + lam * Fit(k, l) * Fit);
+        }
+    out.dP_dc.clear();
+    if (req.sensitivities) out.dP_dc = {F - Fit, lnJ * Fit};
+    return;
+  }
   const double lnJ2 = 2 * std::log(detF);
   // σ33 = 0: g(s) = μ (eˢ − 1) + λ/2 (ln J2 + s) = 0 with s = ln C33. g is increasing and convex, so
   // Newton from s = 0 converges monotonically after at most one overshoot.

@@ -108,6 +108,9 @@ class Simulation {
   bool solve_step(const Load& target, StepResult& step, Failure& fail);
   bool set_transverse_dimension(Failure& fail, std::string& where, std::vector<StepResult>& states);
   void record(const Load& L, StepResult& step);
+  /// The measured force over the force boundary's summed internal force: 2 for the quarter model's
+  /// grip (the other half of the specimen), TestModel::force_scale for a model of any mesh.
+  double force_scale() const { return test_.has_conditions() ? test_.force_scale : 2.0; }
   std::string describe_element_failure() const;
   std::string ellipticity_note(int element) const;
 
@@ -137,6 +140,10 @@ class Simulation {
 
 Load Simulation::load_at(size_t k) const {
   Load L;
+  if (test_.has_conditions()) {  // the boundary series' own values at step k
+    L.t = static_cast<double>(k + 1);
+    return L;
+  }
   const double v = test_.loads[k];
   (test_.control == GripControl::displacement ? L.d : L.F) = v;
   if (test_.side == SideEdge::guide) {
@@ -258,6 +265,8 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
   const Eigen::VectorXd z0 = z_;
   Eigen::VectorXd rhs = (to.d - from.d) * assembled_.g_grip + (to.c - from.c) * assembled_.g_guide;
   if (dofs_.master >= 0) rhs(dofs_.master) -= 0.5 * (to.F - from.F);
+  if (to.t != from.t)
+    rhs += assembled_.K_fs * (detail::series_displacements(dofs_, to.t) - detail::series_displacements(dofs_, from.t));
   Eigen::MatrixXd sol;
   Failure ignored;  // without a tangent predictor, Newton starts from z0 and reports its own failure
   if (!linear_solve(rhs, sol, ignored, true)) sol.setZero(rhs.size(), 1);
@@ -265,11 +274,11 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
   Eigen::VectorXd z = z0 + dz_t;
   // When the load keeps its direction, the converged states before (at τ_j < 0) with their tangents
   // fix a Hermite polynomial through them and (z0, dz_t): use it at τ = 1.
-  const Eigen::Vector3d e(to.d - from.d, to.F - from.F, to.c - from.c);
+  const Eigen::Vector4d e(to.d - from.d, to.F - from.F, to.c - from.c, to.t - from.t);
   const double L = e.norm();
   std::vector<double> tau;  // of the history entries that lie behind `from` on the same line
   for (auto it = history_.rbegin(); it != history_.rend() && L > 0; ++it) {
-    const Eigen::Vector3d p(it->load.d - from.d, it->load.F - from.F, it->load.c - from.c);
+    const Eigen::Vector4d p(it->load.d - from.d, it->load.F - from.F, it->load.c - from.c, it->load.t - from.t);
     if (!(p.norm() > 0) || (p / p.norm() + e / L).norm() > 1e-9) break;
     tau.push_back(-p.norm() / L);
   }
@@ -442,7 +451,7 @@ bool Simulation::solve_step(const Load& target, StepResult& step, Failure& fail)
   const Load start = load_;
   auto lerp = [&](double s) {
     return Load{start.d + s * (target.d - start.d), start.F + s * (target.F - start.F),
-                start.c + s * (target.c - start.c)};
+                start.c + s * (target.c - start.c), start.t + s * (target.t - start.t)};
   };
   double s = 0, ds = 1;
   while (s < 1) {
@@ -498,7 +507,7 @@ bool Simulation::step_sensitivities(StepResult& step, Failure& fail) {
   if (test_.control == GripControl::displacement) {
     for (int d : dofs_.top_y) step.dforce_dc += assembled_.df_dc.row(d).transpose();
     step.dforce_dc += dz.transpose() * assembled_.h_top;
-    step.dforce_dc *= 2;
+    step.dforce_dc *= force_scale();
   }
   return true;
 }
@@ -527,9 +536,22 @@ void Simulation::record(const Load& L, StepResult& step) {
   double top = 0, side = 0;
   for (int k : dofs_.top_y) top += assembled_.f(k);
   for (int k : dofs_.right_x) side += assembled_.f(k) - dofs_.tie[k] * (u_(k) - L.c * dofs_.guide[k]);  // the fabric's pull
-  step.edge_force = 2 * top;
-  step.force_per_width = step.edge_force / (2 * test_.mesh.X.row(0).maxCoeff());
+  step.edge_force = force_scale() * top;
   step.side_force = test_.side == SideEdge::guide ? 2 * side : 0.0;
+  step.resultants.clear();
+  for (const std::vector<int>& nodes : dofs_.resultant_nodes) {
+    Vec2 sum = Vec2::Zero();
+    for (int n : nodes) sum += assembled_.f.segment<2>(2 * n);
+    step.resultants.push_back(sum);
+  }
+  if (!test_.has_conditions()) {
+    step.force_per_width = step.edge_force / (2 * test_.mesh.X.row(0).maxCoeff());
+    return;
+  }
+  // Any mesh: the force boundary's prescribed displacement, and the force per unit initial width.
+  const double width = test_.mesh.X.row(0).maxCoeff() - test_.mesh.X.row(0).minCoeff();
+  step.edge_displacement = dofs_.top_y.empty() ? 0.0 : u_(dofs_.top_y.front());
+  step.force_per_width = step.edge_force / width;
 }
 
 SimulationResult Simulation::run() {

@@ -13,7 +13,15 @@
 
 namespace tricot::io {
 
-int vtk_nodes(VtkCell type) { return type == VtkCell::quad ? 4 : 8; }
+int vtk_nodes(VtkCell type) {
+  switch (type) {
+    case VtkCell::quad: return 4;
+    case VtkCell::quadratic_quad: return 8;
+    case VtkCell::triangle: return 3;
+    case VtkCell::quadratic_triangle: return 6;
+  }
+  return 0;
+}
 
 std::size_t VtuGrid::cell_count() const { return connectivity.size() / vtk_nodes(cell_type); }
 

@@ -19,8 +19,13 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
     g.points.insert(g.points.end(), {mesh.X(0, a) + u(2 * a), mesh.X(1, a) + u(2 * a + 1), 0.0});
     disp.values.insert(disp.values.end(), {u(2 * a), u(2 * a + 1), 0.0});
   }
-  // Our Q8 node order (corners CCW, then mid-sides 0-1, 1-2, 2-3, 3-0) is VTK's quadratic quad's.
-  g.cell_type = mesh.type == fem::ElementType::Q4 ? io::VtkCell::quad : io::VtkCell::quadratic_quad;
+  // Our node orders (corners CCW, then the mid-sides from edge 0-1 on) are VTK's.
+  switch (mesh.type) {
+    case fem::ElementType::Q4: g.cell_type = io::VtkCell::quad; break;
+    case fem::ElementType::Q8: g.cell_type = io::VtkCell::quadratic_quad; break;
+    case fem::ElementType::T3: g.cell_type = io::VtkCell::triangle; break;
+    case fem::ElementType::T6: g.cell_type = io::VtkCell::quadratic_triangle; break;
+  }
   g.connectivity.reserve(per * mesh.elements());
   for (const auto& c : mesh.connectivity) g.connectivity.insert(g.connectivity.end(), c.begin(), c.begin() + per);
 

@@ -19,26 +19,32 @@ constexpr double kRoundOff = 1e-13;  // sums of a few O(1) products
 constexpr double kFd = 1e-6;         // central differences of smooth functions, h = 1e-6
 constexpr double kNoSaturation = std::numeric_limits<double>::infinity();
 
-// One element of the given type on a distorted quadrilateral (straight mid-sides moved off-centre).
+// One element of the given type on a distorted quadrilateral, or a triangle of its first three
+// corners (quadratic types: mid-sides moved off-centre, so the sides are curved).
 Mesh distorted_element(ElementType type) {
   Mesh m;
   m.type = type;
-  const int n = nodes_per_element(type);
+  const int n = nodes_per_element(type), k = corners(type);
   m.X.resize(2, n);
-  m.X.col(0) << 0.1, -0.2;
-  m.X.col(1) << 2.3, 0.1;
-  m.X.col(2) << 2.0, 1.9;
-  m.X.col(3) << -0.3, 1.4;
-  std::array<int, 8> c{0, 1, 2, 3, -1, -1, -1, -1};
-  if (type == ElementType::Q8) {
+  const Vec2 corner[4] = {{0.1, -0.2}, {2.3, 0.1}, {2.0, 1.9}, {-0.3, 1.4}};
+  std::array<int, 8> c{};
+  c.fill(-1);
+  for (int a = 0; a < k; ++a) m.X.col(a) = corner[a], c[a] = a;
+  if (n > k) {
     const Vec2 bump[4] = {{0.05, -0.1}, {0.12, 0.03}, {-0.04, 0.08}, {-0.1, -0.05}};
-    for (int s = 0; s < 4; ++s) {
-      m.X.col(4 + s) = 0.5 * (m.X.col(s) + m.X.col((s + 1) % 4)) + bump[s];
-      c[4 + s] = 4 + s;
+    for (int s = 0; s < k; ++s) {
+      m.X.col(k + s) = 0.5 * (m.X.col(s) + m.X.col((s + 1) % k)) + bump[s];
+      c[k + s] = k + s;
     }
   }
   m.connectivity = {c};
   return m;
+}
+
+// The element's nodes in natural coordinates (Mesh's node order).
+std::vector<Vec2> natural_nodes(ElementType type) {
+  if (is_triangle(type)) return {{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}};
+  return {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {0, -1}, {1, 0}, {0, 1}, {-1, 0}};
 }
 
 // Stretched, sheared and rotated by 30°, plus a smooth non-affine part.
@@ -80,12 +86,12 @@ class ElementTypes : public ::testing::TestWithParam<ElementType> {};
 TEST_P(ElementTypes, ShapeFunctionsArePartitionOfUnityAndInterpolateNodes) {
   const ElementType type = GetParam();
   const int n = nodes_per_element(type);
-  const Vec2 nodes[8] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+  const std::vector<Vec2> nodes = natural_nodes(type);
   for (int a = 0; a < n; ++a) {
     const ShapeValues s = shape(type, nodes[a]);
     for (int b = 0; b < n; ++b) EXPECT_NEAR(s.N(b), a == b ? 1.0 : 0.0, kRoundOff);
   }
-  const ShapeValues s = shape(type, Vec2(0.3, -0.7));
+  const ShapeValues s = shape(type, is_triangle(type) ? Vec2(0.3, 0.45) : Vec2(0.3, -0.7));
   EXPECT_NEAR(s.N.sum(), 1, kRoundOff);
   EXPECT_NEAR(s.dN_dxi.col(0).sum(), 0, kRoundOff);
   EXPECT_NEAR(s.dN_dxi.col(1).sum(), 0, kRoundOff);
@@ -95,7 +101,7 @@ TEST_P(ElementTypes, ShapeDerivativesMatchFiniteDifferences) {
   const ElementType type = GetParam();
   const int n = nodes_per_element(type);
   auto N = [&](const Eigen::VectorXd& xi) -> Eigen::VectorXd { return shape(type, xi).N.head(n); };
-  const Eigen::VectorXd xi = Vec2(0.31, -0.62);
+  const Eigen::VectorXd xi = is_triangle(type) ? Vec2(0.31, 0.22) : Vec2(0.31, -0.62);
   EXPECT_TRUE(test::JacobianMatches(N, xi, shape(type, xi).dN_dxi.topRows(n), kFd));
 }
 
@@ -104,13 +110,15 @@ TEST_P(ElementTypes, QuadratureIntegratesTheCurvedAreaExactly) {
   const ElementGeometry g = element_geometry(m, 0);
   double area = 0;
   for (int q = 0; q < g.points; ++q) area += g.dA0[q];
-  // Corner polygon (shoelace) plus, for Q8, the parabolic bulges of the curved sides (2/3 · chord × offset).
+  // Corner polygon (shoelace) plus, for Q8 and T6, the parabolic bulges of the curved sides
+  // (2/3 · chord × offset).
   double expected = 0;
-  for (int s = 0; s < 4; ++s) {
-    const Vec2 a = m.X.col(s), b = m.X.col((s + 1) % 4);
+  const int k = corners(GetParam());
+  for (int s = 0; s < k; ++s) {
+    const Vec2 a = m.X.col(s), b = m.X.col((s + 1) % k);
     expected += 0.5 * (a(0) * b(1) - a(1) * b(0));
-    if (GetParam() == ElementType::Q8) {
-      const Vec2 d = m.X.col(4 + s) - 0.5 * (a + b), chord = b - a;
+    if (nodes_per_element(GetParam()) > k) {
+      const Vec2 d = m.X.col(k + s) - 0.5 * (a + b), chord = b - a;
       expected += 2.0 / 3.0 * (chord(0) * d(1) - chord(1) * d(0)) * -1;
     }
   }
@@ -173,7 +181,7 @@ TEST_P(ElementTypes, RigidRotationKeepsTheStressInvariants) {
     const Vec2 X = m.X.col(a);
     ur.segment<2>(2 * a) = R * (X + u.segment<2>(2 * a)) - X;
   }
-  const Vec2 xi(0.2, -0.4);
+  const Vec2 xi = is_triangle(GetParam()) ? Vec2(0.2, 0.4) : Vec2(0.2, -0.4);
   const Mat2 F = deformation_gradient(m, 0, xi, u), Fr = deformation_gradient(m, 0, xi, ur);
   EXPECT_LT((Fr - R * F).norm(), kRoundOff);
   LawInput in;
@@ -205,6 +213,8 @@ TEST_P(ElementTypes, InvertedStateIsReported) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Q4AndQ8, ElementTypes, ::testing::Values(ElementType::Q4, ElementType::Q8),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+INSTANTIATE_TEST_SUITE_P(T3AndT6, ElementTypes, ::testing::Values(ElementType::T3, ElementType::T6),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
 TEST(MaterialAxes, CourseAndWaleAreTheAngleAndItsNormal) {

@@ -160,6 +160,8 @@ TEST_P(Types, PatchTestWithAClampThatFollowsTheGuideIsHomogeneous) {
 
 INSTANTIATE_TEST_SUITE_P(Q4AndQ8, Types, ::testing::Values(ElementType::Q4, ElementType::Q8),
                          [](const auto& info) { return std::string(to_string(info.param)); });
+INSTANTIATE_TEST_SUITE_P(T3AndT6, Types, ::testing::Values(ElementType::T3, ElementType::T6),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
 
 // ---------------------------------------------------------------------------------------------------
 

@@ -1,4 +1,4 @@
-// Q4/Q8 plane-stress membrane elements in the total-Lagrangian form (THEORY §4, §6): shape functions,
+// T3/T6/Q4/Q8 membrane elements in the total-Lagrangian form (THEORY §4, §6): shape functions,
 // Gauss quadrature, and the element internal force f = ∫ Bᵀ P dA0, stiffness K = ∫ Bᵀ A B dA0 and
 // coefficient sensitivity ∂f/∂c_k = ∫ Bᵀ ∂P/∂c_k dA0 (THEORY §7).
 #pragma once
@@ -15,19 +15,20 @@
 namespace tricot::fem {
 
 /// Shape functions N_a(ξ) and ∂N_a/∂ξ_j of one element type at one point; rows past the
-/// element's node count (4 for Q4) are zero.
+/// element's node count (3 for T3, 4 for Q4, 6 for T6) are zero.
 struct ShapeValues {
   Eigen::Matrix<double, 8, 1> N = Eigen::Matrix<double, 8, 1>::Zero();
   Eigen::Matrix<double, 8, 2> dN_dxi = Eigen::Matrix<double, 8, 2>::Zero();
 };
-/// Q4: bilinear; Q8: serendipity, node order as in Mesh (corners CCW from (−1,−1), then mid-sides).
+/// Q4: bilinear; Q8: serendipity, node order as in Mesh (corners CCW from (−1,−1), then mid-sides) on
+/// ξ ∈ [−1, 1]²; T3: linear, T6: quadratic, corners at (0, 0), (1, 0), (0, 1), on ξ, η ≥ 0, ξ + η ≤ 1.
 ShapeValues shape(ElementType type, const Vec2& xi);
 
 struct QuadraturePoint {
   Vec2 xi;
   double weight;
 };
-/// Gauss rule of an element type: 2×2 for Q4, 3×3 for Q8.
+/// Gauss rule of an element type: 2×2 for Q4, 3×3 for Q8, 1 point for T3, 3 points for T6.
 std::span<const QuadraturePoint> quadrature(ElementType type);
 
 /// Element dofs: local dof 2a+i = u_i of local node a. 16 = the Q8 count; Q4 uses the first 8.
@@ -38,8 +39,8 @@ using ElementMatrix = Eigen::Matrix<double, kMaxElementDofs, kMaxElementDofs>;
 
 /// The reference geometry of one element at its quadrature points, computed once per mesh.
 struct ElementGeometry {
-  int nodes = 0;   ///< 4 or 8
-  int points = 0;  ///< 4 or 9
+  int nodes = 0;   ///< 3, 4, 6 or 8
+  int points = 0;  ///< 1, 4, 3 or 9
   std::array<Eigen::Matrix<double, 8, 2>, kMaxQuadraturePoints> dN_dX;  ///< ∂N_a/∂X_j
   std::array<double, kMaxQuadraturePoints> dA0;  ///< Gauss weight × det(∂X/∂ξ)
   /// Smallest det(∂X/∂ξ) over the points; ≤ 0 means the element is inverted in the reference mesh.

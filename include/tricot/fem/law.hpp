@@ -12,6 +12,11 @@
 
 namespace tricot::fem {
 
+/// What the out-of-plane direction does (THEORY §5): a membrane or thin sheet is free across its
+/// thickness (σ33 = 0, the laws' default); a slice of a thick specimen held across is not (C33 = 1).
+enum class Kinematics { plane_stress, plane_strain };
+const char* to_string(Kinematics k);  ///< "plane_stress", "plane_strain"
+
 /// The state a law sees at one quadrature point.
 struct LawInput {
   Mat2 F = Mat2::Identity();  ///< in-plane deformation gradient ∂x/∂X

@@ -10,7 +10,8 @@
 
 namespace tricot::fem {
 
-/// Where a point lies in a mesh: element e and natural coordinates ξ ∈ [−1, 1]².
+/// Where a point lies in a mesh: element e and natural coordinates ξ in its reference element
+/// ([−1, 1]² for quadrilaterals; ξ, η ≥ 0, ξ + η ≤ 1 for triangles).
 struct Location {
   int element = -1;
   Vec2 xi = Vec2::Zero();
@@ -34,7 +35,7 @@ class PointLocator {
   std::vector<std::vector<int>> grid_;
 };
 
-/// Shape functions N(ξ) of an element (4 or 8 values).
+/// Shape functions N(ξ) of an element (3, 4, 6 or 8 values).
 Eigen::VectorXd shape_functions(ElementType type, const Vec2& xi);
 /// Σ_a N_a(ξ) v_a over the element's nodes, for a nodal field v of 2 values per node (u, or a
 /// column of du/dc).

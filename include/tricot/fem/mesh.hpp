@@ -1,9 +1,12 @@
-// Meshes of the quarter specimen (THEORY §6): nodes, Q4/Q8 elements, and the four edges the test
-// models put their boundary conditions on.
+// Meshes (THEORY §6): nodes, T3/T6/Q4/Q8 elements, regions, and named boundaries (node sets) that
+// the test models put their boundary conditions on. The built-in generator of the quarter specimen
+// names its four edges as a Gmsh file names its physical curves, so one path serves every mesh.
 #pragma once
 
 #include <Eigen/Core>
 #include <array>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,28 +14,56 @@
 
 namespace tricot::fem {
 
-enum class ElementType { Q4, Q8 };
-const char* to_string(ElementType t);  ///< "Q4", "Q8"
-/// Nodes per element: 4 or 8.
+/// Linear and quadratic triangles and quadrilaterals (Gmsh's element types 2, 9, 3 and 16).
+enum class ElementType { Q4, Q8, T3, T6 };
+const char* to_string(ElementType t);  ///< "Q4", "Q8", "T3", "T6"
+/// The type named `name` ("T3", "T6", "Q4", "Q8"), or nullopt.
+std::optional<ElementType> element_type(const std::string& name);
+/// Nodes per element: 3, 6, 4 or 8.
 int nodes_per_element(ElementType t);
+/// Corner nodes per element: 3 or 4.
+int corners(ElementType t);
+bool is_triangle(ElementType t);
+/// The element's centre in natural coordinates: (0, 0) for quadrilaterals, (1/3, 1/3) for triangles.
+Vec2 element_centre(ElementType t);
 
 /// A 2-D mesh. Node n sits at X.col(n) (mm, reference configuration). Element e lists its nodes in
-/// `connectivity[e]`: corners counter-clockwise first, then (Q8) the mid-side nodes 4..7 with node
-/// 4 between corners 0 and 1, 5 between 1 and 2, and so on. Q4 uses the first four entries only.
+/// `connectivity[e]` in Gmsh's (and VTK's) order: corners counter-clockwise first, then the mid-side
+/// nodes of the quadratic types, the first between corners 0 and 1, the next between 1 and 2, and so
+/// on. Entries past nodes_per_element(type) are unused.
 struct Mesh {
   ElementType type = ElementType::Q8;
   Eigen::Matrix2Xd X;
   std::vector<std::array<int, 8>> connectivity;
-  /// Node sets of the quarter specimen, each sorted by position along the edge.
+  /// Node sets of the quarter specimen (make_quarter_mesh), each sorted by position along the edge;
+  /// they are also named in `boundaries`. Empty in a mesh read from a file.
   std::vector<int> left;    ///< x = 0   (symmetry: u_x = 0)
   std::vector<int> bottom;  ///< y = 0   (symmetry: u_y = 0)
   std::vector<int> top;     ///< y = H   (the grip)
   std::vector<int> right;   ///< x = W   (free edge or lateral guide)
+  /// Named boundaries: sorted node sets (a Gmsh file's physical curves and points; the quarter's
+  /// "left", "bottom", "top" and "right").
+  std::map<std::string, std::vector<int>> boundaries;
+  /// Region of each element, an index into region_names (a Gmsh file's physical surfaces); empty =
+  /// one region for every element.
+  std::vector<int> region;
+  std::vector<std::string> region_names;
 
   int nodes() const { return static_cast<int>(X.cols()); }
   int elements() const { return static_cast<int>(connectivity.size()); }
   int dofs() const { return 2 * nodes(); }  ///< dof 2n = u_x of node n, 2n+1 = u_y
+  /// The node set named `name`; InputError naming `key` (with a did-you-mean) when there is none.
+  const std::vector<int>& boundary(const std::string& name, const std::string& key = "boundary") const;
 };
+
+/// The closest of `names` to `word` by edit distance when it is close enough to be a likely typo, else
+/// empty: the did-you-mean of an error message.
+std::string closest_name(const std::string& word, const std::vector<std::string>& names);
+
+/// Throws InputError (key `mesh`, file `source`) when the mesh is not a usable 2-D specimen: an element
+/// that refers to a missing node, an inverted or degenerate element (det ∂X/∂ξ ≤ 0 at a quadrature
+/// point), or elements in more than one connected piece.
+void check_mesh(const Mesh& mesh, const std::string& source = "");
 
 /// A structured mesh of the rectangle [0, width] × [0, height] (the quarter specimen).
 struct MeshOptions {

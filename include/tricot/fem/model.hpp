@@ -1,5 +1,7 @@
-// Finite-element models of the paper's tests (THEORY §6, paper §3.2.2, Fig. 5): a quarter specimen
-// with symmetry on x = 0 and y = 0, a grip on the top edge and a free or guided side edge.
+// Finite-element models of tests (THEORY §6): either the paper's quarter specimen (paper §3.2.2,
+// Fig. 5) with symmetry on x = 0 and y = 0, a grip on the top edge and a free or guided side edge; or
+// any mesh with conditions per named boundary and per component (fixed, or a prescribed series of
+// values, one per step), whose measured force is the resultant of a named boundary.
 #pragma once
 
 #include <string>
@@ -19,6 +21,18 @@ enum class SideEdge {
 enum class GripControl {
   displacement,  ///< u_y = d(t) on every top node
   force,         ///< the top edge stays straight (one shared u_y) and carries the full-specimen force F(t)
+};
+
+/// One displacement condition on one component of a named boundary (THEORY §6). Symmetry about a line
+/// x = const or y = const is a fixed normal component; a rigid grip is both components prescribed
+/// (every node of the boundary moves alike) with its resultant measured (TestModel::force_boundary).
+struct BoundaryCondition {
+  std::string boundary;  ///< a name in Mesh::boundaries
+  int component = 0;     ///< 0 = u_x, 1 = u_y
+  /// The displacement at each load step (mm; any sign, not necessarily monotone: loading, holds,
+  /// unloading), one value per step; between steps it varies linearly from 0 at the reference state.
+  /// Empty = fixed (u = 0).
+  std::vector<double> values;
 };
 
 /// One physical test, loaded through a list of steps.
@@ -66,8 +80,30 @@ struct TestModel {
   /// side is then a roller, not a singular clamp–free corner.
   double grip_taper = 0;
 
+  /// Conditions per named boundary (THEORY §6). Non-empty = a model of any mesh: the quarter's own
+  /// conditions above (control, side, guide, grip ties) are then unused and must keep their defaults,
+  /// `loads` are step labels (strictly increasing, e.g. frame numbers or times), and every boundary
+  /// that no condition names is free. A later condition on the same node and component wins.
+  std::vector<BoundaryCondition> conditions;
+  /// With conditions: the boundary whose resultant is the test's measured force
+  /// (StepResult::edge_force = force_scale × Σ of its nodes' internal forces along force_component;
+  /// StepResult::edge_displacement = the prescribed value of that component there). Empty = no force.
+  std::string force_boundary;
+  int force_component = 1;   ///< 0 = x, 1 = y
+  double force_scale = 1;    ///< > 0: 2 for a half model whose symmetry carries the other half
+  /// Every step's resultant (both components, internal force summed over the nodes) is recorded for
+  /// these boundaries (StepResult::resultants, in this order); empty = those that a condition names.
+  std::vector<std::string> resultants;
+
+  bool has_conditions() const { return !conditions.empty(); }
+  /// The boundaries whose resultants are recorded (see `resultants`).
+  std::vector<std::string> resultant_boundaries() const;
+
   /// Throws InputError naming `test.<field>` (with the test's name) when inconsistent.
   void validate() const;
+
+ private:
+  void validate_conditions() const;
 };
 
 }  // namespace tricot::fem

@@ -1,9 +1,11 @@
-// Compressible neo-Hookean membrane in plane stress, for tests (THEORY §5 lists it as a helper law):
+// Compressible neo-Hookean membrane in plane stress or plane strain (THEORY §5):
 //   W = μ/2 (I1 − 3) − μ ln J + λ/2 (ln J)²,  S = μ (I − C⁻¹) + λ ln J C⁻¹ (3-D).
 // σ33 = 0 fixes t = C33 = λ3² through μ (t − 1) + λ ln J = 0, J² = t det C₂ (a local Newton in
 // ln t); then the in-plane S₂ = μ (I − t C₂⁻¹) and P = μ (F − t F⁻ᵀ). Tangent and ∂P/∂(μ, λ) follow
 // by implicit differentiation of the σ33 = 0 condition, so they are exact. Forces per unit reference
 // length (reference thickness 1): μ and λ in N/mm. Small strain: E = μ(3λ + 2μ)/(λ + μ).
+// Plane strain (C33 = 1, a slice of a thick specimen): P = μ (F − F⁻ᵀ) + λ ln J F⁻ᵀ with J = det F,
+// linear in (μ, λ).
 #pragma once
 
 #include "tricot/fem/law.hpp"
@@ -13,13 +15,14 @@ namespace tricot::fem {
 class NeoHookean : public Law {
  public:
   /// Throws InputError (key `material.mu` / `material.lambda`) unless μ > 0 and λ ≥ 0, finite.
-  NeoHookean(double mu, double lambda);
+  NeoHookean(double mu, double lambda, Kinematics kinematics = Kinematics::plane_stress);
 
   std::string name() const override { return "neo_hookean"; }
   std::vector<std::string> coefficient_names() const override { return {"mu", "lambda"}; }
   Eigen::VectorXd coefficients() const override { return Eigen::Vector2d(mu_, lambda_); }
   void set_coefficients(const Eigen::VectorXd& c) override;
-  bool linear_in_coefficients() const override { return false; }
+  bool linear_in_coefficients() const override { return kinematics_ == Kinematics::plane_strain; }
+  Kinematics kinematics() const { return kinematics_; }
   /// det F ≤ 0 gives NaN outputs (the solver reports an invalid state).
   void evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const override;
   std::unique_ptr<Law> clone() const override { return std::make_unique<NeoHookean>(*this); }
@@ -27,6 +30,7 @@ class NeoHookean : public Law {
  private:
   double mu_;
   double lambda_;
+  Kinematics kinematics_;
 };
 
 }  // namespace tricot::fem

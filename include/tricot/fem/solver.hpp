@@ -73,10 +73,15 @@ struct SolveOptions {
 struct StepResult {
   double load = 0;               ///< the step's load as given (mm or N)
   Eigen::VectorXd u;             ///< nodal displacements, dof 2n = u_x, 2n+1 = u_y (mm)
-  double edge_displacement = 0;  ///< u_y of the grip (mm, quarter model)
-  double edge_force = 0;         ///< full-specimen grip force: 2 × the quarter's reaction (N)
+  double edge_displacement = 0;  ///< u_y of the grip (mm, quarter model; any mesh: of the force boundary)
+  /// Full-specimen grip force: 2 × the quarter's reaction (N); any mesh: TestModel::force_scale × the
+  /// force boundary's resultant along TestModel::force_component.
+  double edge_force = 0;
   double force_per_width = 0;    ///< edge_force / full initial width (N/mm)
   double side_force = 0;         ///< full-specimen reaction on the guide (N, 0 when free)
+  /// Resultant internal force (N) of each boundary of TestModel::resultant_boundaries(), in order:
+  /// the force the specimen exerts on what holds it there (the reaction is its opposite).
+  std::vector<Vec2> resultants;
   int iterations = 0;            ///< Newton iterations, summed over sub-steps
   int cutbacks = 0;              ///< sub-steps inserted before this step converged
   std::vector<double> residuals; ///< ‖R‖ per Newton iteration of the last sub-step

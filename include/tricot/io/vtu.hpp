@@ -13,8 +13,10 @@ namespace tricot::io {
 enum class VtkCell : int {
   quad = 9,             ///< 4 corners, counter-clockwise
   quadratic_quad = 23,  ///< 4 corners, then the mid-side nodes of edges 0-1, 1-2, 2-3, 3-0
+  triangle = 5,         ///< 3 corners, counter-clockwise
+  quadratic_triangle = 22,  ///< 3 corners, then the mid-side nodes of edges 0-1, 1-2, 2-0
 };
-/// Nodes of one cell: 4 or 8.
+/// Nodes of one cell: 4, 8, 3 or 6.
 int vtk_nodes(VtkCell type);
 
 /// A named field: `components` values per point (or cell), stored point after point.
