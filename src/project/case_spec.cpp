@@ -4,18 +4,23 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 #include <regex>
 #include <set>
 #include <unistd.h>
 
 #include "schema.hpp"
 #include "tricot/fem/corotational.hpp"
+#include "tricot/fem/gmsh.hpp"
+#include "tricot/io/files.hpp"
 #include "tricot/fem/mooney_rivlin.hpp"
 #include "tricot/fem/neo_hookean.hpp"
 #include "tricot/fem/reference_fabric.hpp"
 #include "tricot/fem/response_surface.hpp"
 
 namespace tricot::project {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -74,14 +79,19 @@ std::vector<fem::Monomial> monomials(const Origin& o, const Strings& names, cons
 
 io::SectionSpec mesh_section() {
   SectionSpec s{"mesh",
-                "The specimen and its mesh. Only a quarter of the specimen is modelled (symmetry on x = 0 and\n"
-                "y = 0, THEORY §6): the mesh covers width/2 × height/2 with nx × ny elements.",
+                "The specimen and its mesh. The built-in tests model a quarter of the specimen (symmetry on\n"
+                "x = 0 and y = 0, THEORY §6): the mesh covers width/2 × height/2 with nx × ny elements, whose\n"
+                "edges are named left, bottom, top and right. Tests of kind = \"custom\" take this mesh or a\n"
+                "Gmsh mesh of any specimen (`file` or `geometry`; lengths in mm), whose physical curves and\n"
+                "points name the boundaries that [[test.boundary]] tables hold or pull.",
                 false, {}, {}};
   s.keys = {
       key("width", 110.0, "Full specimen width across the load (x), mm, > 0.", 0, 1e5),
       key("height", 110.0, "Full free length of the specimen between the grips (y), mm, > 0.", 0, 1e5),
-      key("element", std::string("Q8"), "Element type: Q8 serendipity (the paper's) or Q4 bilinear.", -kInf, kInf,
-          {"Q4", "Q8"}),
+      key("element", std::string("Q8"),
+          "Element type: Q8 serendipity (the paper's), Q4 bilinear, T3 linear or T6 quadratic triangles (the\n"
+          "generator splits each cell; a meshed geometry takes T3/T6, or Q4/Q8 by recombining).",
+          -kInf, kInf, {"Q4", "Q8", "T3", "T6"}),
       key("nx", std::int64_t{10}, "Elements across the quarter's width.", 1, 2000),
       key("ny", std::int64_t{10}, "Elements along the quarter's height.", 1, 2000),
       key("grading", 1.0,
@@ -92,6 +102,13 @@ io::SectionSpec mesh_section() {
           "First (x = 0) over last (at the side edge) element width, > 0; 1 = uniform, < 1 refines toward\n"
           "the side edge (the rig's guide).",
           0, 1e3),
+      key("file", std::string(""),
+          "A Gmsh mesh file (.msh, formats 2.2 and 4.1, ASCII or binary), relative to this file's folder;\n"
+          "kind = \"custom\" tests only. Its element type (T3, T6, Q4 or Q8) replaces `element`."),
+      key("geometry", std::string(""),
+          "A Gmsh geometry (.geo), relative to this file's folder, meshed at run time with `size` and\n"
+          "`element`; kind = \"custom\" tests only."),
+      key("size", 0.0, "Largest element size of a meshed `geometry`, mm; 0 = the sizes the .geo sets.", 0, 1e5),
   };
   return s;
 }
@@ -103,7 +120,7 @@ SectionSpec test_mesh_section() {
   s.keys = {
       key("width", 0.0, "Full specimen width, mm; 0 = as in [mesh].", 0, 1e5),
       key("height", 0.0, "Full free length between the grips, mm; 0 = as in [mesh].", 0, 1e5),
-      key("element", std::string(""), "Q4 or Q8; \"\" = as in [mesh]."),
+      key("element", std::string(""), "Q4, Q8, T3 or T6; \"\" = as in [mesh]."),
       key("nx", std::int64_t{0}, "Elements across the quarter's width; 0 = as in [mesh].", 0, 2000),
       key("ny", std::int64_t{0}, "Elements along the quarter's height; 0 = as in [mesh].", 0, 2000),
       key("grading", 0.0, "First over last element height; 0 = as in [mesh].", 0, 1e3),
@@ -142,6 +159,10 @@ io::SectionSpec law_section() {
   nh.keys = {
       key("mu", 0.1, "Shear modulus μ, N/mm, > 0.", 0, 1e6),
       key("lambda", 0.2, "Lamé modulus λ, N/mm.", 0, 1e6),
+      key("kinematics", std::string("plane_stress"),
+          "plane_stress (a membrane, σ33 = 0) or plane_strain (a slice of a thick specimen, C33 = 1: then\n"
+          "μ and λ are the moduli times the thickness).",
+          -kInf, kInf, {"plane_stress", "plane_strain"}),
   };
   SectionSpec co{"corotational",
                  "Corotational Eulerian law τ̂ = 𝔻 : ln U (THEORY §4): orthotropic linear on the logarithmic\n"
@@ -225,8 +246,10 @@ io::SectionSpec test_section() {
           "uniaxial: grip on top, side edge free. biaxial: side edge on a guide (the paper's\n"
           "biaxial-induced test). homogeneous: sliding grip, a uniform field. simple_shear: the law alone\n"
           "at F = [[1, γ], [0, 1]] for γ in the step list (one element; writes gamma, s11, s22, s12).\n"
-          "rig: the paper's biaxial-induced rig ([rig]; side, pull, transverse_strain, pull_strain, steps).",
-          -kInf, kInf, {"uniaxial", "biaxial", "homogeneous", "simple_shear", "rig"}),
+          "rig: the paper's biaxial-induced rig ([rig]; side, pull, transverse_strain, pull_strain, steps).\n"
+          "custom: any mesh of [mesh] (a Gmsh file or geometry, or the generator's) with the conditions of\n"
+          "its [[test.boundary]] tables; every boundary they do not name is free; `loads` are step labels.",
+          -kInf, kInf, {"uniaxial", "biaxial", "homogeneous", "simple_shear", "rig", "custom"}),
       key("material_angle", 0.0,
           "Degrees from x to the course direction. The grip pulls along y: 0 loads along the wale,\n"
           "90 along the course.",
@@ -266,9 +289,30 @@ io::SectionSpec test_section() {
       key("pull_strain", fem::RigOptions{}.pull_strain,
           "rig: nominal Green–Lagrange strain along the pull at the last step, > 0.", -kInf, kInf),
   };
+  s.keys.push_back(key("force_scale", 1.0,
+                       "custom: the test's force is this times the resultant of the boundary whose `force` is set\n"
+                       "(2 for a half model whose line of symmetry carries the other half), > 0.",
+                       0, 1e6));
   for (auto& k : s.keys)
     if (k.name == "side") k.or_number = true;
-  s.sections = {test_mesh_section()};
+  SectionSpec b{"boundary",
+                "custom: the conditions of one named boundary (THEORY §6). A component may be held (`fix`), set\n"
+                "by a line of symmetry, or prescribed per step (`ux`, `uy`, or columns of a CSV `series`); a\n"
+                "rigid grip prescribes both. `force` makes its resultant the test's measured force.",
+                true, {}, {}};
+  b.keys = {
+      key("name", std::string(""), "The boundary: a Gmsh physical curve or point, or left/bottom/top/right."),
+      key("fix", Strings{}, "Components held at 0: [\"x\"], [\"y\"] or [\"x\", \"y\"]."),
+      key("symmetry", false, "A line of symmetry (x = const or y = const): its normal component held at 0."),
+      key("ux", Reals{}, "u_x per step, mm (one value per step; any sign, holds and unloading allowed).", -1e6, 1e6),
+      key("uy", Reals{}, "u_y per step, mm (one value per step).", -1e6, 1e6),
+      key("series", std::string(""), "A CSV (relative to this file's folder) whose columns give ux and uy per step."),
+      key("ux_column", std::string(""), "series: the column of u_x, mm."),
+      key("uy_column", std::string(""), "series: the column of u_y, mm."),
+      key("force", std::string(""), "x or y: this boundary's resultant along it is the test's force (N).", -kInf,
+          kInf, {"", "x", "y"}),
+  };
+  s.sections = {test_mesh_section(), b};
   return s;
 }
 
@@ -325,7 +369,23 @@ Spec mesh_from_config(const io::Node& n) {
 }
 }  // namespace
 
-MeshSpec MeshSpec::from_config(const io::Node& n) { return mesh_from_config<MeshSpec>(n); }
+MeshSpec MeshSpec::from_config(const io::Node& n) {
+  MeshSpec m = mesh_from_config<MeshSpec>(n);
+  m.file = n.string("file"), m.geometry = n.string("geometry"), m.size = n.real("size");
+  m.folder = n.file().empty() ? std::string() : fs::path(n.file()).parent_path().string();
+  return m;
+}
+
+BoundarySpec BoundarySpec::from_config(const io::Node& n) {
+  BoundarySpec b;
+  b.name = n.string("name"), b.fix = n.strings("fix"), b.symmetry = n.boolean("symmetry");
+  b.ux = n.reals("ux"), b.uy = n.reals("uy");
+  b.series = n.string("series"), b.ux_column = n.string("ux_column"), b.uy_column = n.string("uy_column");
+  b.force = n.string("force");
+  b.folder = n.file().empty() ? std::string() : fs::path(n.file()).parent_path().string();
+  b.origin = Origin(n);
+  return b;
+}
 
 TestMeshSpec TestMeshSpec::from_config(const io::Node& n) { return mesh_from_config<TestMeshSpec>(n); }
 
@@ -346,6 +406,7 @@ LawSpec LawSpec::from_config(const io::Node& law) {
   l.mooney_rivlin.origin = Origin(mr);
   const Node& nh = law.section("neo_hookean");
   l.neo_hookean.mu = nh.real("mu"), l.neo_hookean.lambda = nh.real("lambda");
+  l.neo_hookean.kinematics = nh.string("kinematics");
   l.neo_hookean.origin = Origin(nh);
   const Node& co = law.section("corotational");
   CorotationalSpec& c = l.corotational;
@@ -412,6 +473,8 @@ TestSpec TestSpec::from_config(const io::Node& n) {
   t.transverse_strain = n.real("transverse_strain");
   t.pull_strain = n.real("pull_strain");
   t.mesh = TestMeshSpec::from_config(n.section("mesh"));
+  for (const auto& b : n.array("boundary")) t.boundary.push_back(BoundarySpec::from_config(b));
+  t.force_scale = n.real("force_scale");
   t.origin = Origin(n);
   return t;
 }
@@ -455,11 +518,11 @@ fem::MeshOptions mesh_options(const MeshSpec& mesh, const TestMeshSpec* over) {
   o.grading_x = positive[3].second.first;
   o.nx = integer(&MeshSpec::nx, &TestMeshSpec::nx);
   o.ny = integer(&MeshSpec::ny, &TestMeshSpec::ny);
-  if (over && !over->element.empty() && over->element != "Q4" && over->element != "Q8")
-    over->origin.fail("element", "not an element type", "\"" + over->element + "\"", "Q4, Q8 or \"\"");
+  if (over && !over->element.empty() && !fem::element_type(over->element))
+    over->origin.fail("element", "not an element type", "\"" + over->element + "\"", "Q4, Q8, T3, T6 or \"\"");
   const std::string& type = over && !over->element.empty() ? over->element : mesh.element;
-  if (type != "Q4" && type != "Q8") mesh.origin.fail("element", "not an element type", "\"" + type + "\"", "Q4 or Q8");
-  o.type = type == "Q4" ? fem::ElementType::Q4 : fem::ElementType::Q8;
+  if (!fem::element_type(type)) mesh.origin.fail("element", "not an element type", "\"" + type + "\"", "Q4, Q8, T3 or T6");
+  o.type = *fem::element_type(type);
   try {
     o.validate();
   } catch (const InputError& e) {
@@ -485,7 +548,9 @@ constexpr double kBytesPerDof = 4096;
 
 double mesh_dofs(const fem::MeshOptions& o) {
   const double nx = o.nx, ny = o.ny;
-  const double nodes = o.type == fem::ElementType::Q4 ? (nx + 1) * (ny + 1) : (2 * nx + 1) * (2 * ny + 1) - nx * ny;
+  const double nodes = o.type == fem::ElementType::Q4 || o.type == fem::ElementType::T3 ? (nx + 1) * (ny + 1)
+                       : o.type == fem::ElementType::T6                           ? (2 * nx + 1) * (2 * ny + 1)
+                                                                                  : (2 * nx + 1) * (2 * ny + 1) - nx * ny;
   return 2 * nodes;
 }
 
@@ -517,8 +582,9 @@ TestKind TestSpec::test_kind() const {
   if (kind == "homogeneous") return TestKind::homogeneous;
   if (kind == "simple_shear") return TestKind::simple_shear;
   if (kind == "rig") return TestKind::rig;
+  if (kind == "custom") return TestKind::custom;
   if (kind != "uniaxial")
-    origin.fail("kind", "unknown test kind", "\"" + kind + "\"", "uniaxial, biaxial, homogeneous, simple_shear or rig");
+    origin.fail("kind", "unknown test kind", "\"" + kind + "\"", "uniaxial, biaxial, homogeneous, simple_shear, rig or custom");
   return TestKind::uniaxial;
 }
 
@@ -533,6 +599,12 @@ fem::MeshOptions TestSpec::mesh_options(const MeshSpec& case_mesh) const {
 
 fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) const {
   const TestKind k = test_kind();
+  if (k == TestKind::custom) return custom_model(case_mesh);
+  if (case_mesh.from_gmsh())
+    case_mesh.origin.fail(case_mesh.file.empty() ? "geometry" : "file", "a Gmsh mesh is for tests of kind = \"custom\"",
+                          "test '" + name + "' of kind \"" + kind + "\"", "kind = \"custom\" with [[test.boundary]] tables");
+  if (!boundary.empty())
+    origin.fail("boundary", "[[test.boundary]] tables are for tests of kind = \"custom\"", "\"" + kind + "\"", "custom");
   const fem::MeshOptions mo = mesh.options(case_mesh);
   if (k != TestKind::simple_shear) check_mesh_fits(mo, mesh.nx != 0 || mesh.ny != 0 ? mesh.origin : case_mesh.origin);
   if (k == TestKind::rig) {
@@ -622,7 +694,8 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
       t.side = side_word == "guide" ? fem::SideEdge::guide : fem::SideEdge::free;
       break;
     case TestKind::simple_shear:
-    case TestKind::rig: break;
+    case TestKind::rig:
+    case TestKind::custom: break;
   }
   if (t.side == fem::SideEdge::guide) {
     t.guide = guide;
@@ -644,6 +717,113 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
     t.validate();
   } catch (const InputError& e) {
     rethrow_fem(e, {.test = &origin});
+  }
+  return t;
+}
+
+namespace {
+
+// A path of a config file's key: as given when absolute, else relative to the file's folder.
+std::string resolve(const std::string& folder, const std::string& path) {
+  return fs::path(path).is_absolute() || folder.empty() ? path : (fs::path(folder) / path).string();
+}
+
+// An error of the Gmsh reader, which names the mesh file and the key, placed at the config key too.
+[[noreturn]] void rethrow_mesh(const InputError& e, const Origin& origin, const char* key) {
+  const Location at = origin.where(key);
+  const std::string problem = e.where().file + ": " + problem_of(e);
+  if (dynamic_cast<const FileError*>(&e)) throw FileError(at, problem);
+  throw InputError(at, problem);
+}
+
+}  // namespace
+
+fem::Mesh MeshSpec::gmsh_mesh() const {
+  if (!file.empty() && !geometry.empty())
+    origin.fail("geometry", "a mesh comes from a file or a geometry, not both", "\"" + geometry + "\"", "\"\"");
+  const char* key = file.empty() ? "geometry" : "file";
+  try {
+    if (!file.empty()) return fem::read_gmsh(resolve(folder, file));
+    const fem::ElementType type = *fem::element_type(element);
+    fem::GeometryMeshOptions o;
+    o.size = size;
+    o.order = type == fem::ElementType::T6 || type == fem::ElementType::Q8 ? 2 : 1;
+    o.quads = !fem::is_triangle(type);
+    return fem::mesh_geometry(resolve(folder, geometry), o);
+  } catch (const InputError& e) {
+    rethrow_mesh(e, origin, key);
+  }
+}
+
+fem::TestModel TestSpec::custom_model(const MeshSpec& case_mesh) const {
+  fem::TestModel t;
+  t.name = name;
+  t.material_angle = material_angle;
+  t.mesh = case_mesh.from_gmsh() ? case_mesh.gmsh_mesh() : fem::make_quarter_mesh(mesh.options(case_mesh));
+  if (loads.empty()) {  // step labels 1 … steps
+    t.loads.resize(static_cast<std::size_t>(steps));
+    for (int k = 0; k < steps; ++k) t.loads[static_cast<std::size_t>(k)] = k + 1;
+  } else {
+    t.loads = loads;
+  }
+  if (boundary.empty())
+    origin.fail("boundary", "a custom test needs [[test.boundary]] tables", "none",
+                "at least one condition (fixed, symmetry, or a displacement per step)");
+  t.force_scale = force_scale;
+  for (const BoundarySpec& b : boundary) {
+    const Origin& o = b.origin;
+    std::vector<int> nodes;
+    try {
+      nodes = t.mesh.boundary(b.name, "name");
+    } catch (const InputError& e) {
+      o.fail("name", problem_of(e));
+    }
+    auto component = [&](const std::string& word, const char* key) {
+      if (word != "x" && word != "y") o.fail(key, "not a component", "\"" + word + "\"", "\"x\" or \"y\"");
+      return word == "x" ? 0 : 1;
+    };
+    for (const std::string& c : b.fix) t.conditions.push_back({b.name, component(c, "fix"), {}});
+    if (b.symmetry) {
+      // The boundary lies on x = const (normal x) or y = const (normal y).
+      const Eigen::Matrix2Xd X = t.mesh.X(Eigen::all, nodes);
+      const Eigen::Vector2d spread = X.rowwise().maxCoeff() - X.rowwise().minCoeff();
+      const double size = (t.mesh.X.rowwise().maxCoeff() - t.mesh.X.rowwise().minCoeff()).maxCoeff();
+      if (spread.minCoeff() > 1e-9 * size)
+        o.fail("symmetry", "the boundary '" + b.name + "' is not a straight line x = const or y = const",
+               fmt::format("spread {} × {} mm", num(spread(0)), num(spread(1))), "a line parallel to x or y");
+      t.conditions.push_back({b.name, spread(0) <= spread(1) ? 0 : 1, {}});
+    }
+    Reals ux = b.ux, uy = b.uy;
+    if (!b.series.empty()) {
+      if (b.ux_column.empty() && b.uy_column.empty())
+        o.fail("series", "a series needs ux_column or uy_column", "\"" + b.series + "\"", "a column name");
+      const std::string path = resolve(b.folder, b.series);
+      const io::Table table = io::read_csv(path);
+      if (!b.ux_column.empty()) ux = table.values(b.ux_column, path);
+      if (!b.uy_column.empty()) uy = table.values(b.uy_column, path);
+    }
+    const std::pair<const Reals*, const char*> series[] = {{&ux, "ux"}, {&uy, "uy"}};
+    for (int c = 0; c < 2; ++c) {
+      const Reals& v = *series[c].first;
+      if (v.empty()) continue;
+      if (v.size() != t.loads.size())
+        o.fail(b.series.empty() ? series[c].second : (c == 0 ? "ux_column" : "uy_column"),
+               fmt::format("the series of boundary '{}' has {} values for {} steps", b.name, v.size(), t.loads.size()),
+               fmt::format("{} values", v.size()), fmt::format("one per step ({})", t.loads.size()));
+      t.conditions.push_back({b.name, c, v});
+    }
+    if (!b.force.empty()) {
+      if (!t.force_boundary.empty())
+        o.fail("force", "two boundaries give the test's force", "\"" + t.force_boundary + "\" and \"" + b.name + "\"",
+               "one");
+      t.force_boundary = b.name;
+      t.force_component = b.force == "x" ? 0 : 1;
+    }
+  }
+  try {
+    t.validate();
+  } catch (const InputError& e) {
+    rethrow_fem(e, {.mesh = &case_mesh.origin, .test = &origin});
   }
   return t;
 }
@@ -677,7 +857,8 @@ std::unique_ptr<fem::Law> LawSpec::law() const {
   }
   if (type == "neo_hookean") {
     const NeoHookeanSpec& s = neo_hookean;
-    return build(s.origin, [&] { return std::make_unique<fem::NeoHookean>(s.mu, s.lambda); });
+    const auto kinematics = s.kinematics == "plane_strain" ? fem::Kinematics::plane_strain : fem::Kinematics::plane_stress;
+    return build(s.origin, [&] { return std::make_unique<fem::NeoHookean>(s.mu, s.lambda, kinematics); });
   }
   if (type == "corotational") {
     const CorotationalSpec& s = corotational;

@@ -76,6 +76,9 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
   io::Table t;
   t.columns = {"step", "load", "edge_displacement", "edge_force", "force_per_width", "side_force", "iterations",
                "cutbacks"};
+  // Models of any mesh: each named boundary's resultant (N), after the quarter's columns.
+  const std::vector<std::string> resultants = test.has_conditions() ? test.resultant_boundaries() : std::vector<std::string>{};
+  for (const std::string& b : resultants) t.columns.insert(t.columns.end(), {"resultant_x_" + b, "resultant_y_" + b});
   io::Table newton;  // the residual norm after the predictor (iteration 0) and after each Newton step
   newton.columns = {"step", "iteration", "residual_N"};
   int iterations = 0, cutbacks = 0;
@@ -85,6 +88,8 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
     const auto& s = r.steps[k];
     t.rows.push_back({double(k + 1), s.load, s.edge_displacement, s.edge_force, s.force_per_width, s.side_force,
                       double(s.iterations), double(s.cutbacks)});
+    for (std::size_t b = 0; b < resultants.size(); ++b)
+      t.rows.back().insert(t.rows.back().end(), {s.resultants[b].x(), s.resultants[b].y()});
     for (std::size_t i = 0; i < s.residuals.size(); ++i) newton.rows.push_back({double(k + 1), double(i), s.residuals[i]});
     iterations += s.iterations;
     cutbacks += s.cutbacks;

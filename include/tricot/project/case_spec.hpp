@@ -45,6 +45,7 @@ enum class TestKind {
   homogeneous,   ///< sliding grip, side free or guided: a uniform field (closed-form checks)
   simple_shear,  ///< no FE solve: the law at F = [[1, γ], [0, 1]] for γ in the step list (THEORY §4)
   rig,           ///< the paper's rig (fem/rig.hpp): clips, tied guides short of the clips, [rig]
+  custom,        ///< any mesh ([mesh] file, geometry or generator) with [[test.boundary]] conditions
 };
 TestKind test_kind(const io::Node& test);
 
@@ -55,18 +56,28 @@ TestKind test_kind(const io::Node& test);
 // `material.k_C`) names the table and the key, so the error is placed at the table's Origin. Checks that
 // span keys and that no engine makes are made here, once.
 
-/// `[mesh]` (full specimen sizes, mm; the quarter model is half of each).
+/// `[mesh]` (full specimen sizes, mm; the quarter model is half of each), or a Gmsh mesh of any
+/// specimen (`file` or `geometry`, for tests of kind = "custom").
 struct MeshSpec {
   double width = 110;
   double height = 110;
-  std::string element = "Q8";  ///< Q4 or Q8
+  std::string element = "Q8";  ///< Q4, Q8, T3 or T6
   int nx = 10;
   int ny = 10;
   double grading = 1;    ///< first (y = 0) over last element height, > 0
   double grading_x = 1;  ///< first (x = 0) over last element width, > 0
+  std::string file;      ///< a Gmsh .msh file (relative to the config file's folder), or ""
+  std::string geometry;  ///< a Gmsh .geo file meshed at run time with `size` and `element`, or ""
+  double size = 0;       ///< largest element size of a meshed geometry, mm; 0 = the .geo's sizes
+  std::string folder;    ///< the config file's folder, for relative paths
   Origin origin{"mesh"};
 
   static MeshSpec from_config(const io::Node& mesh);
+  /// True when the mesh comes from a Gmsh file or geometry.
+  bool from_gmsh() const { return !file.empty() || !geometry.empty(); }
+  /// The mesh of `file` or `geometry` (read or meshed by Gmsh, checked: fem::read_gmsh). Throws
+  /// InputError / FileError naming the file and `mesh.file` or `mesh.geometry`.
+  fem::Mesh gmsh_mesh() const;
 };
 
 /// `[test.mesh]`: a non-zero (non-empty) value replaces the key of [mesh].
@@ -96,6 +107,7 @@ struct MooneyRivlinSpec {
 struct NeoHookeanSpec {
   double mu = 0.1;
   double lambda = 0.2;
+  std::string kinematics = "plane_stress";  ///< plane_stress or plane_strain
   Origin origin{"law.neo_hookean"};
 };
 /// `[law.corotational]` (THEORY §4).
@@ -161,6 +173,21 @@ struct RigSpec {
   static RigSpec from_config(const io::Node& rig);
 };
 
+/// `[[test.boundary]]`: the conditions of one named boundary of a test of kind = "custom".
+struct BoundarySpec {
+  std::string name;       ///< a boundary of the mesh (a Gmsh physical curve or point; "left", … of [mesh])
+  io::Strings fix;        ///< components held at 0: "x", "y"
+  bool symmetry = false;  ///< a line of symmetry x = const or y = const: its normal component held
+  io::Reals ux, uy;       ///< prescribed displacement per step, mm (any sign, holds, unloading)
+  std::string series;     ///< a CSV whose columns ux_column / uy_column give ux / uy per step, or ""
+  std::string ux_column, uy_column;
+  std::string force;      ///< "x" or "y": this boundary's resultant along it is the test's force, or ""
+  std::string folder;     ///< the config file's folder, for `series`
+  Origin origin{"test.boundary"};
+
+  static BoundarySpec from_config(const io::Node& boundary);
+};
+
 /// `[[test]]`. An unset optional takes the kind's default.
 struct TestSpec {
   std::string name = "uniaxial";
@@ -181,10 +208,14 @@ struct TestSpec {
   double transverse_strain = 0;  ///< Green–Lagrange strain set across the pull, then held
   double pull_strain = 0.5;      ///< Green–Lagrange strain along the pull at the last step
   TestMeshSpec mesh;
+  std::vector<BoundarySpec> boundary;  ///< kind = "custom": the conditions per named boundary
+  double force_scale = 1;              ///< kind = "custom": force = force_scale × the boundary's resultant
   Origin origin{"test"};
 
   static TestSpec from_config(const io::Node& test);
   TestKind test_kind() const;
+  /// kind = "custom": the [mesh] (Gmsh or generated) with the [[test.boundary]] conditions, validated.
+  fem::TestModel custom_model(const MeshSpec& case_mesh) const;
   /// The test's mesh (for a rig: side/2 square with [mesh]'s elements and gradings), validated.
   fem::MeshOptions mesh_options(const MeshSpec& case_mesh) const;
   /// The FE model (simple_shear: one unit element whose loads are the γ values), validated: fem's

@@ -1,0 +1,157 @@
+// `tricot simulate` on any specimen (issue 28, THEORY §6): a Gmsh geometry meshed at run time, tests of
+// kind = "custom" with [[test.boundary]] conditions, their resultants in steps.csv, VTU files that
+// meshio reads for every element type, and one clear line for each kind of bad input.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "testing/cli.hpp"
+#include "testing/meshio.hpp"
+#include "tricot/io/files.hpp"
+
+namespace tricot {
+namespace {
+
+namespace fs = std::filesystem;
+using test::run_tricot;
+
+constexpr double kHomogeneous = 1e-9;  // a homogeneous state on any mesh: Newton's tolerance, 1e-10
+
+// A 20 × 50 mm rectangle with its four sides named.
+const char* kRectangle = R"(
+SetFactory("OpenCASCADE");
+Rectangle(1) = {0, 0, 0, 20, 50};
+eps = 1e-6;
+Physical Surface("sheet") = {1};
+Physical Curve("bottom") = Curve In BoundingBox{-eps, -eps, -eps, 20 + eps, eps, eps};
+Physical Curve("top") = Curve In BoundingBox{-eps, 50 - eps, -eps, 20 + eps, 50 + eps, eps};
+Physical Curve("left") = Curve In BoundingBox{-eps, -eps, -eps, eps, 50 + eps, eps};
+Physical Curve("right") = Curve In BoundingBox{20 - eps, -eps, -eps, 20 + eps, 50 + eps, eps};
+)";
+
+// A plane-strain neo-Hookean sheet held across (left and right u_x = 0), its bottom held along y and
+// its top pulled by 10 and 20 mm: F = diag(1, λ), P22 = μ (λ − 1/λ) + λ_L ln λ / λ.
+std::string held_sheet(const std::string& element, const std::string& top = "top") {
+  return fmt::format(R"(
+[mesh]
+geometry = "rect.geo"
+element = "{}"
+size = 6.0
+
+[law]
+type = "neo_hookean"
+
+[law.neo_hookean]
+mu = 0.8
+lambda = 2.5
+kinematics = "plane_strain"
+
+[[test]]
+name = "held"
+kind = "custom"
+steps = 2
+
+[[test.boundary]]
+name = "left"
+fix = ["x"]
+
+[[test.boundary]]
+name = "right"
+symmetry = true
+
+[[test.boundary]]
+name = "bottom"
+fix = ["y"]
+
+[[test.boundary]]
+name = "{}"
+uy = [10, 20]
+force = "y"
+)",
+                     element, top);
+}
+
+fs::path write_case(const std::string& name, const std::string& text) {
+  const fs::path dir = test::scratch_dir("custom_" + name);
+  std::ofstream(dir / "rect.geo") << kRectangle;
+  std::ofstream(dir / "case.toml") << text;
+  return dir / "case.toml";
+}
+
+TEST(CustomSpecimen, AGmshSheetHeldAcrossGivesThePlaneStrainClosedFormOnEveryElementType) {
+  for (const char* element : {"T3", "T6", "Q4", "Q8"}) {
+    SCOPED_TRACE(element);
+    const fs::path c = write_case(std::string("held_") + element, held_sheet(element));
+    const fs::path out = c.parent_path() / "out";
+    const auto r = run_tricot("simulate " + c.string() + " -o " + out.string() + " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const io::Table t = io::read_csv(out / "held" / "steps.csv");
+    const std::vector<double> force = t.values("edge_force"), top = t.values("resultant_y_top"),
+                              bottom = t.values("resultant_y_bottom");
+    for (int k = 0; k < 2; ++k) {
+      const double l = 1 + 10.0 * (k + 1) / 50, P22 = 0.8 * (l - 1 / l) + 2.5 * std::log(l) / l;
+      EXPECT_NEAR(force[k], P22 * 20, kHomogeneous * P22 * 20);
+      EXPECT_NEAR(top[k], force[k], kHomogeneous * force[k]);
+      EXPECT_NEAR(bottom[k], -force[k], kHomogeneous * force[k]);
+    }
+    if (!test::have_meshio()) continue;
+    const std::string cells = test::read_with_meshio(out / "held" / "step_0002.vtu", "print(m.cells[0].type)\n");
+    const std::map<std::string, std::string> expected = {
+        {"T3", "triangle"}, {"T6", "triangle6"}, {"Q4", "quad"}, {"Q8", "quad8"}};
+    EXPECT_EQ(cells, expected.at(element) + "\n");
+  }
+}
+
+TEST(CustomSpecimen, TheStripWithAHoleExampleBalancesItsClampsAndComesBackUnloaded) {
+  const fs::path out = test::scratch_dir("custom_strip") / "out";
+  const auto r = run_tricot("simulate " + (test::source_dir() / "examples/strip-with-hole/case.toml").string() +
+                            " -o " + out.string() + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const io::Table t = io::read_csv(out / "one-sided" / "steps.csv");
+  const std::vector<double> f = t.values("edge_force"), fx_top = t.values("resultant_x_top"),
+                            fy_bottom = t.values("resultant_y_bottom"), fx_bottom = t.values("resultant_x_bottom");
+  const double peak = f[2];
+  ASSERT_GT(peak, 0);
+  for (std::size_t k = 0; k < f.size(); ++k) {  // equilibrium of the whole strip, along y and x
+    EXPECT_NEAR(fy_bottom[k], -f[k], kHomogeneous * peak);
+    EXPECT_NEAR(fx_bottom[k], -fx_top[k], kHomogeneous * peak);
+  }
+  EXPECT_GT(std::abs(fx_top[2]), 1e-4 * peak);  // the hole off the axis pulls the clamps sideways
+  EXPECT_EQ(f[3], f[2]);                         // a hold: the same state
+  EXPECT_NEAR(f[5], 0, kHomogeneous * peak);     // back at 0 mm: unloaded
+}
+
+TEST(CustomSpecimen, BadInputIsOneLineNamingTheFileKeyAndValueAndWritesNothing) {
+  struct Case {
+    std::string name, text, expect;
+  };
+  std::string no_such = held_sheet("T3", "tpo");
+  std::string short_series = held_sheet("T3");
+  short_series.replace(short_series.find("uy = [10, 20]"), 13, "uy = [10]");
+  std::string not_custom = held_sheet("T3");
+  not_custom.replace(not_custom.find("kind = \"custom\""), 15, "kind = \"uniaxial\"");
+  std::string missing = held_sheet("T3");
+  missing.replace(missing.find("rect.geo"), 8, "none.geo");
+  const Case cases[] = {
+      {"unknown_boundary", no_such, "test[0].boundary[3].name: no boundary of the mesh is named 'tpo' (did you mean 'top'?)"},
+      {"short_series", short_series, "test[0].boundary[3].uy: the series of boundary 'top' has 1 values for 2 steps"},
+      {"not_custom", not_custom, "mesh.geometry: a Gmsh mesh is for tests of kind = \"custom\""},
+      {"missing", missing, "mesh.geometry:"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const fs::path file = write_case(c.name, c.text);
+    const fs::path out = file.parent_path() / "out";
+    const auto r = run_tricot("simulate " + file.string() + " -o " + out.string());
+    EXPECT_EQ(r.exit_code, c.name == "missing" ? 3 : 2) << r.err;
+    EXPECT_NE(r.err.find(file.string() + ":"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << "an output folder was left";
+  }
+}
+
+}  // namespace
+}  // namespace tricot
