@@ -62,7 +62,7 @@ bool predict(const fem::TestModel& model, const TestData& d, const std::vector<f
     return false;
   }
   const bool force_control = model.control == fem::GripControl::force;
-  const int grip_dof = 2 * mesh.top.front() + 1;
+  const int grip_dof = force_control ? 2 * mesh.top.front() + 1 : -1;  // force control: the quarter's grip
   P.edge_displacement.resize(K);
   P.edge_force.resize(K);
   if (jacobian) {

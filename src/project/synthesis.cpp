@@ -63,12 +63,12 @@ io::SectionSpec synth_section() {
   return s;
 }
 
-// Positions of the field points in the quarter [0, W] × [0, H]: the nx × ny grid, or every `spacing` mm.
-Eigen::Matrix2Xd grid_points(const io::Node& s, const fem::MeshOptions& m, const io::Node& test) {
+// Positions of the field points in the box [lo, lo + (W, H)] (the quarter, or the bounding box of any
+// mesh: points in its holes are left out later): the nx × ny grid, or every `spacing` mm.
+Eigen::Matrix2Xd grid_points(const io::Node& s, const Vec2& lo, double W, double H, const io::Node& test) {
   const double inset = s.real("inset");
-  const double W = m.width, H = m.height;
   if (2 * inset >= std::min(W, H))
-    s.fail("inset", fmt::format("leaves no room for points in test '{}' (quarter {} × {} mm)", test.string("name"),
+    s.fail("inset", fmt::format("leaves no room for points in test '{}' ({} × {} mm)", test.string("name"),
                                 W, H),
            io::to_toml(inset), fmt::format("< {} mm", std::min(W, H) / 2));
   auto axis = [&](double length, std::int64_t n) {
@@ -87,7 +87,7 @@ Eigen::Matrix2Xd grid_points(const io::Node& s, const fem::MeshOptions& m, const
   Eigen::Matrix2Xd P(2, xs.size() * ys.size());
   Eigen::Index c = 0;
   for (double y : ys)
-    for (double x : xs) P.col(c++) = Vec2(x, y);
+    for (double x : xs) P.col(c++) = lo + Vec2(x, y);
   return P;
 }
 
@@ -148,7 +148,7 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
   std::vector<fem::TestModel> models;
   for (const auto& t : spec.test) {
     if (t.test_kind() == TestKind::simple_shear)
-      t.origin.fail("kind", "synth needs an FE test", "\"simple_shear\"", "uniaxial, biaxial, homogeneous or rig");
+      t.origin.fail("kind", "synth needs an FE test", "\"simple_shear\"", "uniaxial, biaxial, homogeneous, rig or custom");
     models.push_back(t.model(spec.mesh, spec.rig));
   }
 
@@ -176,8 +176,15 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
     std::vector<int> ids;
     int dropped = 0;
     if (s.boolean("field")) {
-      const Eigen::Matrix2Xd grid =
-          grid_points(s, spec.test[i].mesh_options(spec.mesh), nodes[i]);
+      Vec2 lo = Vec2::Zero(), size;
+      if (model.has_conditions()) {  // any mesh: its bounding box
+        lo = model.mesh.X.rowwise().minCoeff();
+        size = model.mesh.X.rowwise().maxCoeff() - lo;
+      } else {
+        const fem::MeshOptions quarter = spec.test[i].mesh_options(spec.mesh);
+        size = Vec2(quarter.width, quarter.height);
+      }
+      const Eigen::Matrix2Xd grid = grid_points(s, lo, size.x(), size.y(), nodes[i]);
       const std::vector<int> kept = inside_at_every_step(model, sim, grid, kind);
       dropped = static_cast<int>(grid.cols()) - static_cast<int>(kept.size());
       points.resize(2, Eigen::Index(kept.size()));
