@@ -1,7 +1,6 @@
 #!/usr/bin/python3
 # The `tricot dic` figures of docs/validation.md that depend on [dic] order, measured for each order given
-# (issue 16: `order = "auto"` became the default; docs/validation.md, "Second order where it pays, by
-# default"). For each ORDER it runs, at step 10 with everything else at its default:
+# (issue 16: `order = "auto"` became the default; docs/validation.md §3 and §7). For each ORDER it runs, at step 10 with everything else at its default:
 #   - Sample 15: reference.tif -> p200_k{50,100,200,400}_n2.tif, reference mode: points ok, mean ZNCC, RMS v
 #     error against command.csv read at the deformed row (../shared/data/README.md), RMS u, CPU per frame;
 #   - Sample 14: sample14_reference -> l1, l3, l5, reference mode: ok, mean ZNCC, RMS v, mean |u| at x < 100;

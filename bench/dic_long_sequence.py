@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-# A long 5-Mpx DIC sequence for the memory measurement of issue 16 (docs/validation.md, "Issue 16"):
+# A long 5-Mpx DIC sequence for the memory measurement of issue 16 (docs/validation.md §7):
 # A.tif (2500 x 2000, crops of DIC Challenge Sample 15) and B.tif (A moved 1 px in x), then s20/, s200/
 # and s1000/ of symlinks A B B A A B B A ... (increments +1, 0, -1, 0 px). Needs numpy.
 # Usage: dic_long_sequence.py OUT_DIR [SAMPLE15_DIR]

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-# DIC Challenge Sample 15, K50 at step 10 (issue 16, docs/validation.md "Gaussian-weighted subsets"): runs
+# DIC Challenge Sample 15, K50 at step 10 (issue 16, docs/validation.md §3): runs
 # `tricot dic` in reference mode on reference.tif -> p200_k50_n2.tif for each setting given, and prints the
 # RMS error of v against command.csv read at the deformed row y0 + v (../shared/data/README.md), over all ok
 # points, over the 300-600 px transition and outside it. Needs numpy.

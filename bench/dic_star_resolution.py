@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-# Spatial resolution against noise, DIC Challenge 2.0 style (issue 16; docs/validation.md, "Star pair:
-# spatial resolution against noise"), on ../shared/data/dic-challenge-star: v is a vertical sinusoid of
-# 0.5 px amplitude whose period p grows along x, u = 0. For each setting it runs `tricot dic` in reference
+# Spatial resolution against noise, DIC Challenge 2.0 style (docs/validation.md §3), on
+# ../shared/data/dic-challenge-star: v is a vertical sinusoid of 0.5 px amplitude whose period p grows
+# along x, u = 0. For each setting it runs `tricot dic` in reference
 # mode at step 4 and, column by column, fits v(y) = a cos(2πy/p) + b sin(2πy/p) + c with the period law
 # p(x) fitted first from the best-resolved columns; the measured amplitude √(a² + b²) over 0.5 is the
 # transfer of the displacement. Spatial resolution: the longest period at which it is below 0.9 (smoothed

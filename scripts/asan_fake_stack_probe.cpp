@@ -3,7 +3,7 @@
 //   g++ -O2 -march=native -fsanitize=address scripts/asan_fake_stack_probe.cpp -o /tmp/probe
 //   ASAN_OPTIONS=detect_stack_use_after_return=1 /tmp/probe
 // Prints each local's address modulo 64 (0 = aligned) and ends "ok"; a misaligned frame would SEGV on
-// the aligned store (docs/validation.md, "Sanitizers").
+// the aligned store (docs/validation.md §8).
 #include <immintrin.h>
 
 #include <cstdint>

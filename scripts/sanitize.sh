@@ -8,7 +8,7 @@
 #   scripts/sanitize.sh --no-tests      # the examples only
 # The build is baseline x86-64 (TRICOT_NATIVE=OFF) by default: portable, and the SEGV reported under
 # stack-use-after-return (issue 14) was seen only with -march=native; TRICOT_NATIVE=ON checks the
-# native build (docs/validation.md, "Sanitizers").
+# native build (docs/validation.md §8).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build-sanitize}
