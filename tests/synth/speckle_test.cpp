@@ -203,3 +203,12 @@ TEST(PatternTable, IsThePatternWithinItsBSplineErrorAndThePatternItselfOffItsGri
     for (const Vec2& X : {Vec2(-5, 10), Vec2(150, 306), Vec2(301, 301)}) EXPECT_EQ(table.intensity(X), P.intensity(X));
   }
 }
+
+TEST(PatternTable, AGridBeyondItsNodeLimitIsNotMadeAndThePatternAnswers) {
+  SpeckleOptions o;
+  o.radius = 0.2;  // step 0.45 × 0.14 px: 300 px need 4 760² nodes, beyond kMaxNodes
+  const SpecklePattern P(o, 0, 0, 300, 300);
+  const PatternTable table(P, 0, 0, 300, 300);
+  EXPECT_EQ(table.step(), 0.0);
+  for (const Vec2& X : {Vec2(10.3, 20.7), Vec2(150, 150.1)}) EXPECT_EQ(table.intensity(X), P.intensity(X));
+}
