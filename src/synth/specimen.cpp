@@ -176,6 +176,16 @@ PixelBox specimen_box(const fem::Mesh& quarter, const SpecimenImageOptions& o) {
   const double W = quarter.X.row(0).maxCoeff(), H = quarter.X.row(1).maxCoeff();
   return {o.camera.to_pixel(Vec2(-W, H)), o.camera.to_pixel(Vec2(W, -H))};
 }
+// The pattern's table covers the reference specimen within twice the camera's view about its centre:
+// what a frame shows unless the specimen shrinks to less than half its size across the view. A
+// material point off the table is the pattern's own intensity (slower, the same image).
+PatternTable::Box table_box(const fem::Mesh& quarter, const SpecimenImageOptions& o) {
+  const PixelBox b = specimen_box(quarter, o);
+  const Camera& c = o.camera;
+  const Vec2 lo = b.top_left.cwiseMax(c.centre_px() - Vec2(c.width, c.height));
+  const Vec2 hi = b.bottom_right.cwiseMin(c.centre_px() + Vec2(c.width, c.height));
+  return {lo, hi.cwiseMax(lo)};
+}
 SpecklePattern make_pattern(const fem::Mesh& quarter, const SpecimenImageOptions& o) {
   const PixelBox b = specimen_box(quarter, o);
   return SpecklePattern(o.speckle, b.top_left(0), b.top_left(1), b.bottom_right(0), b.bottom_right(1));
@@ -311,8 +321,7 @@ SpecimenRenderer::SpecimenRenderer(const fem::Mesh& quarter, const SpecimenImage
     : mesh_(&quarter),
       options_(options),
       pattern_(make_pattern(quarter, options)),
-      table_(pattern_, specimen_box(quarter, options).top_left(0), specimen_box(quarter, options).top_left(1),
-             specimen_box(quarter, options).bottom_right(0), specimen_box(quarter, options).bottom_right(1)) {}
+      table_(pattern_, table_box(quarter, options)) {}
 
 image::Image SpecimenRenderer::render(const Eigen::VectorXd& u, std::uint64_t noise_seed) const {
   assert(u.size() == 0 || u.size() == mesh_->dofs());

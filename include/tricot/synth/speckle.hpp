@@ -88,6 +88,12 @@ class PatternTable {
  public:
   /// The table over [x_min, x_max] × [y_min, y_max] (reference px); `pattern` must outlive it.
   PatternTable(const SpecklePattern& pattern, double x_min, double y_min, double x_max, double y_max);
+  /// A rectangle of the reference plane, px: its smallest and largest corner.
+  struct Box {
+    Vec2 lo, hi;
+  };
+  PatternTable(const SpecklePattern& pattern, const Box& box)
+      : PatternTable(pattern, box.lo(0), box.lo(1), box.hi(0), box.hi(1)) {}
   /// I(X): the B-spline where X is on the grid, else pattern.intensity(X).
   double intensity(const Vec2& X) const {
     const double gx = (X(0) - x0_) * inverse_step_, gy = (X(1) - y0_) * inverse_step_;
