@@ -110,16 +110,24 @@ class SpecimenRenderer {
   /// the unloaded reference). Each pixel is the mean over subsamples² points of its square of the
   /// speckle at their material points (the flat background where a point is off the specimen), plus
   /// noise drawn from `noise_seed` (independent of the thread count), then quantised to `bits`.
+  /// The material points are found element by element: each deformed element (of the quarter's four
+  /// mirror images) draws the sub-samples of its bounding box that it holds, by Newton on its
+  /// isoparametric map from the previous sub-sample's ξ; the speckle comes from table(). The same
+  /// image as FullSpecimen::material_point and pattern().intensity per sub-sample, to the table's
+  /// error (specimen_test's OldRenderer tests).
   image::Image render(const Eigen::VectorXd& u, std::uint64_t noise_seed = 0) const;
 
   /// The pattern, in reference-image px: the material point X shows pattern.intensity(camera.to_pixel(X)).
   const SpecklePattern& pattern() const { return pattern_; }
+  /// The pattern tabulated over the reference specimen: what render() samples.
+  const PatternTable& table() const { return table_; }
   const SpecimenImageOptions& options() const { return options_; }
 
  private:
   const fem::Mesh* mesh_;
   SpecimenImageOptions options_;
   SpecklePattern pattern_;
+  PatternTable table_;
 };
 
 }  // namespace tricot::synth
