@@ -132,6 +132,7 @@ class Simulation {
     Eigen::VectorXd dz_ds;  // tangent per unit length of the load path (d, F, c); empty: unknown
   };
   std::vector<State> history_;
+  double reaction_peak_ = 0;  // the largest reaction norm of a converged state so far (Newton's reference floor)
   Eigen::VectorXd tangent_next_;  // dz/ds at z_, computed by the predictor of the increment from it
 };
 
@@ -330,12 +331,17 @@ bool Simulation::iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Fa
   Eigen::VectorXd R = free_residual(to);
   double r = R.norm(), r_before = INFINITY;  // ‖R‖ before the last iteration
   for (int it = 0;; ++it) {
-    const double ref = std::max(reaction_norm(to), 1e-12);
+    // Relative to the reaction, or to the largest reaction of the path so far where the grip came back
+    // toward zero (a lab record's unloading, issue 29): there the reaction alone tends to zero.
+    const double ref = std::max({reaction_norm(to), reaction_peak_, 1e-12});
     if (options_.keep_residuals) step.residuals.push_back(r);
     if (reporter_.log)
       reporter_.info("  iteration " + std::to_string(it) + ": |R| = " + fmt("%.3e", r) + " (relative " +
                 fmt("%.3e", r / ref) + ")");
-    if (r <= options_.tolerance * ref) break;
+    if (r <= options_.tolerance * ref) {
+      reaction_peak_ = std::max(reaction_peak_, reaction_norm(to));
+      break;
+    }
     if (it == max_iterations) {
       fail.why = "residual " + fmt("%.3g", r / ref) + " (relative) after " + std::to_string(it) +
                  " Newton iterations, tolerance " + fmt("%.3g", options_.tolerance);

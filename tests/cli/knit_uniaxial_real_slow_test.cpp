@@ -49,6 +49,14 @@ TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
       double s2 = 0, peak = 0;
       for (std::size_t k = 0; k < model.size(); ++k) s2 += std::pow(model[k] - measured[k], 2), peak = std::max(peak, std::abs(measured[k]));
       EXPECT_LT(std::sqrt(s2 / double(model.size())), kWorstForceRmsOfPeak * peak) << name;
+      EXPECT_NEAR(j["fit"][name]["force_rms_N"].get<double>(), std::sqrt(s2 / double(model.size())), 1e-9 * peak) << name;
+      // The tracked points' residual: fit_field_<test>.csv, its RMS in result.json, its map in plots/.
+      const io::LogTable field = io::read_log(root / "out" / ("fit_field_" + name + ".csv"));
+      const auto u = field.numbers("u"), v = field.numbers("v"), mu = field.numbers("model_u"), mv = field.numbers("model_v");
+      double e2 = 0;
+      for (std::size_t k = 0; k < u.size(); ++k) e2 += std::pow(mu[k] - u[k], 2) + std::pow(mv[k] - v[k], 2);
+      EXPECT_NEAR(j["fit"][name]["points_rms_mm"].get<double>(), std::sqrt(e2 / double(u.size())), 1e-6) << name;
+      EXPECT_TRUE(fs::exists(root / "out" / "plots" / ("fit_field_" + name + ".png"))) << name;
       ++tests;
     }
   EXPECT_EQ(tests, 10);
