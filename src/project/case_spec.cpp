@@ -408,6 +408,7 @@ TestSpec TestSpec::from_config(const io::Node& n) {
   t.guide = n.reals("guide");
   t.loads = n.reals("loads");
   t.load_max = n.real("load_max");
+  t.uniform_loads_given = n.given("load_max") || n.given("steps");
   t.steps = static_cast<int>(n.integer("steps"));
   t.pull = n.string("pull");
   t.transverse_strain = n.real("transverse_strain");

@@ -497,15 +497,21 @@ std::string project_test_table(const io::Node& t, const LabTestResult& r, const 
   std::string orientation;
   if (!angle) orientation += fmt::format("material_angle = {}   # direction = \"{}\"\n", course ? 90 : 0, direction);
   if (!pull) orientation += fmt::format("pull = \"{}\"\n", direction);
-  std::string loads;
-  for (std::size_t k = 0; k < r.loads.size(); ++k) loads += (k ? ", " : "") + num(r.loads[k]);
+  // The loads are in forces.csv, which identify reads (issue 29); a rig test's list replaces its
+  // uniform pull and is written.
+  std::string loads = "# loads: forces.csv\n";
+  if (toml_line_value(model, "kind").value_or("") == "rig") {
+    loads = "loads = [";
+    for (std::size_t k = 0; k < r.loads.size(); ++k) loads += (k ? ", " : "") + num(r.loads[k]);
+    loads += "]   # forces.csv\n";
+  }
   std::string lines = model;
   if (!lines.empty() && lines.back() != '\n') lines += '\n';
   const std::string mesh = r.free_length_mm > 0 ? fmt::format("[test.mesh]   # the test's own specimen (tracks: free length "
                                                                "between its clamps)\nwidth = {}\nheight = {}\n",
                                                                num(r.width_mm), num(r.free_length_mm))
                                                  : "";
-  return fmt::format("[[test]]   # {} direction{}\nname = \"{}\"\n{}{}control = \"{}\"\nloads = [{}]   # forces.csv\n{}\n", direction,
+  return fmt::format("[[test]]   # {} direction{}\nname = \"{}\"\n{}{}control = \"{}\"\n{}{}\n", direction,
                      t.real("guide_mm") > 0 ? fmt::format(", guide {} mm", num(t.real("guide_mm"))) : "", r.name, lines,
                      orientation, e.control, loads, mesh);
 }
