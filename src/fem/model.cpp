@@ -101,17 +101,19 @@ void TestModel::validate() const {
     return;
   }
 
-  // Steps: strictly increasing from > 0.
+  // Steps: strictly increasing from > 0 under force control; under displacement control any finite
+  // grip path (a lab record's holds, relaxation and unloading: issue 29; the solver's predictor
+  // extrapolates along the path only where the load keeps its direction).
   if (loads.empty()) bad("test.loads", "no load steps", "[]", "at least one step");
   for (size_t k = 0; k < loads.size(); ++k) {
     const double prev = k == 0 ? 0.0 : loads[k - 1];
     if (!std::isfinite(loads[k]))
       bad("test.loads", "step " + std::to_string(k + 1) + " is not a finite number", format_number(loads[k]));
-    if (!(loads[k] > prev))
+    if (control == GripControl::force && !(loads[k] > prev))
       bad("test.loads",
           k == 0 ? "the first load must be > 0"
                  : "loads must increase strictly (step " + std::to_string(k + 1) + " goes backwards)",
-          format_number(loads[k]) + (k == 0 ? "" : " after " + format_number(prev)), "strictly increasing values > 0");
+          format_number(loads[k]) + (k == 0 ? "" : " after " + format_number(prev)), "strictly increasing values > 0 (force control; displacement control takes any path)");
   }
 
   // Guide: one value, or one per step; only with a guided side edge.

@@ -209,10 +209,11 @@ Eigen::VectorXd Simulation::free_residual(const Load& L) const {
   return R;
 }
 
-// The force that Newton's tolerance is relative to. A model of any mesh may unload to zero, where its
-// own reactions vanish: there the largest reaction of the run's converged states sets the scale.
+// The force that Newton's tolerance is relative to. A displacement path may come back toward zero (a
+// lab record's unloading, or a boundary series), where the reactions vanish: there the largest reaction
+// of the run's converged states sets the scale.
 double Simulation::reference_force(const Load& L) const {
-  return std::max({reaction_norm(L), test_.has_conditions() ? peak_reaction_ : 0.0, 1e-12});
+  return std::max({reaction_norm(L), peak_reaction_, 1e-12});
 }
 
 double Simulation::reaction_norm(const Load& L) const {

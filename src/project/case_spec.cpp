@@ -273,10 +273,11 @@ io::SectionSpec test_section() {
           "in proportion to the load, or one per step; [] = 0, the width held.",
           -1e5, 1e5),
       key("loads", Reals{},
-          "The step list, strictly increasing (mm or N as `control` says; γ for simple_shear). When\n"
+          "The step list (mm or N as `control` says; γ for simple_shear): strictly increasing from > 0 under\n"
+          "force control, any path under displacement control (a lab record's holds and unloading). When\n"
           "empty, `load_max` and `steps` make a uniform list. rig: the pull's grip as measured, one per\n"
           "step (tricot experiment writes them), in place of the uniform list of pull_strain.",
-          -1e9, 1e9, {}, true),
+          -1e9, 1e9),
       key("load_max", 10.0, "Last load of the uniform list (mm, N or γ), > 0; used when `loads` is empty.", 0, 1e9),
       key("steps", std::int64_t{10},
           "Steps of the uniform list: load_max · k / steps for k = 1 … steps (rig: the pull's equal\n"
@@ -468,6 +469,7 @@ TestSpec TestSpec::from_config(const io::Node& n) {
   t.guide = n.reals("guide");
   t.loads = n.reals("loads");
   t.load_max = n.real("load_max");
+  t.uniform_loads_given = n.given("load_max") || n.given("steps");
   t.steps = static_cast<int>(n.integer("steps"));
   t.pull = n.string("pull");
   t.transverse_strain = n.real("transverse_strain");
@@ -710,8 +712,14 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
   }
   if (t.control == fem::GripControl::force && t.side == fem::SideEdge::guide)
     origin.fail("control", "force control is for a free side edge (uniaxial)", "\"force\"", "displacement");
-  if (!(t.loads.front() > 0))
-    origin.fail(loads.empty() ? "load_max" : "loads", "the first load must be positive", num(t.loads.front()), "> 0");
+  if (t.control == fem::GripControl::force || loads.empty()) {  // displacement control: any path (issue 29)
+    if (!(t.loads.front() > 0))
+      origin.fail(loads.empty() ? "load_max" : "loads", "the first load must be positive", num(t.loads.front()), "> 0");
+    for (std::size_t k = 1; k < t.loads.size(); ++k)
+      if (!(t.loads[k] > t.loads[k - 1]))
+        origin.fail("loads", fmt::format("under force control the loads must increase strictly (step {} goes backwards)", k + 1),
+                    num(t.loads[k]), "> " + num(t.loads[k - 1]));
+  }
   t.mesh = fem::make_quarter_mesh(mo);
   try {
     t.validate();

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 #include <atomic>
 #include <csignal>
 #include <system_error>
@@ -170,9 +171,22 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
                                           : objective->evaluate(outcome.result.parameters, true);
   result["identifiability"] = identifiability_json(*objective, outcome.result, at_answer, P.identifiability);
   if (spec.design) result["design"] = design_json(spec, P, outcome.result, at_answer, log);
+  if (req.plots) fs::create_directories(dir / "plots");
+  // Each test's fit (issue 29): its force RMS (and as a fraction of its peak) and its tracked points'
+  // RMS residual, with fit_field_<test>.csv and the residual maps.
+  if (outcome.result.termination != ident::Termination::fe_failure) {
+    nlohmann::ordered_json fits = nlohmann::ordered_json::object();
+    for (const TestFit& f : write_fit_field(dir, *objective, outcome.result, req.plots, log)) {
+      auto& j = fits[f.name];
+      j["force_rms_N"] = std::isfinite(f.force_rms_N) ? nlohmann::ordered_json(f.force_rms_N) : nlohmann::ordered_json();
+      j["force_rms_of_peak"] = std::isfinite(f.force_rms_N) && f.force_peak_N > 0 ? nlohmann::ordered_json(f.force_rms_N / f.force_peak_N)
+                                                                                 : nlohmann::ordered_json();
+      j["points_rms_mm"] = std::isfinite(f.points_rms_mm) ? nlohmann::ordered_json(f.points_rms_mm) : nlohmann::ordered_json();
+    }
+    result["fit"] = fits;
+  }
   io::write_atomic(dir / "result.json", result.dump(2) + "\n");
   write_history(dir / "history.csv", outcome.result);
-  if (req.plots) fs::create_directories(dir / "plots");
   if (outcome.result.termination != ident::Termination::fe_failure)
     write_fit(dir, *objective, outcome.result, req.plots, log);
   if (req.plots) plot_history(dir, outcome, log);

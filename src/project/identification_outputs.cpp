@@ -10,6 +10,7 @@
 #include "json.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/core/format.hpp"
+#include "tricot/fem/locate.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/ident/identifiability.hpp"
 #include "tricot/ident/synthetic.hpp"
@@ -382,6 +383,70 @@ plot {2} using {3} with points pt 6 ps 1 title "measured", \
                          &why))
       log.print("  (no plot: " + why + ")");
   }
+}
+
+// The identified model against the measured field, per test with a cumulative field (issue 29):
+// DIR/fit_field_<test>.csv (step, id, x, y, u, v, model_u, model_v) and plots/fit_field_<test>.png,
+// the residual map (model − measured) at the last step, which the report shows with the other plots.
+// Returns each test's RMS of |model − measured| over its points and steps, mm (NaN: no field).
+std::vector<TestFit> write_fit_field(const fs::path& dir, const ident::Objective& objective, const ident::IdentifyResult& r,
+                                     bool plots, const Log& log) {
+  const std::vector<fem::SimulationResult> sims = objective.simulations(r.parameters);
+  std::vector<TestFit> fits(objective.models().size());
+  for (std::size_t t = 0; t < objective.models().size(); ++t) {
+    const fem::TestModel& m = objective.models()[t];
+    const ident::TestData& d = objective.experiment().tests[t];
+    const fem::SimulationResult& sim = sims[t];
+    fits[t].name = m.name;
+    if (!sim.usable()) continue;
+    if (!d.edge_force.empty()) {
+      double f2 = 0, peak = 0;
+      for (int k = 0; k < d.steps(); ++k)
+        f2 += std::pow(sim.steps[std::size_t(k)].edge_force - d.edge_force[std::size_t(k)], 2),
+            peak = std::max(peak, std::abs(d.edge_force[std::size_t(k)]));
+      fits[t].force_rms_N = std::sqrt(f2 / d.steps()), fits[t].force_peak_N = peak;
+    }
+    if (!d.has_field() || d.field_kind != ident::FieldKind::cumulative) continue;
+    const fem::PointLocator locator(m.mesh);
+    io::Table tab;
+    tab.columns = {"step", "id", "x", "y", "u", "v", "model_u", "model_v"};
+    double s2 = 0;
+    int n = 0;
+    for (int a = 0; a < d.point_count(); ++a) {
+      const Vec2 X = d.points.col(a);
+      const auto at = locator.locate(X);
+      if (!at) continue;
+      for (int k = 0; k < d.steps(); ++k) {
+        const Vec2 um = fem::interpolate(m.mesh, *at, sim.steps[std::size_t(k)].u);
+        const double u = d.u(k, a), v = d.v(k, a);
+        tab.rows.push_back({double(k + 1), double(a < int(d.point_ids.size()) ? d.point_ids[std::size_t(a)] : a), X(0), X(1), u, v,
+                            um(0), um(1)});
+        s2 += (um(0) - u) * (um(0) - u) + (um(1) - v) * (um(1) - v), ++n;
+      }
+    }
+    if (n > 0) fits[t].points_rms_mm = std::sqrt(s2 / n);
+    const fs::path csv = dir / ("fit_field_" + m.name + ".csv");
+    io::write_atomic(csv, io::to_csv(tab));
+    if (!plots || n == 0) continue;
+    std::string why;
+    if (!io::run_gnuplot(fmt::format(R"gp(set terminal pngcairo size 700,640 font ",11"
+set output {0}
+set datafile separator ","
+set grid
+set size ratio -1
+set title "{1}: field residual (model − measured) at step {2}, ×{3:g}; RMS over all steps {4:.3g} mm" noenhanced
+set xlabel "x (quarter model), mm"
+set ylabel "y, mm"
+plot {5} using (column("step") == {2} ? column("x") : 1/0):"y":(({3:g})*(column("model_u") - column("u"))):(({3:g})*(column("model_v") - column("v"))) \
+  with vectors head filled lw 2 lc rgb "#d62728" title "residual", \
+  {5} using (column("step") == {2} ? column("x") : 1/0):"y" with points pt 7 ps 0.8 lc rgb "#333333" title "point"
+)gp",
+                                     io::gnuplot_quote(dir / "plots" / ("fit_field_" + m.name + ".png")), m.name, d.steps(),
+                                     10.0, fits[t].points_rms_mm, io::gnuplot_quote(csv)),
+                         &why))
+      log.print("  (no plot: " + why + ")");
+  }
+  return fits;
 }
 
 void print_summary(const IdentifyOutcome& o, const fs::path& out, const Log& log) {

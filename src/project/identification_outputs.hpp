@@ -2,7 +2,9 @@
 // src/project.
 #pragma once
 
+#include <cmath>
 #include <filesystem>
+#include <string>
 
 #include "json.hpp"
 #include "tricot/fem/solver.hpp"
@@ -41,6 +43,16 @@ void write_history(const std::filesystem::path& file, const ident::IdentifyResul
 void plot_history(const std::filesystem::path& dir, const IdentifyOutcome& o, const Log& log);
 /// DIR/fit_<test>.csv and DIR/plots/fit_<test>.png: the identified model against the edge data (the
 /// objective's simulations at the answer: Objective::simulations).
+/// DIR/fit_field_<test>.csv and plots/fit_field_<test>.png (the residual map) for each test with a
+/// cumulative field; returns each test's fit: the RMS |model − measured| of its points and its force RMS.
+struct TestFit {
+  std::string name;
+  double points_rms_mm = std::nan("");  ///< over every point and step; NaN: no (cumulative) field
+  double force_rms_N = std::nan("");    ///< NaN: no measured force
+  double force_peak_N = std::nan("");
+};
+std::vector<TestFit> write_fit_field(const std::filesystem::path& dir, const ident::Objective& objective,
+                                    const ident::IdentifyResult& r, bool plots, const Log& log);
 void write_fit(const std::filesystem::path& dir, const ident::Objective& objective, const ident::IdentifyResult& r,
                bool plots, const Log& log);
 

@@ -379,7 +379,9 @@ SectionSpec stability_section() {
                 "penalise det ∂(F_C, F_W)/∂(εC, εW) < det_margin and own slopes < slope_margin over the strains the\n"
                 "rig's fields reach, so LM's trial laws stay away from the instability where the FE inverts.",
                 false, {}, {}};
-  s.keys = {key("enabled", false, "Append the barrier to the objective (response surfaces only)."),
+  s.keys = {key("enabled", true,
+                "Append the barrier to the objective. On by default for a response surface (issue 29: real data\n"
+                "need it); another law takes it only when asked, which is an error."),
             key("det_margin", o.det_margin, "(N/mm)², > 0.", 0, 1e6),
             key("slope_margin", o.slope_margin, "N/mm, > 0.", 0, 1e6),
             key("weight", o.weight, "w ≥ 0 of each barrier row.", 0, 1e6)};
@@ -569,7 +571,8 @@ IdentificationSpec read_identification_spec(const io::Node& root) {
   s.eq9 = Eq9Spec::from_config(root.section("eq9"));
   s.identifiability.pinned_relative_error = root.section("identifiability").real("pinned_relative_error");
   s.identifiability.origin = Origin(root.section("identifiability"));
-  if (root.section("stability").boolean("enabled")) {
+  const io::Node& st = root.section("stability");
+  if (st.boolean("enabled") && (st.given("enabled") || s.law.type == "response_surface")) {
     ident::StabilityBarrierOptions b;
     b.det_margin = root.section("stability").real("det_margin");
     b.slope_margin = root.section("stability").real("slope_margin");
@@ -593,7 +596,17 @@ Project build_project(const io::Node& root, const fs::path& base) {
   return build_project(read_identification_spec(root), base);
 }
 
-Project build_project(const IdentificationSpec& spec, const fs::path& base) {
+Project build_project(const IdentificationSpec& given, const fs::path& base) {
+  // A [[test]] without loads, load_max or steps takes its loads from its forces.csv (issue 29): the
+  // lab's loads are written once, in the experiment.
+  IdentificationSpec spec = given;
+  for (TestSpec& t : spec.test) {
+    const TestKind k = t.test_kind();
+    if (!t.loads.empty() || t.uniform_loads_given || k == TestKind::rig || k == TestKind::simple_shear) continue;
+    const fs::path dir = base / spec.experiment.dir;
+    if (!fs::exists(dir / t.name / kForcesFile)) continue;
+    t.loads = read_test_data(dir, t.name, ident::FieldKind::cumulative).loads;
+  }
   Model m = check_model(spec);
   Project P;
   P.law = std::move(m.law);

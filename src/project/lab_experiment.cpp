@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
+#include <string_view>
 #include <nlohmann/json.hpp>
 
 #include "tricot/core/error.hpp"
@@ -19,6 +21,7 @@
 #include "tricot/project/dic_run.hpp"
 #include "tricot/project/dic_spec.hpp"
 #include "tricot/project/experiment_files.hpp"
+#include "tricot/project/lab_tracks.hpp"
 
 namespace tricot::project {
 
@@ -54,6 +57,11 @@ io::SectionSpec experiment_section() {
            "Written to project.toml's [experiment] when > 0: the grip's σ, mm (half the cross-head's), so that\n"
            "every group has a measurement σ and the covariance is a real one (THEORY §8).",
            0, 1e6),
+       key("model", d.model,
+           "The FE model of each test: quarter (the quarter specimen with two symmetry axes; a one-sided pull's\n"
+           "rigid motion is removed with its clamps' mean displacement) or full (the whole specimen, each clamp\n"
+           "driven by its measured motion: not available yet).",
+           -1e300, 1e300, {"quarter", "full"}),
        key("project_template", d.project_template.string(),
            "A TOML file with the project's [mesh], [law], [[parameter]], [data], [identify] (no [[test]], no\n"
            "[experiment]): DIR/project.toml is it plus one [[test]] per test (loads from forces.csv) and\n"
@@ -71,6 +79,7 @@ ExperimentSpec ExperimentSpec::from_config(const io::Node& n) {
   e.plot = n.boolean("plot");
   e.force_sigma = n.boolean("force_sigma");
   e.sigma_edge_displacement = n.real("sigma_edge_displacement");
+  e.model = n.string("model");
   const fs::path t = n.string("project_template");
   e.project_template = t.empty() || t.is_absolute() ? t : fs::path(n.file()).parent_path() / t;
   e.origin = Origin(n);
@@ -83,6 +92,12 @@ void ExperimentSpec::validate() const {
   check_key(origin, table, "control", control);
   check_key(origin, table, "grip", grip);
   check_key(origin, table, "sigma_edge_displacement", sigma_edge_displacement);
+  check_key(origin, table, "model", model);
+  if (model == "full")
+    origin.fail("model",
+                "the full-specimen model (named boundaries, each clamp driven by its measured motion) is not in tricot's "
+                "FE engine yet; model = \"quarter\" removes a one-sided pull's rigid motion with the clamps' mean",
+                "\"full\"", "\"quarter\"");
 }
 
 io::SectionSpec lab_schema() {
@@ -137,6 +152,30 @@ io::SectionSpec lab_schema() {
        key("hold_images", std::int64_t{0},
            "Images of the held setting after the setting images, before the pull (phase \"hold\").", 0, 1e6),
        key("tolerance_mm", 0.0, "DIC points up to this far beyond the outline count as inside, mm.", 0, 1e6),
+       key("tracks", std::string(""),
+           "Or: point tracks made by another tool (lab_tracks.hpp): a CSV file (tracks_format long or wide) or\n"
+           "the folder of DICe's DICe_solution_NNNN.txt files (dice). Needs frame_forces; no images, no log."),
+       key("tracks_format", std::string("long"),
+           "long: a row per point and frame (frame, point, x, y); wide: a row per frame (frame, <point>_x,\n"
+           "<point>_y, ...); dice: DICe's solution files.",
+           -1e300, 1e300, {"long", "wide", "dice"}),
+       key("tracks_unit", std::string("px"), "The tracks' positions: px (then a scale) or mm. Header units must agree.",
+           -1e300, 1e300, {"px", "mm"}),
+       key("frame_column", std::string("frame"), "The frame column of the tracks and of frame_forces."),
+       key("point_column", std::string("point"), "The point-name column of long tracks."),
+       key("x_column", std::string("x"), "The x column of long tracks (image axes)."),
+       key("y_column", std::string("y"), "The y column of long tracks (image axes; y down)."),
+       key("frame_forces", std::string(""),
+           "A per-frame CSV that holds the force (frame_column, force_column), synchronised with the tracks\n"
+           "by frame number: its frames must be the tracks'."),
+       key("clamps", io::Strings{},
+           "[A, B]: the tracked markers on the two clamps. The grip displacement is half the change of their\n"
+           "distance along the pull, the free length their distance in the first frame (unless\n"
+           "free_length_mm is given), and a one-sided pull's rigid motion is removed with their mean."),
+       key("points", io::Strings{}, "The tracked points that are the field (default: every point but the clamps)."),
+       key("sigma_tracks", 0.5, "σ of a tracked position, in tracks_unit (field.csv's sigma_u, sigma_v).", 0, 1e6),
+       key("frame_stride", std::int64_t{1}, "Steps are every frame_stride-th frame after the first (the reference), and the last.", 1, 1000000),
+       key("mm_per_px", 0.0, "This test's pixel size, mm/px (a camera and zoom per test); 0 = [physical] mm_per_px.", 0, 1e6),
        key("model", std::string("kind = \"uniaxial\""),
            "TOML lines added to this test's [[test]] in DIR/project.toml (kind, grip_holds_x, mesh, ...).")},
       {}};
@@ -370,6 +409,12 @@ lab::SyncResult synchronise_set_hold_pull(const lab::LoadLog& load, const lab::I
   return all;
 }
 
+}  // namespace
+
+std::string project_test_table(const io::Node& t, const LabTestResult& r, const ExperimentSpec& e);
+
+namespace {
+
 std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, const std::vector<LabTestResult>& tests,
                              const fs::path& out) {
   std::string s = fmt::format("# Written by `tricot experiment` from {}; then\n#   tricot identify {} -o OUT\n\n", root.file(),
@@ -388,14 +433,7 @@ std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, cons
                      "[data]\n{} = 1.0\nfield = 1.0\nfield_sigma = \"per_point\"   # the DIC's σ of every value (field.csv)\n\n",
                      e.force_control() ? "edge_displacement" : "edge_force");
   }
-  for (std::size_t i = 0; i < tests.size(); ++i) {
-    const io::Node& t = root.array("test")[i];
-    std::string loads;
-    for (std::size_t k = 0; k < tests[i].loads.size(); ++k) loads += (k ? ", " : "") + num(tests[i].loads[k]);
-    s += fmt::format("[[test]]   # {} direction{}\nname = \"{}\"\n{}\ncontrol = \"{}\"\nloads = [{}]   # forces.csv\n\n",
-                     t.string("direction"), t.real("guide_mm") > 0 ? fmt::format(", guide {} mm", num(t.real("guide_mm"))) : "",
-                     tests[i].name, t.string("model"), e.control, loads);
-  }
+  for (std::size_t i = 0; i < tests.size(); ++i) s += project_test_table(root.array("test")[i], tests[i], e);
   s += fmt::format("[experiment]\ndir = \".\"\nfield_kind = \"{}\"\n", e.field_kind);
   double noise = 0;
   for (const auto& t : tests) noise = std::max(noise, t.force_noise_N);
@@ -406,6 +444,77 @@ std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, cons
 }
 
 }  // namespace
+
+namespace {
+
+// The value written after `key =` on a line of TOML lines ("" when no line sets the key), quotes removed.
+std::optional<std::string> toml_line_value(const std::string& lines, std::string_view key) {
+  std::size_t begin = 0;
+  while (begin < lines.size()) {
+    std::size_t end = lines.find('\n', begin);
+    if (end == std::string::npos) end = lines.size();
+    std::string line = lines.substr(begin, end - begin);
+    begin = end + 1;
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line.compare(first, key.size(), key) != 0) continue;
+    std::size_t at = first + key.size();
+    while (at < line.size() && (line[at] == ' ' || line[at] == '\t')) ++at;
+    if (at >= line.size() || line[at] != '=') continue;
+    std::string v = line.substr(at + 1);
+    if (const std::size_t hash = v.find('#'); hash != std::string::npos) v.resize(hash);
+    v.erase(0, v.find_first_not_of(" \t\""));
+    v.erase(v.find_last_not_of(" \t\"") + 1);
+    return v;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string project_test_table(const io::Node& t, const LabTestResult& r, const ExperimentSpec& e) {
+  // `direction` sets the material's orientation (issue 29): wale = material_angle 0, course = 90 (and a
+  // rig's `pull`). Model lines that set them too must agree, or a course test would silently be fitted
+  // as a wale one.
+  const std::string model = t.string("model");
+  const std::string direction = t.string("direction");
+  const bool course = direction == "course";
+  const auto angle = toml_line_value(model, "material_angle");
+  const auto pull = toml_line_value(model, "pull");
+  if (angle) {
+    double a = NAN;
+    try {
+      a = std::stod(*angle);
+    } catch (const std::exception&) {
+    }
+    const double m = std::fmod(std::fabs(a), 180.0);
+    if (!(std::fabs(m - (course ? 90.0 : 0.0)) < 1e-9 || (!course && std::fabs(m - 180.0) < 1e-9)))
+      t.fail("model", fmt::format("its material_angle contradicts direction = \"{}\"", direction), "material_angle = " + *angle,
+             course ? "90 (or leave it out: direction sets it)" : "0 (or leave it out: direction sets it)");
+  }
+  if (pull && *pull != direction)
+    t.fail("model", fmt::format("its pull contradicts direction = \"{}\"", direction), "pull = \"" + *pull + "\"",
+           "\"" + direction + "\" (or leave it out: direction sets it)");
+  std::string orientation;
+  if (!angle) orientation += fmt::format("material_angle = {}   # direction = \"{}\"\n", course ? 90 : 0, direction);
+  if (!pull) orientation += fmt::format("pull = \"{}\"\n", direction);
+  // The loads are in forces.csv, which identify reads (issue 29); a rig test's list replaces its
+  // uniform pull and is written.
+  std::string loads = "# loads: forces.csv\n";
+  if (toml_line_value(model, "kind").value_or("") == "rig") {
+    loads = "loads = [";
+    for (std::size_t k = 0; k < r.loads.size(); ++k) loads += (k ? ", " : "") + num(r.loads[k]);
+    loads += "]   # forces.csv\n";
+  }
+  std::string lines = model;
+  if (!lines.empty() && lines.back() != '\n') lines += '\n';
+  const std::string mesh = r.free_length_mm > 0 ? fmt::format("[test.mesh]   # the test's own specimen (tracks: free length "
+                                                               "between its clamps)\nwidth = {}\nheight = {}\n",
+                                                               num(r.width_mm), num(r.free_length_mm))
+                                                 : "";
+  return fmt::format("[[test]]   # {} direction{}\nname = \"{}\"\n{}{}control = \"{}\"\n{}{}\n", direction,
+                     t.real("guide_mm") > 0 ? fmt::format(", guide {} mm", num(t.real("guide_mm"))) : "", r.name, lines,
+                     orientation, e.control, loads, mesh);
+}
 
 std::vector<fs::path> list_images(const fs::path& folder) {
   std::error_code ec;
@@ -494,6 +603,68 @@ dic::SequenceResult read_dic_folder(const fs::path& dir, std::vector<std::string
   return r;
 }
 
+namespace {
+
+// The force's noise σ in a per-frame record: its spread before the pull starts (the steps whose grip
+// has not moved), and at least the reading's resolution / √12 (a gauge read to 0.01 N reads 0.00 at
+// rest: its σ is not zero).
+double frame_force_noise(const std::vector<lab::ForceStep>& steps, const std::vector<double>& all_forces) {
+  std::vector<double> values = all_forces;
+  std::sort(values.begin(), values.end());
+  double resolution = 0;
+  for (std::size_t i = 1; i < values.size(); ++i)
+    if (double d = values[i] - values[i - 1]; d > 1e-12 && (resolution == 0 || d < resolution)) resolution = d;
+  double s1 = 0, s2 = 0;
+  int n = 0;
+  const double peak = std::abs(steps.empty() ? 0.0 : std::max_element(steps.begin(), steps.end(), [](const auto& a, const auto& b) {
+                                                       return std::abs(a.grip_mm) < std::abs(b.grip_mm);
+                                                     })->grip_mm);
+  for (const auto& f : steps)
+    if (std::abs(f.grip_mm) <= 0.005 * peak) s1 += f.force_N, s2 += f.force_N * f.force_N, ++n;
+  const double spread = n > 1 ? std::sqrt(std::max(0.0, (s2 - s1 * s1 / n) / (n - 1))) : 0.0;
+  return std::max(spread, resolution / std::sqrt(12.0));
+}
+
+LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const ExperimentSpec& e, const fs::path& tdir,
+                              nlohmann::ordered_json& sync_json) {
+  const std::string name = t.string("name");
+  const TracksTest tt = tracks_test(t, physical, e.model == "quarter");
+  write_forces(tdir / kForcesFile, tt.steps, e.force_control());
+  write_field(tdir / kFieldFile, tt.field);
+  std::vector<double> all;
+  for (const auto& f : tt.steps) all.push_back(f.force_N);
+  LabTestResult r;
+  r.name = name;
+  r.sync.method = lab::SyncMethod::given;
+  r.steps = static_cast<int>(tt.steps.size());
+  r.points = static_cast<int>(tt.field.point_ids.size());
+  r.outside = tt.field.outside, r.incomplete = tt.field.incomplete;
+  for (const auto& f : tt.steps) r.loads.push_back(e.force_control() ? f.force_N : f.grip_mm);
+  r.force_noise_N = frame_force_noise(tt.steps, all);
+  r.width_mm = tt.geometry.width_mm, r.free_length_mm = tt.geometry.free_length_mm;
+  sync_json[name] = {{"method", "frame_number"},
+                     {"clock_offset_s", 0.0},
+                     {"force_noise_N", r.force_noise_N},
+                     {"reference_frame", tt.reference_frame},
+                     {"step_frames", tt.step_frames},
+                     {"mm_per_px", tt.mm_per_px},
+                     {"free_length_mm", tt.geometry.free_length_mm},
+                     {"width_mm", tt.geometry.width_mm},
+                     {"rigid_motion_removed", tt.rigid_motion_removed},
+                     {"points", tt.field.point_ids.size()},
+                     {"points_outside", tt.field.outside},
+                     {"points_incomplete", tt.field.incomplete},
+                     {"report", tt.report}};
+  // sync.png's data: the force per step (synchronised by frame number, no clock offset to find).
+  std::string a = "log_time,force\n";
+  for (const auto& f : tt.steps) a += num(f.time_s) + "," + num(f.force_N) + "\n";
+  io::write_atomic(tdir / "sync_log.csv", a);
+  io::write_atomic(tdir / "sync_images.csv", a);
+  return r;
+}
+
+}  // namespace
+
 LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out, const Log& log) {
   const ExperimentSpec e = ExperimentSpec::from_config(root.section("experiment"));
   e.validate();
@@ -513,6 +684,11 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     fs::create_directories(tdir);
     lab::SpecimenGeometry geometry{t.real("width_mm"), t.real("free_length_mm"), t.real("tolerance_mm")};
 
+    if (!t.string("tracks").empty()) {  // point tracks from another tool, the force per frame
+      result.tests.push_back(tracks_lab_test(t, root.section("physical"), e, tdir, sync_json));
+      log.print(fmt::format("{}: {}", name, sync_json[name]["report"].get<std::string>()));
+      continue;
+    }
     // The scale and the load-cell log first: a bad one fails before any DIC work.
     camera_scale(root.section("physical"));
     const lab::LoadLog load = load_log(t);

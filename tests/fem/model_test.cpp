@@ -5,6 +5,8 @@
 #include <limits>
 
 #include "tricot/core/error.hpp"
+#include "tricot/fem/neo_hookean.hpp"
+#include "tricot/fem/solver.hpp"
 
 namespace tricot::fem {
 namespace {
@@ -42,8 +44,10 @@ TEST(TestModel, AConsistentModelIsValid) {
   EXPECT_EQ(key_of(t), "");
 }
 
-TEST(TestModel, StepsThatGoBackwardsOrStartAtZeroAreRejected) {
+// Under force control only (issue 29: a displacement-controlled grip may hold and go back).
+TEST(TestModel, ForceStepsThatGoBackwardsOrStartAtZeroAreRejected) {
   TestModel t = good();
+  t.control = GripControl::force;
   t.loads = {1, 3, 2};
   EXPECT_EQ(key_of(t), "test.loads");
   try {
@@ -59,6 +63,24 @@ TEST(TestModel, StepsThatGoBackwardsOrStartAtZeroAreRejected) {
   EXPECT_EQ(key_of(t), "test.loads");
   t.loads = {1, std::numeric_limits<double>::quiet_NaN()};
   EXPECT_EQ(key_of(t), "test.loads");
+}
+
+// A lab record's grip path (issue 29): a hold, an unloading, a reload. The law is elastic, so the state
+// depends on the grip alone: the force at a grip visited twice is the same, to Newton's tolerance.
+TEST(TestModel, ADisplacementPathWithHoldsAndUnloadingSolvesAndAnElasticLawRetracesIt) {
+  TestModel t = good();
+  t.loads = {0.5, 1.0, 1.0, 0.5, 0.0, 1.0, 1.5};
+  EXPECT_EQ(key_of(t), "");
+  const SimulationResult r = simulate(t, NeoHookean(1.0, 2.0));
+  ASSERT_TRUE(r.usable()) << r.message;
+  ASSERT_EQ(r.steps.size(), 7u);
+  constexpr double kNewton = 1e-6;  // relative: the solver's default tolerance, with a margin
+  const double F1 = r.steps[1].edge_force;
+  EXPECT_GT(F1, 0);
+  EXPECT_NEAR(r.steps[2].edge_force, F1, kNewton * F1);                    // the hold
+  EXPECT_NEAR(r.steps[3].edge_force, r.steps[0].edge_force, kNewton * F1);  // back to 0.5
+  EXPECT_NEAR(r.steps[4].edge_force, 0.0, kNewton * F1);                   // unloaded
+  EXPECT_NEAR(r.steps[5].edge_force, F1, kNewton * F1);                    // reloaded to 1.0
 }
 
 TEST(TestModel, GuideValuesMustMatchTheSideEdge) {

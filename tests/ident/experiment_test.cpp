@@ -58,8 +58,11 @@ TEST(Experiment, RejectsWrongSizesAndBadLoads) {
   d.u.resize(2, 2);
   EXPECT_THROW(d.validate(), InputError);
   d = small_test();
-  d.loads = {1, 1, 2};
+  d.loads = {1, NAN, 2};
   EXPECT_THROW(d.validate(), InputError);
+  d = small_test();
+  d.loads = {1, 1, 0.5};  // a lab record's hold and unloading (issue 29): the model's control decides
+  EXPECT_NO_THROW(d.validate());
   d = small_test();
   d.point_ids = {7, 7};
   EXPECT_THROW(d.validate(), InputError);

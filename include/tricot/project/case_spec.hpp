@@ -201,6 +201,9 @@ struct TestSpec {
   std::optional<std::variant<std::string, double>> side;
   io::Reals guide;
   io::Reals loads;
+  /// load_max or steps written in the file: a uniform list asked for. Neither, nor `loads`: identify
+  /// reads the loads from the experiment's forces.csv (issue 29: written once).
+  bool uniform_loads_given = false;
   double load_max = 10;
   int steps = 10;
   // kind = "rig" (fem::RigOptions):

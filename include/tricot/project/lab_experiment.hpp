@@ -43,6 +43,7 @@ struct ExperimentSpec {
   bool plot = true;                       ///< DIR/sync.png
   bool force_sigma = true;                ///< project.toml's sigma_edge_force from the logs' spread at rest
   double sigma_edge_displacement = 0;     ///< mm, ≥ 0: written to project.toml when > 0
+  std::string model = "quarter";          ///< quarter (rigid motion removed with the clamps) or full (not yet)
   /// The project template, relative to the lab file's folder as written in the file ("" = a skeleton);
   /// from_config resolves it against that folder.
   std::filesystem::path project_template;
@@ -65,11 +66,18 @@ struct LabTestResult {
   int outside = 0, incomplete = 0;
   std::vector<double> loads;  ///< forces.csv's load column, step 1 first
   double force_noise_N = 0;   ///< σ of the log's force at rest (sync.json force_noise_N)
+  double width_mm = 0;        ///< > 0: the test's own specimen size, written as its [test.mesh] (tracks)
+  double free_length_mm = 0;
 };
 
 struct LabExperimentResult {
   std::vector<LabTestResult> tests;
 };
+
+/// One test's [[test]] table of DIR/project.toml: its name, the `model` lines, the material's orientation
+/// from `direction` (wale: material_angle = 0, pull = "wale"; course: 90, "course"), the control and the
+/// loads. Throws InputError at `model` when its lines set material_angle or pull themselves.
+std::string project_test_table(const io::Node& test, const LabTestResult& result, const ExperimentSpec& e);
 
 /// Runs every test of a validated lab file (`root` from read_config(lab_schema(), file)) and writes
 /// DIR. Relative paths in the file are taken from the file's folder. Throws InputError / FileError

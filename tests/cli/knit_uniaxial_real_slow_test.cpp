@@ -1,0 +1,66 @@
+// examples/knit-uniaxial-real (issue 29): real knit data (../shared/data/knit-uniaxial, acrylic garter,
+// five repeats along X and five along Y) from the raw CSVs to the report with TOML only: `tricot
+// experiment` on the example's lab file, then `tricot identify` on the project it writes. The example
+// reads ../shared relative to the repository root; the test copies it into a scratch tree laid out the
+// same way, with the shared data linked in. Skipped when the shared data are not there.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "testing/cli.hpp"
+#include "testing/paths.hpp"
+#include "tricot/io/files.hpp"
+#include "tricot/io/log.hpp"
+
+namespace tricot {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Measured (docs/validation.md, issue 29): the worst repeat's force RMS is 5.8 % of its peak with the
+// example's 6-coefficient polynomial law; an elastic law cannot follow the holds' relaxation. The
+// bound below is that figure with a margin, not the issue's 3 % target, which is not reached.
+constexpr double kWorstForceRmsOfPeak = 0.07;
+
+TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
+  const fs::path data = test::shared_data() / "knit-uniaxial";
+  if (!fs::exists(data / "acrylic-garter-X" / "video1" / "tracks.csv")) GTEST_SKIP() << "no " << data;
+  const fs::path root = test::scratch_dir("knit_uniaxial_real");
+  const fs::path example = root / "repo" / "examples" / "knit-uniaxial-real";
+  fs::create_directories(example);
+  fs::create_directories(root / "shared");
+  fs::create_directory_symlink(fs::absolute(test::shared_data()), root / "shared" / "data");
+  for (const char* f : {"acrylic-garter.toml", "project-template.toml"})
+    fs::copy_file(test::source_dir() / "examples" / "knit-uniaxial-real" / f, example / f);
+  const auto e = test::run_tricot("experiment " + (example / "acrylic-garter.toml").string() + " -o " + (root / "experiment").string() + " -q");
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const auto r = test::run_tricot("identify " + (root / "experiment" / "project.toml").string() + " -o " + (root / "out").string() + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(io::read_text(root / "out" / "result.json"));
+  EXPECT_TRUE(j["converged"].get<bool>()) << j["termination"];
+  EXPECT_TRUE(fs::exists(root / "out" / "report.html"));
+  int tests = 0;
+  for (const char* d : {"X", "Y"})
+    for (int v = 1; v <= 5; ++v) {
+      const std::string name = std::string(d) + std::to_string(v);
+      const io::LogTable fit = io::read_log(root / "out" / ("fit_" + name + ".csv"));
+      const auto model = fit.numbers("model_edge_force"), measured = fit.numbers("edge_force");
+      double s2 = 0, peak = 0;
+      for (std::size_t k = 0; k < model.size(); ++k) s2 += std::pow(model[k] - measured[k], 2), peak = std::max(peak, std::abs(measured[k]));
+      EXPECT_LT(std::sqrt(s2 / double(model.size())), kWorstForceRmsOfPeak * peak) << name;
+      EXPECT_NEAR(j["fit"][name]["force_rms_N"].get<double>(), std::sqrt(s2 / double(model.size())), 1e-9 * peak) << name;
+      // The tracked points' residual: fit_field_<test>.csv, its RMS in result.json, its map in plots/.
+      const io::LogTable field = io::read_log(root / "out" / ("fit_field_" + name + ".csv"));
+      const auto u = field.numbers("u"), v = field.numbers("v"), mu = field.numbers("model_u"), mv = field.numbers("model_v");
+      double e2 = 0;
+      for (std::size_t k = 0; k < u.size(); ++k) e2 += std::pow(mu[k] - u[k], 2) + std::pow(mv[k] - v[k], 2);
+      EXPECT_NEAR(j["fit"][name]["points_rms_mm"].get<double>(), std::sqrt(e2 / double(u.size())), 1e-6) << name;
+      EXPECT_TRUE(fs::exists(root / "out" / "plots" / ("fit_field_" + name + ".png"))) << name;
+      ++tests;
+    }
+  EXPECT_EQ(tests, 10);
+}
+
+}  // namespace
+}  // namespace tricot
