@@ -66,6 +66,14 @@ double max_abs(const M& m) {
 /// root at infinity that Newton would walk to.
 constexpr double kBetaMax = 10;
 
+/// The C¹ ramp r(β) of width w and its slope: 0 for β ≤ −w, (β + w)²/(4w) between, β for β ≥ w
+/// (max(β, 0) when w = 0).
+Vec2 smooth_ramp(double beta, double w) {
+  if (beta >= w) return {beta, 1.0};
+  if (beta <= -w) return {0.0, 0.0};
+  return {(beta + w) * (beta + w) / (4 * w), (beta + w) / (2 * w)};
+}
+
 double wrap_angle(double a) {
   constexpr double pi = std::numbers::pi;
   a = std::fmod(a, pi);
@@ -79,6 +87,7 @@ double wrap_angle(double a) {
 void WrinklingOptions::validate() const {
   check(residual_stiffness >= 0 && residual_stiffness < 0.5, "residual_stiffness", residual_stiffness, "[0, 0.5)");
   check(tolerance > 0 && tolerance <= 1e-6, "wrinkle_tolerance", tolerance, "(0, 1e-6]");
+  check(smoothing >= 0 && smoothing <= 0.1, "wrinkle_smoothing", smoothing, "[0, 0.1]");
   check(max_iterations >= 1 && max_iterations <= 200, "wrinkle_max_iterations", max_iterations, "1 to 200");
 }
 
@@ -113,10 +122,24 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
   WrinkleState st;
   // Taut: both principal values of S = P Fᵀ tensile (det S > 0, tr S > 0), or S at rest to round-off
   // of the stiffness (the unstressed state is the corner of all three states: the taut tangent there
-  // lets the FE leave it in any direction).
+  // lets the FE leave it in any direction). With a smoothed switch (width w > 0), a taut point whose
+  // zero-traction root β (< 0: the sheet would have to shorten across) may lie above −w is solved
+  // too: the linear estimate β ≈ −λ_min(sym S) / (∂(nᵀ g)/∂β) at β = 0 decides.
   const Mat2 S = at_F.P * F.transpose();
   const double scale_S = max_abs(at_F.A) * max_abs(F) * max_abs(F);
-  if ((S.determinant() > 0 && S.trace() > 0) || max_abs(S) <= 1e-12 * scale_S) return st;
+  const double width = options_.smoothing;
+  Eigen::SelfAdjointEigenSolver<Mat2> eig_S(0.5 * (S + S.transpose()));
+  const Vec2 nS = eig_S.eigenvectors().col(0);
+  const double theta_S = std::atan2(nS(1), nS(0));
+  double beta_start = 0;
+  if ((S.determinant() > 0 && S.trace() > 0) || max_abs(S) <= 1e-12 * scale_S) {
+    if (!(width > 0) || max_abs(S) <= 1e-12 * scale_S) return st;
+    const Wrinkle w0 = wrinkle(F, 0, theta_S);
+    const double k = nS.dot(residual_z(F, w0, at_F).col(0));
+    if (!(k > 0)) return st;
+    beta_start = -eig_S.eigenvalues()(0) / k;
+    if (beta_start <= -2 * width) return st;
+  }
 
   // Wrinkled or slack: Newton on z = (β, θ) for g = 0. Two starts: β = 0 with n along the most
   // compressive principal direction of sym S (exact at the taut/wrinkled switch), then n along the
@@ -184,11 +207,9 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
     run.z = z, run.w = w, run.at_Ft = std::move(at), run.iterations = it;
     return run;
   };
-  Eigen::SelfAdjointEigenSolver<Mat2> eig_S(0.5 * (S + S.transpose()));
-  const Vec2 nS = eig_S.eigenvectors().col(0);
-  Run run = newton(Vec2(0, std::atan2(nS(1), nS(0))));
+  Run run = newton(Vec2(beta_start, theta_S));
   int it = run.iterations;
-  if (!run.converged || run.z(0) < -1e-10) {
+  if (beta_start == 0 && (!run.converged || run.z(0) < -1e-10)) {
     Eigen::SelfAdjointEigenSolver<Mat2> eig_B(F * F.transpose());
     const Vec2 nB = eig_B.eigenvectors().col(0);
     const double b_min = eig_B.eigenvalues()(0);
@@ -201,13 +222,20 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
   at_Ft = std::move(run.at_Ft);
   st.iterations = it;
   const double tension = w.t.dot(at_Ft.P * w.Ft.transpose() * w.t);
-  // β may end a round-off below 0 right at the taut/wrinkled switch.
-  if (converged && z(0) >= -1e-10 && tension > 0) {
+  // The smoothed wrinkle strain: β_eff = r(β) (C¹ ramp of width w); β may end a round-off below 0
+  // right at an unsmoothed switch.
+  const Vec2 ramp = smooth_ramp(z(0), width);
+  if (converged && ramp(0) > 0 && tension > 0 && (width > 0 || z(0) >= -1e-10)) {
     st.state = MembraneState::wrinkled;
-    st.beta = z(0);
+    st.root_beta = z(0);
+    st.beta = ramp(0);
     st.angle = wrap_angle(z(1) + std::numbers::pi / 2);
     st.tension = tension;
     if (sensitivities) inner_->evaluate({w.Ft, in.Q}, {true, true}, at_Ft);
+  } else if (converged && beta_start != 0 && !(ramp(0) > 0)) {
+    st.state = MembraneState::taut;  // a taut point whose root lies below −w
+  } else if (beta_start != 0) {
+    st.state = MembraneState::taut;  // a taut point near the switch whose root was not found
   } else {
     st.state = MembraneState::slack;
   }
@@ -216,7 +244,7 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
 
 WrinkleState WrinklingLaw::state(const LawInput& in) const {
   LawOutput at_F, at_Ft;
-  if (!(in.F.determinant() > 0) || !in.F.allFinite()) return {MembraneState::slack, 0, 0, 0, 0};
+  if (!(in.F.determinant() > 0) || !in.F.allFinite()) return {MembraneState::slack, 0, 0, 0, 0, 0};
   inner_->evaluate(in, {true, false}, at_F);
   return solve(in, at_F, false, at_Ft);
 }
@@ -237,36 +265,51 @@ void WrinklingLaw::evaluate(const LawInput& in, const LawRequest& req, LawOutput
     for (Mat2& d : out.dP_dc) d *= eta;
     return;
   }
-  // Wrinkled: P = (1 − η) P(F̃) + η P(F); the implicit derivatives of z = (β, θ) with g(F, z) = 0.
+  // Wrinkled: P = (1 − η) P(F̃_eff) + η P(F), F̃_eff = M(r(β), θ) F; the implicit derivatives of
+  // z = (β, θ) with g(F, z) = 0 at the root, through the ramp r.
   const Mat2& F = in.F;
-  const Wrinkle w = wrinkle(F, st.beta, st.angle - std::numbers::pi / 2);
+  const double theta = st.angle - std::numbers::pi / 2;
+  const Wrinkle w = wrinkle(F, st.root_beta, theta);  // the root (at_Ft is the inner law there)
   const Mat2 G_z = residual_z(F, w, at_Ft);
   const Eigen::FullPivLU<Mat2> lu(G_z);
   const Vec2 Fn = F.transpose() * w.n;
-  out.P = (1 - eta) * at_Ft.P + eta * out.P;
-  out.lambda3 = at_Ft.lambda3;
-  const Eigen::Matrix<double, 4, 2> A_z = at_Ft.A * w.Ft_z;  // ∂P̃/∂z
+  const double slope = smooth_ramp(st.root_beta, options_.smoothing)(1);
+  const bool at_root = st.beta == st.root_beta;
+  const Wrinkle we = at_root ? w : wrinkle(F, st.beta, theta);  // the effective wavy sheet
+  LawOutput at_eff;
+  if (!at_root) inner_->evaluate({we.Ft, in.Q}, {true, req.sensitivities}, at_eff);
+  const LawOutput& eff = at_root ? at_Ft : at_eff;
+  out.P = (1 - eta) * eff.P + eta * out.P;
+  out.lambda3 = eff.lambda3;
+  // ∂P̃_eff/∂z through the ramp: the β column times r'(β).
+  Eigen::Matrix<double, 4, 2> A_z = eff.A * we.Ft_z;
+  A_z.col(0) *= slope;
   if (req.tangent) {
-    // ∂F̃/∂F: δF̃ = M δF, i.e. D(2a + b, 2k + l) = M(a, k) δ(b, l).
-    Mat4 D = Mat4::Zero();
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b)
-        for (int k = 0; k < 2; ++k) D(2 * a + b, 2 * k + b) = w.M(a, k);
-    const Mat4 A_F = at_Ft.A * D;  // ∂P̃/∂F at fixed z
+    // ∂F̃/∂F at fixed z: δF̃ = M δF, i.e. D(2a + b, 2k + l) = M(a, k) δ(b, l) (M at the root for g,
+    // M_eff for P).
+    auto dFt_dF = [](const Mat2& M) {
+      Mat4 D = Mat4::Zero();
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b)
+          for (int k = 0; k < 2; ++k) D(2 * a + b, 2 * k + b) = M(a, k);
+      return D;
+    };
+    const Mat4 A_F_root = at_Ft.A * dFt_dF(w.M);
     // ∂g/∂F: dP̃ Fᵀ n + P̃ δFᵀ n; δF = e_k e_lᵀ gives δFᵀ n = n_k e_l.
     Eigen::Matrix<double, 2, 4> G_F;
     for (int k = 0; k < 2; ++k)
       for (int l = 0; l < 2; ++l) {
         const int c = 2 * k + l;
-        G_F.col(c) = unflatten(Vec4(A_F.col(c))) * Fn + w.n(k) * at_Ft.P.col(l);
+        G_F.col(c) = unflatten(Vec4(A_F_root.col(c))) * Fn + w.n(k) * at_Ft.P.col(l);
       }
     const Eigen::Matrix<double, 2, 4> z_F = -lu.solve(G_F);
-    out.A = (1 - eta) * (A_F + A_z * z_F) + eta * out.A;
+    const Mat4 A_F_eff = at_root ? A_F_root : Mat4(eff.A * dFt_dF(we.M));
+    out.A = (1 - eta) * (A_F_eff + A_z * z_F) + eta * out.A;
   }
   if (req.sensitivities) {
     for (std::size_t k = 0; k < nc; ++k) {
       const Vec2 z_c = -lu.solve(Vec2(at_Ft.dP_dc[k] * Fn));
-      out.dP_dc[k] = (1 - eta) * (at_Ft.dP_dc[k] + unflatten(Vec4(A_z * z_c))) + eta * out.dP_dc[k];
+      out.dP_dc[k] = (1 - eta) * (eff.dP_dc[k] + unflatten(Vec4(A_z * z_c))) + eta * out.dP_dc[k];
     }
   }
 }

@@ -16,11 +16,15 @@
 // energy W_relaxed(F) = W(F̃).
 //
 // Three states, from S = P(F) Fᵀ (the inner law's Kirchhoff stress, up to R):
-// - taut:      det S > 0 and tr S > 0 (both principal stresses tensile): the law as it is;
+// - taut:      det S > 0 and tr S > 0 (both principal stresses tensile): the law as it is (but see
+//              the smoothed switch below);
 // - wrinkled:  otherwise, where g = 0 has a root with β ≥ 0 and a positive tension tᵀ P(F̃) F̃ᵀ t
 //              along the wrinkles (t = (−sin θ, cos θ));
 // - slack:     otherwise: no stress.
 // P is continuous at both switches (β = 0 at taut/wrinkled, zero tension at wrinkled/slack).
+// Smoothed switch [choice]: the wrinkle strain used is a C¹ ramp r(β) of width w
+// (WrinklingOptions::smoothing), so that the tangent is continuous across the taut/wrinkled switch;
+// the root β is then also solved on the taut side, where it is negative, within −w.
 //
 // Residual stiffness [choice]: wrinkled and slack membranes have no stiffness across the wrinkles
 // (the FE tangent is singular there: a slack patch floats). The wrapper returns
@@ -49,6 +53,12 @@ struct WrinklingOptions {
   /// stiffness across wrinkles, as a fraction of the taut law's), in [0, 0.5). 0 = the pure tension
   /// field (a slack patch then has a singular tangent). Default 1e-3.
   double residual_stiffness = 1e-3;
+  /// w: width of the smoothed taut/wrinkled switch, in wrinkle strain, in [0, 0.1]. The wrinkle
+  /// strain used is r(β), a C¹ ramp: 0 for β ≤ −w, (β + w)²/(4w) between, β above w, where β is the
+  /// zero-traction root (negative on the taut side near the switch). 0 = the sharp switch, whose
+  /// tangent jumps; the FE's Newton then chatters where a whole region sits on the switch (a sheet
+  /// stretched one way with no stress across, as in the rig's first increments). Default 1e-3.
+  double smoothing = 1e-3;
   /// Newton on (β, θ) stops when |g| ≤ tolerance × |P(F)| |F| (relative), in (0, 1e-6]. Default 1e-13.
   double tolerance = 1e-13;
   /// Newton iterations on (β, θ), 1–200. Default 50.
@@ -64,9 +74,11 @@ const char* to_string(MembraneState s);
 /// The relaxed state at one point: which of the three, and for a wrinkled one the wrinkles.
 struct WrinkleState {
   MembraneState state = MembraneState::taut;
-  /// Wrinkle strain β ≥ 0: the extra stretch across the wrinkles that the waves take up (0 unless
-  /// wrinkled).
+  /// Wrinkle strain r(β) ≥ 0 (WrinklingOptions::smoothing): the extra stretch across the wrinkles
+  /// that the waves take up (0 unless wrinkled).
   double beta = 0;
+  /// The zero-traction root β itself (> −w; may be below 0 within the smoothed switch).
+  double root_beta = 0;
   /// Angle from x of the wrinkles (the tension direction t, current configuration), radians in
   /// (−π/2, π/2]; 0 unless wrinkled.
   double angle = 0;
