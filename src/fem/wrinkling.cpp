@@ -207,35 +207,44 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
     run.z = z, run.w = w, run.at_Ft = std::move(at), run.iterations = it;
     return run;
   };
-  Run run = newton(Vec2(beta_start, theta_S));
-  int it = run.iterations;
-  if (beta_start == 0 && (!run.converged || run.z(0) < -1e-10)) {
-    Eigen::SelfAdjointEigenSolver<Mat2> eig_B(F * F.transpose());
-    const Vec2 nB = eig_B.eigenvectors().col(0);
-    const double b_min = eig_B.eigenvalues()(0);
-    run = newton(Vec2(b_min < 1 ? 1 / std::sqrt(b_min) - 1 : 0.0, std::atan2(nB(1), nB(0))));
+  // A root counts when it is a tension field: β above the ramp's foot and a positive tension along
+  // t. The rotated root (n and t swapped, a negative "tension") and a root missed from one start send
+  // the solve to the next start; slack only when no start finds a tension field.
+  auto tension_of = [](const Run& r) { return r.w.t.dot(r.at_Ft.P * r.w.Ft.transpose() * r.w.t); };
+  auto is_field = [&](const Run& r) {
+    return r.converged && smooth_ramp(r.z(0), width)(0) > 0 && (width > 0 || r.z(0) >= -1e-10) && tension_of(r) > 0;
+  };
+  Eigen::SelfAdjointEigenSolver<Mat2> eig_B(F * F.transpose());
+  const Vec2 nB = eig_B.eigenvectors().col(0);
+  const double b_min = eig_B.eigenvalues()(0);
+  const Vec2 starts[3] = {Vec2(beta_start, theta_S),
+                          Vec2(b_min < 1 ? 1 / std::sqrt(b_min) - 1 : std::max(beta_start, 0.0), std::atan2(nB(1), nB(0))),
+                          Vec2(std::max(beta_start, 0.0), theta_S + std::numbers::pi / 2)};
+  Run run;
+  int it = 0;
+  bool found = false, below_foot = false;
+  for (const Vec2& z0 : starts) {
+    run = newton(z0);
     it += run.iterations;
+    if (is_field(run)) {
+      found = true;
+      break;
+    }
+    if (run.converged && !(smooth_ramp(run.z(0), width)(0) > 0) && tension_of(run) > 0) below_foot = true;
   }
-  const bool converged = run.converged;
-  const Vec2& z = run.z;
-  const Wrinkle& w = run.w;
-  at_Ft = std::move(run.at_Ft);
   st.iterations = it;
-  const double tension = w.t.dot(at_Ft.P * w.Ft.transpose() * w.t);
-  // The smoothed wrinkle strain: β_eff = r(β) (C¹ ramp of width w); β may end a round-off below 0
-  // right at an unsmoothed switch.
-  const Vec2 ramp = smooth_ramp(z(0), width);
-  if (converged && ramp(0) > 0 && tension > 0 && (width > 0 || z(0) >= -1e-10)) {
+  if (found) {
+    const Vec2& z = run.z;
+    const Wrinkle& w = run.w;
+    at_Ft = std::move(run.at_Ft);
     st.state = MembraneState::wrinkled;
     st.root_beta = z(0);
-    st.beta = ramp(0);
+    st.beta = smooth_ramp(z(0), width)(0);
     st.angle = wrap_angle(z(1) + std::numbers::pi / 2);
-    st.tension = tension;
+    st.tension = w.t.dot(at_Ft.P * w.Ft.transpose() * w.t);
     if (sensitivities) inner_->evaluate({w.Ft, in.Q}, {true, true}, at_Ft);
-  } else if (converged && beta_start != 0 && !(ramp(0) > 0)) {
-    st.state = MembraneState::taut;  // a taut point whose root lies below −w
-  } else if (beta_start != 0) {
-    st.state = MembraneState::taut;  // a taut point near the switch whose root was not found
+  } else if (beta_start != 0 || below_foot) {
+    st.state = MembraneState::taut;  // a taut-side root below the ramp's foot (or none found there)
   } else {
     st.state = MembraneState::slack;
   }
