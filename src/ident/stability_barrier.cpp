@@ -9,6 +9,7 @@
 #include "tricot/core/error.hpp"
 #include "tricot/core/format.hpp"
 #include "tricot/fem/response_surface.hpp"
+#include "tricot/fem/wrinkling.hpp"
 
 namespace tricot::ident {
 
@@ -38,7 +39,8 @@ StabilizedObjective::StabilizedObjective(const Objective& objective, StabilityBa
   Eigen::VectorXd J(objective.parameters().size());
   for (Eigen::Index k = 0; k < J.size(); ++k) J(k) = objective.parameters()[k].start;
   const std::unique_ptr<fem::Law> law = objective.law_at(J);
-  const auto* rs = dynamic_cast<const fem::ResponseSurface*>(law.get());
+  // A tension-field wrapper keeps the response surface's force–strain map: the barrier is on it.
+  const auto* rs = dynamic_cast<const fem::ResponseSurface*>(&fem::unwrapped(*law));
   if (!rs)
     throw InputError(Location{"", 0, "law.type"}, "the stability barrier needs a response surface", law->name(),
                      "response_surface");

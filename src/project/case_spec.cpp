@@ -139,7 +139,22 @@ io::SectionSpec law_section() {
   law.keys = {key("type", std::string("mooney_rivlin"),
                   "Which law: the table [law.<type>] below holds its coefficients; the other tables are ignored.",
                   -kInf, kInf,
-                  {"mooney_rivlin", "neo_hookean", "corotational", "response_surface", "reference_fabric"})};
+                  {"mooney_rivlin", "neo_hookean", "corotational", "response_surface", "reference_fabric"}),
+              key("wrinkling", false,
+                  "Wrap the law in a tension-field membrane (docs/theory/fabric.md §8): where a principal\n"
+                  "stress would be compressive the membrane wrinkles and carries a uniaxial tension along the\n"
+                  "wrinkles (angle and wrinkle strain from zero traction across them), or is slack where no\n"
+                  "direction is stretched. Taut points keep the law as it is."),
+              key("residual_stiffness", fem::WrinklingOptions{}.residual_stiffness,
+                  "With wrinkling: the fraction η of the law kept in every state, so that wrinkled and slack\n"
+                  "points keep a small stiffness across the wrinkles (P = (1 − η) P_relaxed + η P_law), in\n"
+                  "[0, 0.5).",
+                  0, 0.5),
+              key("wrinkle_smoothing", fem::WrinklingOptions{}.smoothing,
+                  "With wrinkling: the width w (in wrinkle strain) of the smoothed taut/wrinkled switch, a C¹\n"
+                  "ramp that keeps the FE tangent continuous where a region sits on the switch; 0 = sharp.\n"
+                  "In [0, 0.1].",
+                  0, 0.1)};
 
   SectionSpec mr{"mooney_rivlin",
                  "Incompressible Mooney–Rivlin, W = Σ C_ij (I1 − 3)^i (I2 − 3)^j (paper eq. 7), plane stress.",
@@ -401,6 +416,9 @@ MooneyRivlinSpec::MooneyRivlinSpec() {
 LawSpec LawSpec::from_config(const io::Node& law) {
   LawSpec l;
   l.type = law.string("type");
+  l.wrinkling = law.boolean("wrinkling");
+  l.residual_stiffness = law.real("residual_stiffness");
+  l.wrinkle_smoothing = law.real("wrinkle_smoothing");
   l.origin = Origin(law);
   const Node& mr = law.section("mooney_rivlin");
   l.mooney_rivlin.terms = mr.strings("terms"), l.mooney_rivlin.values = mr.reals("values");
@@ -837,6 +855,19 @@ fem::TestModel TestSpec::custom_model(const MeshSpec& case_mesh) const {
 }
 
 std::unique_ptr<fem::Law> LawSpec::law() const {
+  std::unique_ptr<fem::Law> inner = inner_law();
+  if (!wrinkling) return inner;
+  fem::WrinklingOptions o;
+  o.residual_stiffness = residual_stiffness;
+  o.smoothing = wrinkle_smoothing;
+  if (!(o.residual_stiffness >= 0 && o.residual_stiffness < 0.5))
+    origin.fail("residual_stiffness", "out of range", num(o.residual_stiffness), "[0, 0.5)");
+  if (!(o.smoothing >= 0 && o.smoothing <= 0.1))
+    origin.fail("wrinkle_smoothing", "out of range", num(o.smoothing), "[0, 0.1]");
+  return std::make_unique<fem::WrinklingLaw>(*inner, o);
+}
+
+std::unique_ptr<fem::Law> LawSpec::inner_law() const {
   // The law's constructor is the one check of its coefficients on their way to the engine. It names a
   // bad one by its key in the sub-table (`material.values`, `material.mu`, `material.shear_stiffness`,
   // …), so the error is placed at that key of the sub-table's Origin as it is.

@@ -2,9 +2,11 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "tricot/fem/element.hpp"
+#include "tricot/fem/wrinkling.hpp"
 
 namespace tricot::project {
 
@@ -33,6 +35,12 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
   // The smallest acoustic eigenvalue over the element's points (N/mm): ≤ 0 where the law has lost
   // strong ellipticity and the membrane can localise (fem::strong_ellipticity).
   io::VtuField ellipticity{"ellipticity", 1, {}};
+  // A tension-field law (docs/theory/fabric.md §8): the area fractions of the element that are
+  // wrinkled and slack, and the wrinkles' mean direction (current configuration; the doubled-angle
+  // mean, so that t and −t agree), zero where nothing wrinkles.
+  const auto* wrinkling = dynamic_cast<const fem::WrinklingLaw*>(&law);
+  io::VtuField wrinkled{"wrinkled_fraction", 1, {}}, slack{"slack_fraction", 1, {}},
+      direction{"wrinkle_direction", 3, {}};
   const Mat2 Q = fem::material_axes(material_angle_deg);
   fem::LawOutput out;
   const fem::LawRequest req{true, false};
@@ -41,6 +49,7 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
     const fem::ElementVector ue = fem::element_displacements(mesh, e, u);
     Mat2 s = Mat2::Zero(), E = Mat2::Zero();
     double E33 = 0, area = 0, lowest = std::numeric_limits<double>::infinity();
+    double wrinkled_area = 0, slack_area = 0, c2 = 0, s2 = 0;
     for (int q = 0; q < geo.points; ++q) {
       const Mat2 F = fem::deformation_gradient(geo, q, ue);
       fem::LawInput in;
@@ -58,6 +67,15 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
         lowest = std::numeric_limits<double>::quiet_NaN();
       }
       const double w = geo.dA0[q];
+      if (wrinkling && F.determinant() > 0) {
+        const fem::WrinkleState st = wrinkling->state(in);
+        if (st.state == fem::MembraneState::wrinkled) {
+          wrinkled_area += w;
+          c2 += w * std::cos(2 * st.angle), s2 += w * std::sin(2 * st.angle);
+        } else if (st.state == fem::MembraneState::slack) {
+          slack_area += w;
+        }
+      }
       s += w * sq;
       E += w * 0.5 * (F.transpose() * F - Mat2::Identity());
       E33 += w * 0.5 * (l3 * l3 - 1);
@@ -67,9 +85,21 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
     sigma.values.insert(sigma.values.end(), {s(0, 0), s(0, 1), 0, s(1, 0), s(1, 1), 0, 0, 0, 0});
     strain.values.insert(strain.values.end(), {E(0, 0), E(0, 1), 0, E(1, 0), E(1, 1), 0, 0, 0, E33});
     ellipticity.values.push_back(lowest);
+    if (wrinkling) {
+      wrinkled.values.push_back(wrinkled_area / area);
+      slack.values.push_back(slack_area / area);
+      const double a = 0.5 * std::atan2(s2, c2);
+      const bool any = wrinkled_area > 0;
+      direction.values.insert(direction.values.end(), {any ? std::cos(a) : 0.0, any ? std::sin(a) : 0.0, 0.0});
+    }
   }
   g.point_data = {std::move(disp)};
   g.cell_data = {std::move(sigma), std::move(strain), std::move(ellipticity)};
+  if (wrinkling) {
+    g.cell_data.push_back(std::move(wrinkled));
+    g.cell_data.push_back(std::move(slack));
+    g.cell_data.push_back(std::move(direction));
+  }
   return g;
 }
 

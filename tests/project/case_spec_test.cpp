@@ -7,6 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
+
+#include "tricot/fem/reference_fabric.hpp"
+#include "tricot/fem/wrinkling.hpp"
 
 namespace tricot::project {
 namespace {
@@ -179,6 +183,24 @@ TEST(CaseSpec, AResponseSurfaceErrorNamesTheKeyOfItsTable) {
   code.response_surface.shear_stiffness = 0;
   EXPECT_EQ(message_of([&] { code.law(); }),
             "law.response_surface.shear_stiffness: out of range (got 0.000000, expected > 0 N/mm)");
+}
+
+// `[law] wrinkling` wraps the law of `type` in a tension-field membrane (issue 30); off by default.
+TEST(CaseSpec, WrinklingWrapsTheLawInATensionFieldMembrane) {
+  const io::Node plain = io::parse_config(case_schema(), "[law]\ntype = \"reference_fabric\"\n", "case.toml");
+  EXPECT_EQ(dynamic_cast<const fem::WrinklingLaw*>(CaseSpec::from_config(plain).law.law().get()), nullptr);
+  const io::Node root = io::parse_config(
+      case_schema(), "[law]\ntype = \"reference_fabric\"\nwrinkling = true\nresidual_stiffness = 0.01\n", "case.toml");
+  const std::unique_ptr<fem::Law> law = CaseSpec::from_config(root).law.law();
+  const auto* w = dynamic_cast<const fem::WrinklingLaw*>(law.get());
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->options().residual_stiffness, 0.01);
+  EXPECT_EQ(w->name(), "reference_fabric");
+  EXPECT_NE(dynamic_cast<const fem::ReferenceFabric*>(&w->inner()), nullptr);
+  LawSpec code;
+  code.wrinkling = true;
+  code.residual_stiffness = 0.5;
+  EXPECT_EQ(message_of([&] { code.law(); }), "law.residual_stiffness: out of range (got 0.5, expected [0, 0.5))");
 }
 
 }  // namespace

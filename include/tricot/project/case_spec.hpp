@@ -15,6 +15,7 @@
 #include "tricot/fem/mesh.hpp"
 #include "tricot/fem/model.hpp"
 #include "tricot/fem/reference_fabric.hpp"
+#include "tricot/fem/wrinkling.hpp"
 #include "tricot/fem/rig.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/io/config.hpp"
@@ -139,12 +140,23 @@ struct LawSpec {
   CorotationalSpec corotational;
   ResponseSurfaceSpec response_surface;
   ReferenceFabricSpec reference_fabric;
+  /// `wrinkling`: wrap the law in a tension-field membrane (fem::WrinklingLaw: taut, wrinkled, slack).
+  bool wrinkling = false;
+  /// `residual_stiffness`: fem::WrinklingOptions::residual_stiffness, the fraction η of the law kept
+  /// in every state (only with `wrinkling`).
+  double residual_stiffness = fem::WrinklingOptions{}.residual_stiffness;
+  /// `wrinkle_smoothing`: fem::WrinklingOptions::smoothing, the width of the smoothed taut/wrinkled
+  /// switch (only with `wrinkling`).
+  double wrinkle_smoothing = fem::WrinklingOptions{}.smoothing;
   Origin origin{"law"};
 
   static LawSpec from_config(const io::Node& law);
   /// The law of `type`: the law's constructor is the one check of its coefficients; its error
   /// (`material.<name>`) is placed at the sub-table's key. Throws InputError.
+  /// Wrapped in fem::WrinklingLaw when `wrinkling`.
   std::unique_ptr<fem::Law> law() const;
+  /// The law of `type` alone (never wrapped).
+  std::unique_ptr<fem::Law> inner_law() const;
 };
 
 /// `[solver]` (fem::SolveOptions).
