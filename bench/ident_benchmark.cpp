@@ -1,6 +1,6 @@
 // Cost of the identification's building blocks on the paper's uniaxial Mooney–Rivlin problem
 // (§3.3: 2200 dofs, 35 steps): one forward solve, one objective + Jacobian evaluation with exact
-// sensitivities (THEORY §7) or finite differences (the paper's way), and a whole identification.
+// sensitivities (docs/theory.md §7) or finite differences (the paper's way), and a whole identification.
 // Counter `x_forward`: the evaluation's time as a multiple of one forward solve.
 #include <benchmark/benchmark.h>
 

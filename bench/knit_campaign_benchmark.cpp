@@ -48,7 +48,7 @@ using namespace tricot;
 
 constexpr double kShear = 0.05;  // G_s of the truth and of the identified surface (not identified)
 
-/// One specimen size of the campaign (THEORY §6; issue 12).
+/// One specimen size of the campaign (docs/theory.md §6; issue 12).
 struct CampaignSpec {
   double side;
   int steps;
@@ -133,7 +133,7 @@ Campaign& campaign(int size) {
   return cache.emplace(size, std::move(c)).first->second;
 }
 
-/// Eq. 9's points (THEORY §9): course points from the course-pulled tests, wale from wale-pulled.
+/// Eq. 9's points (docs/theory.md §9): course points from the course-pulled tests, wale from wale-pulled.
 std::vector<ident::SurfacePoint> surface_points(const Campaign& c, fem::PullDirection pull, bool (*keep)(const CampaignTest&, int)) {
   std::vector<ident::SurfacePoint> p;
   for (const auto& t : c.tests) {
@@ -312,7 +312,7 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   const Eigen::VectorXd J_fit = polynomial_start(law, c);
   Eigen::VectorXd J0 = std::getenv("TRICOT_CAMPAIGN_SLOPE_START") ? polynomial_start(law, c, 1) : J_fit;
   // TRICOT_CAMPAIGN_JITTER=seed: each start coefficient × (1 + u), u uniform in ±1 % (the path's
-  // sensitivity to its start: docs/validation.md, issue 12 "Steps cut at the stability barrier").
+  // sensitivity to its start: docs/validation.md §5).
   if (const char* seed = std::getenv("TRICOT_CAMPAIGN_JITTER")) {
     std::mt19937 g(static_cast<unsigned>(std::strtoul(seed, nullptr, 10)));
     std::uniform_real_distribution<double> u(-0.01, 0.01);
@@ -349,7 +349,7 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   run.objective = std::make_unique<ident::Objective>(models, data, law, p, oo);
   ident::IdentifyOptions o;
   o.initial_trust_region_radius = 100, o.line_search_trials = 4;  // examples/knit-campaign/project-110.toml's [identify]
-  o.active_set = true;  // as project-110.toml (docs/validation.md, "Bounded coefficients")
+  o.active_set = true;  // as project-110.toml (docs/validation.md §5)
   // TRICOT_CAMPAIGN_BARRIER_GROWTH: identify.barrier_growth (0 = LM's steps not cut at the barrier).
   if (const char* g = std::getenv("TRICOT_CAMPAIGN_BARRIER_GROWTH")) o.barrier_growth = std::strtod(g, nullptr);
   // The material-stability barrier (ident/stability_barrier.hpp) unless TRICOT_CAMPAIGN_NO_BARRIER.
@@ -495,7 +495,7 @@ BENCHMARK(BM_Evaluate)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasurePr
 /// Issue 15, the paper's scale: one evaluation (field + grip force, 14 sensitivities) of the five
 /// wale-pulled 110 mm tests × 21 steps with `paper14` at the slope start (a1 and c1 only, fitted to the
 /// eq. 9 points: stable at every strain; the least-squares start and the 120-element J* both lose
-/// material stability at the fine mesh's clip strains, docs/validation.md issue 15), on an nx × ny Q8 quarter (70 × 58: 24 874 dofs, the paper's ~24 000),
+/// material stability at the fine mesh's clip strains, docs/validation.md §9), on an nx × ny Q8 quarter (70 × 58: 24 874 dofs, the paper's ~24 000),
 /// the data of the 24 × 20 synthesis, the tests on the objective's threads (OpenMP default). The
 /// identification's cost is this times its evaluations.
 void BM_EvaluatePaperScale(benchmark::State& state) {
@@ -526,7 +526,7 @@ void BM_EvaluatePaperScale(benchmark::State& state) {
 /// 14 coefficients, a 24 000-dof mesh, ~80 h (§3, its ref. 24). The five wale-pulled 110 mm rig tests
 /// × 21 steps, with the guides ending 5 % of the quarter's height short of the clips (the campaign's 15 %
 /// gap leaves a free edge whose corner loses strong ellipticity on a fine mesh, under the reference
-/// knit itself: docs/validation.md "The paper's scale by mesh levels"); their field (the campaign's
+/// knit itself: docs/validation.md §9); their field (the campaign's
 /// 3 × 3 points per quarter) and grip force generated on an nx × ny Q8 quarter by `paper14` at
 /// kPaperScaleTruth. Cached per mesh: the synthesis is the experiment, not the identification.
 const std::array<double, 14> kPaperScaleTruth{0.21808, 0.23574, -0.14126, 0.024769, 0.017599, 0.0002448, 0.075506,

@@ -4,7 +4,7 @@
 // and symbolic analysis are done once, outside the timing, as in simulate(). The tangent is the one at
 // a 10 % affine stretch (u_y = 0.1 Y), which meets every boundary condition of the clamped strip.
 // Argument: nx (10, 20, 30, 40, 80, 160 → 2 087 … 523 007 unknowns). Counter n = unknowns (free dofs).
-// The exponent is fitted in docs/validation.md (issue 15).
+// The exponent is fitted in docs/validation.md §7.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/CholmodSupport>

@@ -19,7 +19,7 @@ A lab file names, per test, the images (a numbered sequence, or a `tricot dic` o
 their times come from, the load-cell log and its columns, and the specimen; [physical] is the camera:
 
   [experiment]
-  field_kind = "cumulative"       # or "incremental" (fixed points, THEORY §7)
+  field_kind = "cumulative"       # or "incremental" (fixed points, docs/theory.md §7)
   control = "displacement"        # forces.csv load = grip displacement (or "force")
 
   [physical]

@@ -1,5 +1,5 @@
 // tricot identify PROJECT.toml -o DIR [--resume]: Levenberg–Marquardt identification of a law's
-// coefficients from an experiment (THEORY §1–§3, §7, §8; paper §2). Writes DIR/result.json,
+// coefficients from an experiment (docs/theory.md §1–§3, §7, §8; paper §2). Writes DIR/result.json,
 // DIR/history.csv, DIR/checkpoint.json (after every accepted step) and DIR/plots/*.png.
 #include <memory>
 

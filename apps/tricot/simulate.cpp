@@ -1,5 +1,5 @@
 // tricot simulate CASE.toml -o DIR: runs the finite-element models of the tests of a case file
-// (THEORY §4–§6) and writes, per test, DIR/<test>/steps.csv, step_NNNN.vtu (+ steps.pvd) and force.png.
+// (docs/theory.md §4–§6) and writes, per test, DIR/<test>/steps.csv, step_NNNN.vtu (+ steps.pvd) and force.png.
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -92,7 +92,7 @@ Runner add_simulate(CLI::App& app) {
                                 {args->out_dir, args->only_test, !args->no_vtu, args->vtu_every,
                                  args->vtu_ascii ? io::VtuFormat::ascii : io::VtuFormat::binary, args->case_file},
                                 console.log());
-    if (!o.failures.empty())  // one line (DESIGN.md): the first failure, and how many more
+    if (!o.failures.empty())  // one line (docs/design.md): the first failure, and how many more
       std::fprintf(stderr, "tricot: error: %s: %s%s\n", args->case_file.c_str(), o.failures.front().c_str(),
                    o.failures.size() > 1 ? (" (and " + std::to_string(o.failures.size() - 1) + " more tests)").c_str() : "");
     return o.failures.empty() ? ExitCode::ok : ExitCode::not_converged;

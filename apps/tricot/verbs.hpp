@@ -1,4 +1,4 @@
-// The `tricot` program: one file per verb (DESIGN.md "Verbs"). Each add_VERB() adds its subcommand,
+// The `tricot` program: one file per verb (docs/design.md "Verbs"). Each add_VERB() adds its subcommand,
 // options and help to the app and returns the function main() runs when that verb is chosen: flags →
 // the verb's spec (tricot_project) → its pipeline → the console. The function returns an ExitCode;
 // input errors are thrown as tricot::InputError and reported by main().

@@ -1,4 +1,4 @@
-// 2-D finite-strain kinematics in closed form (see kinematics.hpp, THEORY §4).
+// 2-D finite-strain kinematics in closed form (see kinematics.hpp, docs/theory.md §4).
 #include "tricot/core/kinematics.hpp"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// ZNSSD inverse-compositional Gauss–Newton for one subset (THEORY.md §10; see icgn.hpp for references).
+// ZNSSD inverse-compositional Gauss–Newton for one subset (docs/theory.md §10; see icgn.hpp for references).
 #include "tricot/dic/icgn.hpp"
 
 #include <Eigen/Cholesky>

@@ -1,4 +1,4 @@
-// Dof map and colored parallel assembly (THEORY §4, §6, §7).
+// Dof map and colored parallel assembly (docs/theory.md §4, §6, §7).
 #include "assembly.hpp"
 
 #include <algorithm>
@@ -73,7 +73,7 @@ DofMap make_dof_map(const TestModel& test) {
   const double guide_end = m.X.row(1).maxCoeff() - test.guide_gap;
   for (size_t i = 0; i < m.right.size(); ++i) {
     const int n = m.right[i];
-    // The rig's guide ends guide_gap short of the grip (THEORY §6): the nodes above it are free.
+    // The rig's guide ends guide_gap short of the grip (docs/theory.md §6): the nodes above it are free.
     const double y = m.X(1, n);
     const bool guided = test.guide_gap <= 0 || y <= guide_end + 1e-9 * guide_end;
     if (test.side == SideEdge::guide && guided) d.right_x.push_back(2 * n);

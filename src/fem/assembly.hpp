@@ -1,4 +1,4 @@
-// Global assembly of a test model (THEORY §4, §6, §7), private to fem: which node dofs are unknowns,
+// Global assembly of a test model (docs/theory.md §4, §6, §7), private to fem: which node dofs are unknowns,
 // the fixed sparsity pattern of the free-free tangent with a precomputed scatter map, and a colored
 // OpenMP loop over elements (elements of one color share no node and no equation, so they write
 // without races and the sums do not depend on the thread count).
@@ -22,7 +22,7 @@ struct Load {
   double d = 0, F = 0, c = 0, t = 0;
 };
 
-/// How node dofs map onto the unknowns (THEORY §6). A prescribed dof has eq = −1 and the value
+/// How node dofs map onto the unknowns (docs/theory.md §6). A prescribed dof has eq = −1 and the value
 /// d·grip + c·guide; a force-controlled grip makes every top u_y share one equation (`master`),
 /// which keeps the edge straight and carries the quarter's share F/2 of the force.
 struct DofMap {

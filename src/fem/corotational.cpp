@@ -1,4 +1,4 @@
-// Corotational Eulerian orthotropic law (see corotational.hpp, THEORY §4).
+// Corotational Eulerian orthotropic law (see corotational.hpp, docs/theory.md §4).
 #include "tricot/fem/corotational.hpp"
 
 #include <Eigen/LU>
@@ -87,7 +87,7 @@ void CorotationalOrthotropic::evaluate(const LawInput& in, const LawRequest& req
   if (detail::invalid_state(J, req, 4, out)) return;
   const Mat2& Q = in.Q;
 
-  // THEORY §4: F = R U, Ĥ = Qᵀ ln U Q, τ̂_m = 𝔻 : Ĥ, τ̂ = Q τ̂_m Qᵀ, P = R τ̂ U⁻¹.
+  // docs/theory.md §4: F = R U, Ĥ = Qᵀ ln U Q, τ̂_m = 𝔻 : Ĥ, τ̂ = Q τ̂_m Qᵀ, P = R τ̂ U⁻¹.
   PolarJacobians JP;
   const PolarDecomposition p = polar_decomposition(in.F, req.tangent ? &JP : nullptr);
   Mat4 J_H_U;

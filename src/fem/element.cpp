@@ -1,4 +1,4 @@
-// T3/T6/Q4/Q8 total-Lagrangian membrane elements (THEORY §4, §6).
+// T3/T6/Q4/Q8 total-Lagrangian membrane elements (docs/theory.md §4, §6).
 #include "tricot/fem/element.hpp"
 
 #include <cmath>

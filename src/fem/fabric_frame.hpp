@@ -1,4 +1,4 @@
-// The kinematic frame shared by the fabric laws (THEORY §5 "FE use"; docs/theory/fabric.md §3):
+// The kinematic frame shared by the fabric laws (docs/theory.md §5 "FE use"; docs/theory/fabric.md §3):
 //   E = ½(FᵀF − I),  E_m = Qᵀ E Q  (εC = E_m11, εW = E_m22, E_CW = E_m12),
 //   T = [[F_C, 2 G_s E_CW], [2 G_s E_CW, F_W]]  (material frame, N/mm),
 //   P = R Q T Qᵀ  (F = R U: the material frame turns with R).

@@ -1,4 +1,4 @@
-// Gmsh meshes through libgmsh (THEORY §6). Gmsh keeps one global model: every use is serialised and
+// Gmsh meshes through libgmsh (docs/theory.md §6). Gmsh keeps one global model: every use is serialised and
 // starts from a fresh session.
 #include "tricot/fem/gmsh.hpp"
 

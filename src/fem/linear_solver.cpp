@@ -1,4 +1,4 @@
-// Eigen SimplicialLDLT / CHOLMOD / UMFPACK behind one interface (THEORY §4, §7).
+// Eigen SimplicialLDLT / CHOLMOD / UMFPACK behind one interface (docs/theory.md §4, §7).
 #include "linear_solver.hpp"
 
 #include <Eigen/OrderingMethods>
@@ -191,7 +191,7 @@ std::unique_ptr<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::
     Eigen::CholmodMode mode, bool metis) {
   auto c = std::make_unique<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>>();
   c->setMode(mode);
-  c->cholmod().print = 0;  // the library never prints (STYLE.md §4): failures come back as info()
+  c->cholmod().print = 0;  // the library never prints (the library never prints): failures come back as info()
   if (metis) {
     c->cholmod().nmethods = 1;
     c->cholmod().method[0].ordering = CHOLMOD_METIS;

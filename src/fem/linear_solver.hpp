@@ -1,4 +1,4 @@
-// Sparse direct solution of the free-free tangent (THEORY §4, §7), private to fem. Symmetric tangents:
+// Sparse direct solution of the free-free tangent (docs/theory.md §4, §7), private to fem. Symmetric tangents:
 // LDLᵀ without pivoting, by Eigen's SimplicialLDLT or CHOLMOD's simplicial LDLᵀ, or CHOLMOD's
 // supernodal LLᵀ on a METIS ordering (falling back to CHOLMOD's LDLᵀ when the tangent is not positive
 // definite); SolveOptions::linear_solver picks one, or lets the size pick (LinearSolverKind::automatic,
@@ -33,7 +33,7 @@ class LinearSolver {
  public:
   /// Tangents of at least this many unknowns go to CHOLMOD's supernodal LLᵀ under
   /// LinearSolverKind::automatic; smaller ones to Eigen's SimplicialLDLT. The crossover measured on
-  /// the clamped strip (bench/linear_solver_benchmark.cpp, docs/validation.md issue 15).
+  /// the clamped strip (bench/linear_solver_benchmark.cpp, docs/validation.md §7).
   static constexpr Eigen::Index kSupernodalFrom = 20000;
   /// Non-symmetric tangents of at least this many unknowns are ordered by METIS in UMFPACK (its
   /// default, AMD, below).

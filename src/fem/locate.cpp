@@ -1,4 +1,4 @@
-// Point location in a mesh (THEORY §7): a uniform grid of element bounding boxes gives the
+// Point location in a mesh (docs/theory.md §7): a uniform grid of element bounding boxes gives the
 // candidates, the paper's "capable angles" test picks the element, Newton on the isoparametric map
 // gives ξ.
 #include "tricot/fem/locate.hpp"

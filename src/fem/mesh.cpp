@@ -1,4 +1,4 @@
-// Element types, mesh checks, and structured meshes of the quarter specimen (THEORY §6).
+// Element types, mesh checks, and structured meshes of the quarter specimen (docs/theory.md §6).
 #include "tricot/fem/mesh.hpp"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Consistency checks of a test model (THEORY §6).
+// Consistency checks of a test model (docs/theory.md §6).
 #include "tricot/fem/model.hpp"
 
 #include <algorithm>

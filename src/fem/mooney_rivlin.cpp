@@ -1,4 +1,4 @@
-// Incompressible Mooney–Rivlin membrane (see mooney_rivlin.hpp, THEORY §5).
+// Incompressible Mooney–Rivlin membrane (see mooney_rivlin.hpp, docs/theory.md §5).
 #include "tricot/fem/mooney_rivlin.hpp"
 
 #include <Eigen/Dense>
@@ -96,7 +96,7 @@ void MooneyRivlin::set_coefficients(const Eigen::VectorXd& c) {
   for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k].C = c(k);
 }
 
-// THEORY §5. With C₂ = FᵀF, J2 = det C₂ and C₂⁻¹:
+// docs/theory.md §5. With C₂ = FᵀF, J2 = det C₂ and C₂⁻¹:
 //   ∂I1/∂C₂ = G1 = I − C₂⁻¹/J2,   ∂I2/∂C₂ = G2 = I/J2 + (J2 − tr C₂/J2) C₂⁻¹,
 //   S₂ = 2 (W1 G1 + W2 G2),  P = F S₂.
 // Tangent in closed form: dS₂ = 𝕃 : dC₂ with
@@ -154,7 +154,7 @@ std::vector<MooneyRivlinTerm> paper_mooney_rivlin_terms() {
   return {{1, 0, 0.1}, {2, 0, -0.025}, {2, 1, 0.015}, {0, 3, 0.01}};
 }
 
-// THEORY §5 closed forms, principal stretches (λ1, λ2, λ3) with λ1λ2λ3 = 1.
+// docs/theory.md §5 closed forms, principal stretches (λ1, λ2, λ3) with λ1λ2λ3 = 1.
 double mooney_rivlin_nominal_stress(const std::vector<MooneyRivlinTerm>& terms, HomogeneousMode mode,
                                     double lambda) {
   const double l = lambda;

@@ -1,4 +1,4 @@
-// Orthotropic response-surface fabric law (see response_surface.hpp, THEORY §5).
+// Orthotropic response-surface fabric law (see response_surface.hpp, docs/theory.md §5).
 #include "tricot/fem/response_surface.hpp"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// The paper's biaxial-induced rig as an FE fixture (THEORY §6).
+// The paper's biaxial-induced rig as an FE fixture (docs/theory.md §6).
 #include "tricot/fem/rig.hpp"
 
 #include <algorithm>

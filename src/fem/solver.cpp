@@ -1,4 +1,4 @@
-// Quasi-static solution of a test model (THEORY §4–§7): load stepping with cutback, Newton–Raphson with
+// Quasi-static solution of a test model (docs/theory.md §4–§7): load stepping with cutback, Newton–Raphson with
 // the consistent tangent and a backtracking line search, reactions, and exact sensitivities.
 #include "tricot/fem/solver.hpp"
 
@@ -200,7 +200,7 @@ bool Simulation::linear_solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x, Fail
   return true;
 }
 
-// R_f = Σ f_int over each equation's dofs − the quarter's share F/2 of the grip force (THEORY §6).
+// R_f = Σ f_int over each equation's dofs − the quarter's share F/2 of the grip force (docs/theory.md §6).
 Eigen::VectorXd Simulation::free_residual(const Load& L) const {
   Eigen::VectorXd R = Eigen::VectorXd::Zero(dofs_.equations);
   for (size_t k = 0; k < dofs_.eq.size(); ++k)
@@ -265,7 +265,7 @@ std::string Simulation::ellipticity_note(int element) const {
          ", E12 " + fmt("%.3f", E_worst(0, 1)) + " in the material axes): the membrane localises there";
 }
 
-// One (sub)step from the converged state at `from` to `to` (THEORY §4). On entry assembled_ holds a tangent
+// One (sub)step from the converged state at `from` to `to` (docs/theory.md §4). On entry assembled_ holds a tangent
 // at or next to the converged state (that of the last Newton iterate: the converged state itself is
 // evaluated for its residual only), and the factorization is of it or of a nearby state; the
 // predictor extrapolates along it.
@@ -408,7 +408,7 @@ bool Simulation::iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Fa
   return true;
 }
 
-// The rig's first stage (THEORY §6): the guide moves to its setting with the grip at rest, in
+// The rig's first stage (docs/theory.md §6): the guide moves to its setting with the grip at rest, in
 // guide_setting_steps increments (each with its own cutbacks); `where` names the failed increment.
 bool Simulation::set_transverse_dimension(Failure& fail, std::string& where, std::vector<StepResult>& states) {
   const int n = test_.guide_setting_steps;
@@ -496,7 +496,7 @@ bool Simulation::solve_step(const Load& target, StepResult& step, Failure& fail)
   return true;
 }
 
-// K du_f/dc = −∂R_f/∂c at the converged state (z_, load_) (THEORY §7): one multi-RHS solve, refined on
+// K du_f/dc = −∂R_f/∂c at the converged state (z_, load_) (docs/theory.md §7): one multi-RHS solve, refined on
 // the last iterate's factorization, or on its own where that is cheaper (LinearSolver::prefers_factorization:
 // the response surface's block LU with its 14 columns, where refining took ~2.1 sweeps); that one then
 // serves the next increment's predictor exactly.
@@ -539,7 +539,7 @@ bool Simulation::add_sensitivities(SimulationResult& result) {
   return true;
 }
 
-// Reactions and sensitivities at a converged step (THEORY §6, §7).
+// Reactions and sensitivities at a converged step (docs/theory.md §6, §7).
 void Simulation::record(const Load& L, StepResult& step) {
   step.u = u_;
   step.edge_displacement = dofs_.master >= 0 ? z_(dofs_.master) : L.d;
@@ -602,7 +602,7 @@ SimulationResult Simulation::run() {
     bool warm_done = false;
     if (warm) {  // from this run's last state, moved by the warm run's increment to the step: that
       // increment's error is the change over one step of the two runs' difference, far smaller than the
-      // difference itself when c moved far (docs/validation.md, "Issue 15: the paper's scale under 60 s")
+      // difference itself when c moved far (docs/theory.md §7.1)
       const StepResult* before = k > 0 ? &warm->steps[k - 1] : warm->setting.empty() ? nullptr : &warm->setting.back();
       Eigen::VectorXd z_start = z_ + warm_state(warm->steps[k]);
       if (before) z_start -= warm_state(*before);

@@ -1,4 +1,4 @@
-// Gauss–Newton covariance and identifiability (THEORY §8), through the SVD of the Jacobian in
+// Gauss–Newton covariance and identifiability (docs/theory.md §8), through the SVD of the Jacobian in
 // relative units so that a badly scaled problem does not lose digits in SᵀS.
 #include "tricot/ident/covariance.hpp"
 

@@ -1,4 +1,4 @@
-// Checks of measured data (THEORY §2): everything the objective relies on, before any FE run.
+// Checks of measured data (docs/theory.md §2): everything the objective relies on, before any FE run.
 #include "tricot/ident/experiment.hpp"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Eq. (1) scaling of the data groups (THEORY §2).
+// Eq. (1) scaling of the data groups (docs/theory.md §2).
 #include "tricot/ident/groups.hpp"
 
 #include <cmath>
@@ -36,7 +36,7 @@ const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, i
   g.size = static_cast<int>(y_exp.size());
   g.weight = weight;
   g.sigma = sigma > 0;
-  g.scale = sigma > 0 ? sigma : std::sqrt(y_exp.squaredNorm() / g.size);  // THEORY §2 [choice]: RMS
+  g.scale = sigma > 0 ? sigma : std::sqrt(y_exp.squaredNorm() / g.size);  // docs/theory.md §2 [choice]: RMS
   if (!(g.scale > 0))
     throw InputError(where, "all data are zero, so the group has no scale: give its sigma");
   if (!std::isfinite(g.scale))  // the sum of squares overflowed: the group would silently weigh 0

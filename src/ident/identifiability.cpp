@@ -1,4 +1,4 @@
-// Identifiability report and optimal test design (THEORY §8, beyond the paper).
+// Identifiability report and optimal test design (docs/theory.md §8, beyond the paper).
 #include "tricot/ident/identifiability.hpp"
 
 #include <Eigen/Cholesky>

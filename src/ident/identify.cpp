@@ -1,4 +1,4 @@
-// Levenberg–Marquardt on Ceres (THEORY §3): one cost function holds the whole residual vector of
+// Levenberg–Marquardt on Ceres (docs/theory.md §3): one cost function holds the whole residual vector of
 // eq. (1) over the LM variables x = J / scale; an iteration callback applies the paper's ε and δ
 // criteria, records the history and writes checkpoints; the stability test restarts LM.
 #include "tricot/ident/identify.hpp"
@@ -482,7 +482,7 @@ Termination from_ceres(const ceres::Solver::Summary& s, const ceres::Solver::Opt
   return Termination::objective_stalled;  // |Δf| ≤ function_tolerance · f
 }
 
-/// The paper's stability test (THEORY §3): f at J* with each coefficient scaled by (1 ± η). Returns
+/// The paper's stability test (docs/theory.md §3): f at J* with each coefficient scaled by (1 ± η). Returns
 /// the best trial's LM variables when its f is below f*. A trial whose f the problem bounds from below
 /// by f* or more without the FE (Problem::lower_bound: the stability barrier) cannot be below it, and
 /// is not run (IdentifyResult::skipped_evaluations): the same verdict, without its FE.
@@ -767,7 +767,7 @@ namespace {
 /// The coarse level's residuals corrected to the fine level's at `at`, to first order:
 ///     r̃(J) = r_c(J) + (r_f(at) − r_c(at)) + (∂r_f/∂J(at) − ∂r_c/∂J(at)) (J − at),
 /// so r̃ and ∂r̃/∂J are the fine level's at `at`, and r̃ keeps the coarse model's curvature elsewhere
-/// (space mapping; docs/validation.md "The paper's scale by mesh levels").
+/// (space mapping; docs/theory.md §3.3).
 class CorrectedProblem final : public Problem {
  public:
   CorrectedProblem(const Problem& coarse, Eigen::VectorXd at, const Evaluation& fine, const Evaluation& coarse_at)

@@ -1,4 +1,4 @@
-// The FE objective (THEORY §2, §7): simulate every test, take its values at the measured points and
+// The FE objective (docs/theory.md §2, §7): simulate every test, take its values at the measured points and
 // steps, scale them by eq. (1); the Jacobian from the FE sensitivities.
 #include "tricot/ident/objective.hpp"
 
@@ -109,7 +109,7 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
   for (size_t t = 0; t < models_.size(); ++t)
     reference_locations_.push_back(detail::locate_points(models_[t], experiment_.tests[t]));
 
-  // Data groups (THEORY §2).
+  // Data groups (docs/theory.md §2).
   const DataWeights& w = options_.weights;
   for (size_t t = 0; t < models_.size(); ++t) {
     const TestData& d = experiment_.tests[t];
@@ -124,7 +124,7 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
       data_.add(d.name + "/edge_force", GroupKind::edge_force, ti, to_vec(d.edge_force), w.edge_force,
                 d.sigma.edge_force);
     const bool per_point = d.sigma_u.size() > 0 && d.sigma_v.size() > 0;
-    if (w.field > 0 && d.has_field() && per_point) {  // the DIC's σ of every value (THEORY §8)
+    if (w.field > 0 && d.has_field() && per_point) {  // the DIC's σ of every value (docs/theory.md §8)
       if (w.field_uv) {
         data_.add(d.name + "/field_uv", GroupKind::field_uv, ti, detail::stack_uv(d.u, d.v), w.field,
                   detail::stack_uv(d.sigma_u, d.sigma_v));
@@ -141,7 +141,7 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
       }
     }
     if (d.step_weight.empty()) continue;
-    // The test's per-step weights, on every row of that step (field groups: step-major, THEORY §2).
+    // The test's per-step weights, on every row of that step (field groups: step-major, docs/theory.md §2).
     const Eigen::Map<const Eigen::VectorXd> omega(d.step_weight.data(), static_cast<Eigen::Index>(d.step_weight.size()));
     for (size_t gi = first_group; gi < data_.groups().size(); ++gi) {
       const DataGroup& g = data_.groups()[gi];

@@ -1,4 +1,4 @@
-// FE values at the measured steps and points (THEORY §7).
+// FE values at the measured steps and points (docs/theory.md §7).
 #include "predict.hpp"
 
 #include <Eigen/LU>
@@ -82,7 +82,7 @@ bool predict(const fem::TestModel& model, const TestData& d, const std::vector<f
       return false;
     }
     for (int j = 0; j < n; ++j) {
-      // THEORY §7: force control moves the grip (du/dc at a top node); displacement control, the force.
+      // docs/theory.md §7: force control moves the grip (du/dc at a top node); displacement control, the force.
       if (force_control) P.d_edge_displacement(k, j) = s.du_dc(grip_dof, coefficient_[j]);
       else P.d_edge_force(k, j) = s.dforce_dc(coefficient_[j]);
     }
@@ -100,7 +100,7 @@ bool predict(const fem::TestModel& model, const TestData& d, const std::vector<f
     const fem::StepResult& s = sim.steps[k];
     const bool incremental = d.field_kind == FieldKind::incremental && k > 0;
     // Incremental data: the displacement since the previous step, where the point sits in the
-    // previous step's deformed mesh (THEORY §7); the first step's previous state is the reference.
+    // previous step's deformed mesh (docs/theory.md §7); the first step's previous state is the reference.
     const fem::StepResult* prev = incremental ? &sim.steps[k - 1] : nullptr;
     std::optional<fem::PointLocator> deformed;
     if (prev) deformed.emplace(mesh, &prev->u);

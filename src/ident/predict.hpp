@@ -1,4 +1,4 @@
-// The FE's values of one test at the measured steps and points (THEORY §7), with their derivatives
+// The FE's values of one test at the measured steps and points (docs/theory.md §7), with their derivatives
 // with respect to the identified coefficients: shared by the objective and by synthetic data.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Parameters and Jacobians of a least-squares problem (THEORY §3): exact, or finite differences
+// Parameters and Jacobians of a least-squares problem (docs/theory.md §3): exact, or finite differences
 // with the columns evaluated in parallel (the paper computed them one after the other).
 #include "tricot/ident/problem.hpp"
 

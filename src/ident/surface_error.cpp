@@ -1,4 +1,4 @@
-// Eq. (9) error (THEORY §9).
+// Eq. (9) error (docs/theory.md §9).
 #include "tricot/ident/surface_error.hpp"
 
 #include <algorithm>

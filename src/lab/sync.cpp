@@ -58,7 +58,7 @@ double golden_minimum(F&& f, double a, double b, double tolerance) {
   return 0.5 * (a + b);
 }
 
-/// Residual sum of squares of the hinge model with its hinge at t0 (THEORY §1: onset fits).
+/// Residual sum of squares of the hinge model with its hinge at t0 (docs/theory.md §1: onset fits).
 double hinge_rss(const std::vector<double>& t, const std::vector<double>& y, int degree, double t0) {
   NormalEquations ne(degree + 1);
   double phi[6];
@@ -156,7 +156,7 @@ double log_step(const LoadLog& log) {
 
 
 /// The grip motion of a constant-speed test seen in the images: rest until t0, constant speed until
-/// t1 (+inf when the images end during the motion), both hinges of the frames (THEORY §1).
+/// t1 (+inf when the images end during the motion), both hinges of the frames (docs/theory.md §1).
 struct MotionModel {
   double t0 = nan, t1 = std::numeric_limits<double>::infinity();
   /// Time spent moving by camera time t: clamp(t, t0, t1) − t0.

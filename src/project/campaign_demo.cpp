@@ -257,7 +257,7 @@ std::string campaign_dic_toml(const CampaignDemoOptions& o) {
   // A coarse grid over ±45 mm of the reference specimen (clear of the guides and the clips): the
   // identification needs a few dozen field points per test, not a dense field. 6 × 6 points, at the
   // material points of the FE data's grid ([synth] spacing 18 mm from 9 mm, folded into the quarter;
-  // docs/validation.md, issue 13: with 10 × 10 the LM run stopped on an FE failure of wale-070).
+  // docs/validation.md §9: with 10 × 10 the LM run stopped on an FE failure of wale-070).
   const double half = 45 / cam.mm_per_px;
   return fmt::format(R"(# tricot dic of every test's images (tricot demo):
 #   tricot dic dic.toml raw/<test>/images/frame_*.png -o dic/<test>
@@ -319,7 +319,7 @@ model = "{4}"
 }
 
 std::string campaign_project_template(const CampaignDemoOptions& o) {
-  std::string s = fmt::format(R"(# The identification of tricot demo: `paper14` (THEORY §5) from the field and the grip force of every
+  std::string s = fmt::format(R"(# The identification of tricot demo: `paper14` (docs/theory.md §5) from the field and the grip force of every
 # test together, on the paper's 120 Q8 elements, as examples/knit-campaign/project-110.toml.
 
 [mesh]

@@ -1,4 +1,4 @@
-// The case schema and its builders (THEORY §5–§6). See case_config.hpp.
+// The case schema and its builders (docs/theory.md §5–§6). See case_config.hpp.
 #include "tricot/project/case_spec.hpp"
 
 #include <fmt/format.h>
@@ -80,7 +80,7 @@ std::vector<fem::Monomial> monomials(const Origin& o, const Strings& names, cons
 io::SectionSpec mesh_section() {
   SectionSpec s{"mesh",
                 "The specimen and its mesh. The built-in tests model a quarter of the specimen (symmetry on\n"
-                "x = 0 and y = 0, THEORY §6): the mesh covers width/2 × height/2 with nx × ny elements, whose\n"
+                "x = 0 and y = 0, docs/theory.md §6): the mesh covers width/2 × height/2 with nx × ny elements, whose\n"
                 "edges are named left, bottom, top and right. Tests of kind = \"custom\" take this mesh or a\n"
                 "Gmsh mesh of any specimen (`file` or `geometry`; lengths in mm), whose physical curves and\n"
                 "points name the boundaries that [[test.boundary]] tables hold or pull.",
@@ -133,7 +133,7 @@ SectionSpec test_mesh_section() {
 
 io::SectionSpec law_section() {
   SectionSpec law{"law",
-                  "The material law (THEORY §5). Forces are per unit reference width (N/mm): a knit's thickness\n"
+                  "The material law (docs/theory.md §5). Forces are per unit reference width (N/mm): a knit's thickness\n"
                   "has no meaning, so every modulus below is a membrane modulus (stress × thickness).",
                   false, {}, {}};
   law.keys = {key("type", std::string("mooney_rivlin"),
@@ -159,7 +159,7 @@ io::SectionSpec law_section() {
   SectionSpec mr{"mooney_rivlin",
                  "Incompressible Mooney–Rivlin, W = Σ C_ij (I1 − 3)^i (I2 − 3)^j (paper eq. 7), plane stress.",
                  false, {}, {}};
-  // Default: the paper's validation set (docs/validation/laws-iso.md), a rubber-like S curve.
+  // Default: the paper's validation set (docs/validation.md §1), a rubber-like S curve.
   Strings mr_names;
   Reals mr_values;
   for (const auto& t : fem::paper_mooney_rivlin_terms()) {
@@ -180,7 +180,7 @@ io::SectionSpec law_section() {
           -kInf, kInf, {"plane_stress", "plane_strain"}),
   };
   SectionSpec co{"corotational",
-                 "Corotational Eulerian law τ̂ = 𝔻 : ln U (THEORY §4): orthotropic linear on the logarithmic\n"
+                 "Corotational Eulerian law τ̂ = 𝔻 : ln U (docs/theory.md §4): orthotropic linear on the logarithmic\n"
                  "strain in the material frame (course, wale), or isotropic.",
                  false, {}, {}};
   co.keys = {
@@ -194,7 +194,7 @@ io::SectionSpec law_section() {
       key("D66", 0.05, "Shear stiffness, N/mm, > 0 (engineering shear: τ̂12 = D66 · 2 ln U_12).", 0, 1e6),
   };
   SectionSpec rs{"response_surface",
-                 "Orthotropic response surface (paper eqs. 8/10, THEORY §5): forces per width along course and\n"
+                 "Orthotropic response surface (paper eqs. 8/10, docs/theory.md §5): forces per width along course and\n"
                  "wale as polynomials of the Green–Lagrange strains εC, εW along the material axes.",
                  false, {}, {}};
   rs.keys = {
@@ -239,7 +239,7 @@ io::SectionSpec law_section() {
 }
 
 io::SectionSpec solver_section() {
-  SectionSpec s{"solver", "Newton–Raphson with line search and load-step cutback (THEORY §4–§7).", false, {}, {}};
+  SectionSpec s{"solver", "Newton–Raphson with line search and load-step cutback (docs/theory.md §4–§7).", false, {}, {}};
   const fem::SolveOptions d;
   s.keys = {
       key("tolerance", d.tolerance, "Newton stops when the free residual ≤ tolerance × the reaction force, > 0.", 0,
@@ -312,7 +312,7 @@ io::SectionSpec test_section() {
   for (auto& k : s.keys)
     if (k.name == "side") k.or_number = true;
   SectionSpec b{"boundary",
-                "custom: the conditions of one named boundary (THEORY §6). A component may be held (`fix`), set\n"
+                "custom: the conditions of one named boundary (docs/theory.md §6). A component may be held (`fix`), set\n"
                 "by a line of symmetry, or prescribed per step (`ux`, `uy`, or columns of a CSV `series`); a\n"
                 "rigid grip prescribes both. `force` makes its resultant the test's measured force.",
                 true, {}, {}};
@@ -334,7 +334,7 @@ io::SectionSpec test_section() {
 
 io::SectionSpec rig_section() {
   SectionSpec s{"rig",
-                "The paper's biaxial-induced rig (THEORY §6, paper §3.1.2), shared by every [[test]] of kind =\n"
+                "The paper's biaxial-induced rig (docs/theory.md §6, paper §3.1.2), shared by every [[test]] of kind =\n"
                 "\"rig\": clips at the grip, lateral guides tied to the fabric that hold the transverse dimension\n"
                 "and end short of the clips. The transverse dimension is set first, then held during the pull.",
                 false, {}, {}};
@@ -362,7 +362,7 @@ io::SectionSpec rig_section() {
 io::SectionSpec case_schema() {
   SectionSpec root{"",
                    "tricot simulate: a case file. Finite-element models of tests on a knitted-fabric specimen\n"
-                   "(plane-stress membrane, quarter specimen, THEORY §4–§6). Units: mm, N, N/mm, degrees.",
+                   "(plane-stress membrane, quarter specimen, docs/theory.md §4–§6). Units: mm, N, N/mm, degrees.",
                    false, {}, {}};
   root.sections = {mesh_section(), law_section(), solver_section(), rig_section(), test_section()};
   return root;
@@ -406,7 +406,7 @@ BoundarySpec BoundarySpec::from_config(const io::Node& n) {
 TestMeshSpec TestMeshSpec::from_config(const io::Node& n) { return mesh_from_config<TestMeshSpec>(n); }
 
 MooneyRivlinSpec::MooneyRivlinSpec() {
-  // Default: the paper's validation set (docs/validation/laws-iso.md), a rubber-like S curve.
+  // Default: the paper's validation set (docs/validation.md §1), a rubber-like S curve.
   for (const auto& t : fem::paper_mooney_rivlin_terms()) {
     terms.push_back(fmt::format("C{}{}", t.i, t.j));
     values.push_back(t.C);
@@ -683,7 +683,7 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
   t.material_angle = material_angle;
 
   if (k == TestKind::simple_shear) {
-    // One element with every node prescribed: the law's homogeneous response (THEORY §4 validation).
+    // One element with every node prescribed: the law's homogeneous response (docs/theory.md §4 validation).
     t.mesh = unit_element(mo.type);
     t.grip_holds_x = false;
     t.side = fem::SideEdge::free;

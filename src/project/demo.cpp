@@ -1,4 +1,4 @@
-// tricot demo [-o DIR]: the paper's §3.3 validation on built-in data (issue 4, DESIGN.md "demo").
+// tricot demo [-o DIR]: the paper's §3.3 validation on built-in data (issue 4, docs/design.md).
 //   (a) synthesise the `uniaxial-mooney` experiment on a finer mesh than the identification's;
 //   (b) identify C10, C20, C21, C03 from the three data choices of the paper's Table 1 (edge only,
 //       field only, both) and print Table 1 with the paper's CPU times beside ours;
@@ -162,7 +162,7 @@ steps = {}
 [experiment]
 dir = {}
 field_kind = {}
-sigma_from_truth = {}   # true: σ of the noise synth added, from truth.json (THEORY §8)
+sigma_from_truth = {}   # true: σ of the noise synth added, from truth.json (docs/theory.md §8)
 
 {}
 [data]
@@ -344,7 +344,7 @@ unset multiplot
     log.print("  (no plot: " + why + ")");
 }
 
-// Exact Jacobian (FE sensitivities, THEORY §7) against central finite differences at the start point
+// Exact Jacobian (FE sensitivities, docs/theory.md §7) against central finite differences at the start point
 // of Table 1, and what each costs against one forward FE solve (best of three, this machine).
 std::string jacobian_check(const fs::path& out) {
   DemoProject p;
@@ -395,7 +395,7 @@ void studies(const fs::path& out, const Run& both, const Log& log, const DemoReq
   p.jacobian = "finite_difference";
   runs.push_back(identify_case(out, "fd", "both data, forward finite-difference Jacobian (the paper's way)", p, log, args));
 
-  // 0.5 % noise, σ known: the truth should lie within 3 standard errors (THEORY §8).
+  // 0.5 % noise, σ known: the truth should lie within 3 standard errors (docs/theory.md §8).
   const std::string text = demo_experiment_toml(0.005);
   io::write_atomic(out / "experiment-noise.toml", text);
   log.print("-- experiment-noise: the same experiment with 0.5 % noise");

@@ -23,7 +23,7 @@ io::SectionSpec dic_schema() {
   const PhysicalTable p0;
   const OutputTable o0;
   SectionSpec root{"",
-                   "tricot dic: digital image correlation over an image sequence (THEORY §10).\n"
+                   "tricot dic: digital image correlation over an image sequence (docs/theory.md §10).\n"
                    "The first image is the reference. Positions are in px, x to the right and y down.\n"
                    "Every key may be left out; flags (--subset, --step, --mode, --roi) override the file.",
                    false, {}, {}};

@@ -67,7 +67,7 @@ int integer_cell(const Cells& c, std::size_t row, std::size_t col) {
 }
 
 // Largest |value| accepted in forces.csv and field.csv (mm, N, s, px): far beyond any specimen, and its
-// square sums stay finite, so a group's RMS scale (THEORY §2) cannot overflow to a zero weight.
+// square sums stay finite, so a group's RMS scale (docs/theory.md §2) cannot overflow to a zero weight.
 constexpr double kLargestDatum = 1e12;
 
 // Every cell of the table within ±kLargestDatum, or InputError at FILE:LINE: COLUMN (issue 14).

@@ -1,5 +1,5 @@
 // tricot identify's pipeline: the project's objective, LM with a checkpoint after every accepted step
-// (resume included), and the outputs (THEORY §1–§3, §7, §8; paper §2).
+// (resume included), and the outputs (docs/theory.md §1–§3, §7, §8; paper §2).
 #include "tricot/project/identification.hpp"
 
 #include <fmt/format.h>

@@ -46,7 +46,7 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
   j["message"] = r.message;
   j["wall_seconds"] = r.wall_seconds;
   j["jacobian"] = ident::to_string(r.jacobian);
-  // Beyond DESIGN.md's keys.
+  // Beyond docs/design.md's keys.
   j["names"] = r.names;
   j["converged"] = r.converged();
   j["stability_passed"] = r.stability_passed;
@@ -97,7 +97,7 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
 namespace {
 
 // The identified force per unit width at (εC, εW): P of the homogeneous state F = diag(λC, λW) in the
-// material frame (Q = I), whose P11 and P22 are the course and wale forces (THEORY §5).
+// material frame (Q = I), whose P11 and P22 are the course and wale forces (docs/theory.md §5).
 double identified_force(const fem::Law& law, int i, double eC, double eW) {
   fem::LawInput in;
   in.F = Vec2(std::sqrt(1 + 2 * eC), std::sqrt(1 + 2 * eW)).asDiagonal();

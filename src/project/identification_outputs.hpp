@@ -12,9 +12,9 @@
 
 namespace tricot::project {
 
-/// DIR/result.json (DESIGN.md keys, then the uncertainty, the data groups and the truth's errors).
+/// DIR/result.json (docs/design.md keys, then the uncertainty, the data groups and the truth's errors).
 json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bool resumed);
-/// result.json's "eq9" (THEORY §9, paper Table 5): {"course": {"whole", "practical", "points_whole",
+/// result.json's "eq9" (docs/theory.md §9, paper Table 5): {"course": {"whole", "practical", "points_whole",
 /// "points_practical"}, "wale": {…}, "practical": {"course": [min, max], "wale": [min, max]}}, the
 /// identified law against the experimental points; a force without points is null.
 json eq9_json(const SurfacePoints& points, const fem::Law& law, const ident::StrainDomain& practical);

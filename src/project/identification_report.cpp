@@ -1,5 +1,5 @@
 // The lab report of one identification (issue 13): what `tricot identify` writes beside result.json.
-// Every number here is also in result.json; the report lays them out for a reader (THEORY §1–§3, §8).
+// Every number here is also in result.json; the report lays them out for a reader (docs/theory.md §1–§3, §8).
 #include "identification_report.hpp"
 
 #include <fmt/format.h>
@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // Two-sided 95 % quantile of the normal law: the intervals are J* ± z·s.e., the linearised
-// covariance's (THEORY §8), as Ceres's and the paper's uncertainty analysis.
+// covariance's (docs/theory.md §8), as Ceres's and the paper's uncertainty analysis.
 constexpr double kZ95 = 1.959963984540054;
 
 // A plot this run drew (not one an earlier run left in DIR/plots): written after the run began.
@@ -52,7 +52,7 @@ bool add_eq9(Document& d, const fs::path& result_json) {
   const auto num = [](const json& j, const char* key) {
     return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : std::nan("");
   };
-  // The paper's Tables 4 and 5 give the same two numbers per force (THEORY, paper §4.3).
+  // The paper's Tables 4 and 5 give the same two numbers per force (docs/theory.md §9, paper §4.3).
   NumericTable t{"Eq. 9 error of the identified surfaces over the whole and the practical strain range", "force",
                  {"whole", "practical", "points (whole)", "points (practical)"}, {}, {}, 3, {3, 3, 4, 4}};
   for (const char* f : {"course", "wale"}) {
@@ -198,7 +198,7 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
               {"stability trials rejected without the FE (barrier ≥ f*)", r.skipped_evaluations},
               {"stability restarts", r.restarts},
               {"stability test passed", r.stability_passed},
-              {"covariance from", u.from_sigma ? "measurement σ (THEORY §8)" : "the fit: σ̂² = 2f/(N − n)"},
+              {"covariance from", u.from_sigma ? "measurement σ (docs/theory.md §8)" : "the fit: σ̂² = 2f/(N − n)"},
               {"σ̂²", Value(u.sigma2, 4)}};
     s.table(std::move(t));
   }

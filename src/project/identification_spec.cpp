@@ -31,11 +31,11 @@ SectionSpec experiment_section() {
       key("dir", std::string("experiment"), "The experiment folder, relative to this file."),
       key("field_kind", std::string("cumulative"),
           "What field.csv holds. cumulative: u(X, t_k) of material points (x, y = reference position).\n"
-          "incremental: displacement since the previous step at points fixed in the images (THEORY §7).",
+          "incremental: displacement since the previous step at points fixed in the images (docs/theory.md §7).",
           -kInf, kInf, {"cumulative", "incremental"}),
       key("sigma_edge_displacement", 0.0,
           "Measurement σ of the grip displacement, mm; 0 = unknown (the group is scaled by its RMS,\n"
-          "THEORY §2). Given σ make f a χ²/2 and the standard errors real ones (THEORY §8).",
+          "docs/theory.md §2). Given σ make f a χ²/2 and the standard errors real ones (docs/theory.md §8).",
           0, 1e6),
       key("sigma_edge_force", 0.0, "Measurement σ of the grip force, N; 0 = unknown.", 0, 1e9),
       key("sigma_field", 0.0, "Measurement σ of u and v, mm; 0 = unknown.", 0, 1e6),
@@ -49,7 +49,7 @@ SectionSpec parameter_section() {
   SectionSpec s{"parameter",
                 "One identified coefficient of [law] (the others keep their [law] values). LM works in\n"
                 "x = J / scale: with scale = 0 the steps are relative to the start, as the paper's\n"
-                "J_{i+1} = J_i + t_i·J_i (THEORY §3).",
+                "J_{i+1} = J_i + t_i·J_i (docs/theory.md §3).",
                 true, {}, {}};
   s.keys = {
       key("name", std::string("C10"), "The coefficient's name in the law (e.g. C10, C03; a1 … for a response surface)."),
@@ -69,7 +69,7 @@ SectionSpec parameter_section() {
 SectionSpec data_section() {
   const ident::DataWeights d;
   SectionSpec s{"data",
-                "Which data enter the objective f, eq. (1), and their weights w_g (THEORY §2); 0 leaves a\n"
+                "Which data enter the objective f, eq. (1), and their weights w_g (docs/theory.md §2); 0 leaves a\n"
                 "kind of data out. Each group is normalised by its σ or RMS, so weights compare kinds.",
                 false, {}, {}};
   s.keys = {
@@ -81,7 +81,7 @@ SectionSpec data_section() {
       key("field_sigma", std::string("group"),
           "σ of the field values. group: [experiment] sigma_field (or the RMS); per_point: the sigma_u,\n"
           "sigma_v columns of field.csv (tricot experiment writes the DIC's σ), so that the covariance\n"
-          "reflects the DIC noise (THEORY §8).",
+          "reflects the DIC noise (docs/theory.md §8).",
           -kInf, kInf, {"group", "per_point"}),
       key("domain_course", io::Reals{},
           "[min, max] Green–Lagrange εC of a domain-restricted identification (paper §4.3.2): a test pulled\n"
@@ -114,7 +114,7 @@ SectionSpec design_section() {
 
 SectionSpec identify_section() {
   const ident::IdentifyOptions o;
-  SectionSpec s{"identify", "Levenberg–Marquardt and its stopping criteria (THEORY §3, paper eqs. 2 and 3).", false, {},
+  SectionSpec s{"identify", "Levenberg–Marquardt and its stopping criteria (docs/theory.md §3, paper eqs. 2 and 3).", false, {},
                 {}};
   s.keys = {
       key("epsilon", o.epsilon, "Eq. (2): stop when f < epsilon; 0 = off. Paper: 1e-12.", 0, 1),
@@ -132,7 +132,7 @@ SectionSpec identify_section() {
       key("stability_eta", o.stability_eta, "η of the stability test, in (0, 1).", 0, 1),
       key("max_restarts", std::int64_t{o.max_restarts}, "Stability restarts before giving up (termination `unstable`).", 0, 1000),
       key("jacobian", std::string("exact"),
-          "exact: from the FE sensitivities (THEORY §7). finite_difference: one perturbed FE run per\n"
+          "exact: from the FE sensitivities (docs/theory.md §7). finite_difference: one perturbed FE run per\n"
           "coefficient (two when central), in parallel threads (the paper's way).",
           -kInf, kInf, {"exact", "finite_difference"}),
       key("difference", std::string("forward"), "finite_difference only: forward or central.", -kInf, kInf,
@@ -152,7 +152,7 @@ SectionSpec identify_section() {
       key("barrier_growth", o.barrier_growth,
           "With [stability]: the most the barrier's part of f may grow along one LM step, as a fraction of\n"
           "f at the accepted point; each step is cut along its direction where it would grow more (the\n"
-          "barrier needs no FE). 0 = off. See docs/validation.md, issue 12.",
+          "barrier needs no FE). 0 = off. See docs/validation.md §5.",
           0, 1),
       key("warm_start", ident::ObjectiveOptions{}.warm_start,
           "Start each step's Newton from the step before, moved by the last evaluation with a Jacobian's\n"
@@ -345,7 +345,7 @@ ident::IdentifyOptions IdentifyTable::options() const {
 SectionSpec eq9_section() {
   const ident::StrainDomain d;
   SectionSpec s{"eq9",
-                "Eq. (9) in result.json (THEORY §9, paper Table 5): the mean relative distance between the\n"
+                "Eq. (9) in result.json (docs/theory.md §9, paper Table 5): the mean relative distance between the\n"
                 "identified and the measured force per unit width at the experimental points (each step of a\n"
                 "test pulled along wale, material_angle 0, or course, 90: grip force / full width against the\n"
                 "centre strain of the measured field), over all points and over the practical domain.",
@@ -364,7 +364,7 @@ SectionSpec eq9_section() {
 SectionSpec identifiability_section() {
   const ident::IdentifiabilityOptions o;
   SectionSpec s{"identifiability",
-                "result.json's \"identifiability\" (THEORY §8, beyond the paper): relative standard errors, the\n"
+                "result.json's \"identifiability\" (docs/theory.md §8, beyond the paper): relative standard errors, the\n"
                 "least identifiable direction and each test's share of the information, from ∂r/∂J at the answer.",
                 false, {}, {}};
   s.keys = {key("pinned_relative_error", o.pinned_relative_error,
@@ -392,7 +392,7 @@ io::SectionSpec identify_schema() {
   io::SectionSpec root = case_schema();
   root.help =
       "tricot identify: a project file. The case (specimen, law, solver, tests) models the experiment;\n"
-      "LM fits the [[parameter]] coefficients of [law] to the data of [experiment] (THEORY §1–§3).\n"
+      "LM fits the [[parameter]] coefficients of [law] to the data of [experiment] (docs/theory.md §1–§3).\n"
       "Units: mm, N, N/mm, degrees.";
   root.sections.push_back(experiment_section());
   root.sections.push_back(parameter_section());

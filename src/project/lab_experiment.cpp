@@ -39,7 +39,7 @@ io::SectionSpec experiment_section() {
       false,
       {key("field_kind", d.field_kind,
            "field.csv: cumulative (material points tracked from image 0) or incremental (fixed points, "
-           "displacement since the previous image; THEORY §7).",
+           "displacement since the previous image; docs/theory.md §7).",
            -1e300, 1e300, {"cumulative", "incremental"}),
        key("control", d.control,
            "The FE load of each step in forces.csv: displacement (load = grip displacement of the quarter, mm) "
@@ -55,7 +55,7 @@ io::SectionSpec experiment_section() {
            "false: leave it out, so that the force group is scaled by its RMS like the others."),
        key("sigma_edge_displacement", d.sigma_edge_displacement,
            "Written to project.toml's [experiment] when > 0: the grip's σ, mm (half the cross-head's), so that\n"
-           "every group has a measurement σ and the covariance is a real one (THEORY §8).",
+           "every group has a measurement σ and the covariance is a real one (docs/theory.md §8).",
            0, 1e6),
        key("model", d.model,
            "The FE model of each test: quarter (the quarter specimen with two symmetry axes; a one-sided pull's\n"

@@ -131,7 +131,7 @@ plot {} using "edge_displacement":"force_per_width" with linespoints pt 7 ps 0.6
   return {r.usable(), r.message};
 }
 
-// --- simple shear: the law at F = [[1, γ], [0, 1]] (THEORY §4 validation) ------------------------------
+// --- simple shear: the law at F = [[1, γ], [0, 1]] (docs/theory.md §4 validation) ------------------------------
 
 TestOutcome run_simple_shear(const fem::TestModel& test, const fem::Law& law, const LawSpec& law_spec,
                              const SimulationRequest& args, const fs::path& shown, const Log& log) {

@@ -2,7 +2,7 @@
 // through the whole program in-process (tricot_cli_main, what the `tricot` binary's main() calls: one
 // process start instead of ~500 keeps the suite to seconds), each asserting the documented exit code (2 config/usage, 3 file
 // missing or unreadable, 4 not converged) and that stderr is exactly one line in the contract form
-// `tricot: error: FILE:LINE: KEY: …` naming the right file, line and key (DESIGN.md "Exit codes").
+// `tricot: error: FILE:LINE: KEY: …` naming the right file, line and key (docs/design.md "Exit codes").
 //
 // The table is built in code from tiny inputs (a 2 × 4 Q4 mesh, 3 steps, 64 × 64 px images), so that a
 // case fails in milliseconds: every input here is refused before any expensive work. Part of it is

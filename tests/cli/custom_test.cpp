@@ -1,4 +1,4 @@
-// `tricot simulate` on any specimen (issue 28, THEORY §6): a Gmsh geometry meshed at run time, tests of
+// `tricot simulate` on any specimen (issue 28, docs/theory.md §6): a Gmsh geometry meshed at run time, tests of
 // kind = "custom" with [[test.boundary]] conditions, their resultants in steps.csv, VTU files that
 // meshio reads for every element type, and one clear line for each kind of bad input.
 #include <fmt/format.h>

@@ -1,4 +1,4 @@
-// `tricot dic` from the outside (DESIGN.md "dic"): outputs, flags over the config, and every bad input
+// `tricot dic` from the outside (docs/design.md): outputs, flags over the config, and every bad input
 // ending in a clear one-line error with the documented exit code, or in per-point statuses.
 #include <gtest/gtest.h>
 

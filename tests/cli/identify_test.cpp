@@ -297,7 +297,7 @@ TEST_F(Identify, HelpTeachesTheProjectFormat) {
 }
 
 
-// Eq. 9 (THEORY §9): the strip is pulled along y with material_angle 0, so its steps are points of
+// Eq. 9 (docs/theory.md §9): the strip is pulled along y with material_angle 0, so its steps are points of
 // the wale surface (course: null). The identified law of a converged inverse crime reproduces the
 // grip force per width at the centre strain of the measured (homogeneous) field.
 TEST_F(Identify, ResultJsonHasTheEq9ErrorOfEachSurface) {

@@ -18,7 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Measured (docs/validation.md, issue 29): the worst repeat's force RMS is 5.8 % of its peak with the
+// Measured (docs/validation.md §4): the worst repeat's force RMS is 5.8 % of its peak with the
 // example's 6-coefficient polynomial law; an elastic law cannot follow the holds' relaxation. The
 // bound below is that figure with a margin, not the issue's 3 % target, which is not reached.
 constexpr double kWorstForceRmsOfPeak = 0.07;

@@ -1,4 +1,4 @@
-// The outside contract of `tricot` (DESIGN.md): help, version, exit codes for usage errors.
+// The outside contract of `tricot` (docs/design.md): help, version, exit codes for usage errors.
 #include <gtest/gtest.h>
 
 #include "testing/cli.hpp"

@@ -1,4 +1,4 @@
-// `tricot simulate` from outside (DESIGN.md contract): the small examples, the files it writes, and one
+// `tricot simulate` from outside (docs/design.md contract): the small examples, the files it writes, and one
 // clear error line with the documented exit code for each kind of bad input.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -79,7 +79,7 @@ TEST(Simulate, SimpleShearExampleFollowsTheLogRateClosedForm) {
 }
 
 TEST(Simulate, HomogeneousUniaxialForceMatchesTheMooneyRivlinClosedForm) {
-  // Sliding grip and free side: a uniform uniaxial state, P22 = force per width (THEORY §5).
+  // Sliding grip and free side: a uniform uniaxial state, P22 = force per width (docs/theory.md §5).
   const auto file = write_case("mr_homogeneous", R"(
 [mesh]
 width = 10.0

@@ -143,7 +143,7 @@ TEST(StrainResolution, TheFitOfExactSinusoidalDisplacementsKeepsTheClosedFormFra
 
 // The strain of rendered images of u = 0.5 sin(2πX/p) (measured_strain_transfer). Noise-free, the
 // measured fraction of the amplitude agrees with the prediction to ≤ 0.006 at p = 60–300 px
-// (docs/validation.md, "The strains' virtual strain gauge"); the bound is 0.015.
+// (docs/validation.md §3); the bound is 0.015.
 constexpr double kTransferTol = 0.015;
 
 TEST(StrainResolution, FirstOrderStrainKeepsNinetyPercentAtThePredictedPeriodOfItsVirtualStrainGauge) {

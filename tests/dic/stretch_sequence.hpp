@@ -1,6 +1,6 @@
 // A synthetic biaxial stretch sequence for the sequence tests: the continuous speckle pattern seen
 // through x = c + diag(λx, λy)(X − c), λ growing linearly from 1 to its final value over the frames.
-// The centre c stays put (THEORY §10: the camera on its pantograph aims at the specimen centre).
+// The centre c stays put (docs/theory.md §10: the camera on its pantograph aims at the specimen centre).
 #pragma once
 
 #include <cmath>

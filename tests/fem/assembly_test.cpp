@@ -1,4 +1,4 @@
-// fem/assembly.cpp: the dof map and the global internal forces (THEORY §4, §6). White-box: the
+// fem/assembly.cpp: the dof map and the global internal forces (docs/theory.md §4, §6). White-box: the
 // engine's private header. The tangent against finite differences is checked in solver_test.cpp
 // (GlobalTangent), through the same Assembler.
 #include "assembly.hpp"

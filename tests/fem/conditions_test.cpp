@@ -1,4 +1,4 @@
-// Models of any mesh (THEORY §6): conditions per named boundary and component, series per step that
+// Models of any mesh (docs/theory.md §6): conditions per named boundary and component, series per step that
 // load, hold and unload, boundary resultants, and their exact sensitivities, on T3, T6, Q4 and Q8.
 #include <gtest/gtest.h>
 

@@ -81,7 +81,7 @@ TEST(StrongEllipticity, TheFabricFrameLosesItInPureShearBeyondAQuarter) {
 }
 
 // The §4 rig's wale pull held at εC = 0.7 (110 mm, 120 Q8) with the law the domain-restricted LM
-// reached on the campaign (docs/validation.md, stop 21): element 107, where the guide ends, shears to
+// reached on the campaign (docs/validation.md §9): element 107, where the guide ends, shears to
 // E_CW ≈ −0.85 and the law has lost strong ellipticity there; the step that fails says so.
 TEST(StrongEllipticity, AFailedRigStepNamesTheElementWhereTheLawLostIt) {
   RigOptions o;

@@ -1,4 +1,4 @@
-// Gmsh meshes (THEORY §6): a .geo meshed at run time, .msh files in formats 2.2 and 4.1, ASCII and
+// Gmsh meshes (docs/theory.md §6): a .geo meshed at run time, .msh files in formats 2.2 and 4.1, ASCII and
 // binary, named regions and boundaries, and the bad meshes that must be refused with one clear line.
 #include "tricot/fem/gmsh.hpp"
 

@@ -60,7 +60,7 @@ double power(double x, int n, Compression mode, bool own) {
   return 0.5 * (1 - 1 / lambda2);
 }
 
-/// THEORY §5 written out independently of the implementation.
+/// docs/theory.md §5 written out independently of the implementation.
 Vec2 paper14_forces(double eC, double eW, Compression mode = Compression::almansi) {
   const Eigen::VectorXd c = paper14_coefficients();
   double FC = 0, FW = 0;

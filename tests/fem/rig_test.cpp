@@ -80,7 +80,7 @@ TEST(Rig, BuildsTheGuidedClippedQuarterWithTheGuideEndingShortOfTheClips) {
   EXPECT_THROW(make_rig_test(o), InputError);
 }
 
-// Held width, wale pull: the knit's shrinkage loads the guide (THEORY §6), which it would not do if
+// Held width, wale pull: the knit's shrinkage loads the guide (docs/theory.md §6), which it would not do if
 // the knit did not shrink. A guide that covered the whole edge up to the clips that follow it would
 // make the field homogeneous; the free stretch below the clips does not.
 TEST(Rig, HeldWidthLoadsTheGuideAndTheFieldIsNotHomogeneous) {

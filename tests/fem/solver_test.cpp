@@ -154,7 +154,7 @@ TEST_P(Types, ForceControlledPatchTestKeepsTheGripStraight) {
 
 TEST_P(Types, PatchTestWithAClampThatFollowsTheGuideIsHomogeneous) {
   // A clamp whose width opens with the guide (u_x = c·X/W on the grip) agrees with the homogeneous
-  // biaxial state, so a distorted mesh must reproduce it (THEORY §6).
+  // biaxial state, so a distorted mesh must reproduce it (docs/theory.md §6).
   expect_guided_patch(GetParam(), 3, true);
 }
 

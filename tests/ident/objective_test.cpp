@@ -179,7 +179,7 @@ TEST(Objective, ADivergingTrialIsAFailedEvaluationNotAnException) {
   EXPECT_NE(e.message.find("test uniaxial"), std::string::npos) << e.message;
 }
 
-/// Four small rig tests (THEORY §6) with data from the reference knit and `paper14` to identify: a
+/// Four small rig tests (docs/theory.md §6) with data from the reference knit and `paper14` to identify: a
 /// non-symmetric tangent (the simplicial LU), guides, ties and sensitivities, as in the §4 campaign.
 struct RigCampaign {
   std::vector<fem::TestModel> models;

@@ -1,5 +1,5 @@
 // ident/predict.cpp: the FE's values at the measured steps and points, and how field values are
-// stacked into the residual (THEORY §7). White-box: the engine's private header.
+// stacked into the residual (docs/theory.md §7). White-box: the engine's private header.
 #include "predict.hpp"
 
 #include <gtest/gtest.h>

@@ -69,7 +69,7 @@ TEST(AddNoise, HasTheRequestedStandardDeviation) {
 }
 
 TEST(Measure, TakesTheGripAndTheFieldOfAHomogeneousTest) {
-  // Sliding grip, free side: u_y = d · y / H at every point, whatever the law (THEORY §6).
+  // Sliding grip, free side: u_y = d · y / H at every point, whatever the law (docs/theory.md §6).
   fem::MeshOptions o;
   o.width = 10, o.height = 20, o.nx = 2, o.ny = 3;
   fem::TestModel model;

@@ -1,4 +1,4 @@
-// A small uniaxial Mooney–Rivlin test (THEORY §5, §6; paper §3.3) for the FE identification tests:
+// A small uniaxial Mooney–Rivlin test (docs/theory.md §5, §6; paper §3.3) for the FE identification tests:
 // a clamped strip, quarter model 10 × 25 mm, Q8.
 #pragma once
 

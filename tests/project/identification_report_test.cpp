@@ -55,7 +55,7 @@ TEST(IdentificationReport, HoldsTheNumbersOfResultJsonAndTheSectionsInOrder) {
   const json report = json::parse(io::read_text(dir / "out" / "report.json"));
   std::vector<std::string> ids;
   for (const auto& s : report["sections"]) ids.push_back(s["id"]);
-  // eq. 9 (THEORY §9) is reported for every identification whose tests give experimental points (here
+  // eq. 9 (docs/theory.md §9) is reported for every identification whose tests give experimental points (here
   // the uniaxial test's steps), so its section stands between the correlation and the identifiability.
   EXPECT_EQ(ids, (std::vector<std::string>{"inputs", "history", "coefficients", "correlation", "eq9", "identifiability",
                                            "timing"}));
@@ -96,7 +96,7 @@ TEST(IdentificationReport, HoldsTheNumbersOfResultJsonAndTheSectionsInOrder) {
 
 TEST(AddEq9, TabulatesResultJsonsEq9PerForceWithThePracticalDomain) {
   const fs::path dir = test::scratch_dir("report_eq9_" + std::to_string(::getpid()));
-  // The shape campaign's identify writes (DESIGN.md "eq9"); wale has no practical point (null).
+  // The shape campaign's identify writes (docs/design.md); wale has no practical point (null).
   test::write_file(dir / "result.json", R"({"eq9": {
     "course": {"whole": 0.244, "practical": 0.055, "points_whole": 60, "points_practical": 7},
     "wale": {"whole": 0.774, "practical": null, "points_whole": 60, "points_practical": 0},

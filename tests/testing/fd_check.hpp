@@ -1,4 +1,4 @@
-// The one shared finite-difference checker (STYLE.md §6): every hand-derived tangent, Jacobian or
+// The one shared finite-difference checker: every hand-derived tangent, Jacobian or
 // sensitivity in tricot is compared with central differences through these functions.
 #pragma once
 

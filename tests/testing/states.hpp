@@ -21,7 +21,7 @@ inline Mat2 rotation(double a) {
 /// Rotation by `deg` degrees (counter-clockwise).
 inline Mat2 rot(double deg) { return rotation(deg * std::numbers::pi / 180); }
 
-/// Simple shear F = [[1, γ], [0, 1]] (THEORY §4).
+/// Simple shear F = [[1, γ], [0, 1]] (docs/theory.md §4).
 inline Mat2 shear(double gamma) {
   Mat2 F;
   F << 1, gamma, 0, 1;

@@ -1,4 +1,4 @@
-// Errors and exit codes (STYLE.md "three error tiers", DESIGN.md "Exit codes").
+// Errors and exit codes (docs/design.md, "Exit codes").
 //   - broken invariant  -> assert (debug only)
 //   - bad input         -> InputError (exit 2) or FileError (exit 3), with file, line and key
 //   - non-convergence   -> a status in the result, never an exception (exit 4 from the CLI)
@@ -9,7 +9,7 @@
 
 namespace tricot {
 
-/// Process exit codes of the `tricot` program (DESIGN.md).
+/// Process exit codes of the `tricot` program (docs/design.md).
 enum class ExitCode : int {
   ok = 0,
   usage = 2,          ///< bad command line, config or input value

@@ -1,4 +1,4 @@
-// 2-D finite-strain kinematics in closed form (THEORY §4, docs/theory/fabric.md §1): polar
+// 2-D finite-strain kinematics in closed form (docs/theory.md §4, docs/theory/fabric.md §1): polar
 // decomposition F = R U, the logarithmic strain ln U, the Green–Lagrange strain E, and their exact
 // derivatives. Jacobians follow manif's naming (J_out_in = ∂out/∂in) and the Mat4 index convention of
 // core/types.hpp: J(2i+j, 2k+l) = ∂out_ij/∂in_kl. Optional Jacobian outputs are computed only when a
@@ -9,7 +9,7 @@
 
 namespace tricot {
 
-/// F = R U with R = rot(θ) and U symmetric positive definite (THEORY §4).
+/// F = R U with R = rot(θ) and U symmetric positive definite (docs/theory.md §4).
 struct PolarDecomposition {
   double theta = 0;             ///< rotation angle [rad], θ = atan2(F21 − F12, F11 + F22) ∈ (−π, π]
   Mat2 R = Mat2::Identity();    ///< rotation [[cos θ, −sin θ], [sin θ, cos θ]]
@@ -42,7 +42,7 @@ double log_divided_difference(double a, double b);
 /// series near 0, so the derivative is smooth through the equal-eigenvalue point.
 Mat2 log_spd(const Mat2& U, Mat4* J_logU_U = nullptr);
 
-/// Green–Lagrange strain E = ½(Fᵀ F − I) (THEORY §4); ∂E_ij/∂F_kl = ½(δ_jl F_ki + δ_il F_kj).
+/// Green–Lagrange strain E = ½(Fᵀ F − I) (docs/theory.md §4); ∂E_ij/∂F_kl = ½(δ_jl F_ki + δ_il F_kj).
 Mat2 green_lagrange(const Mat2& F, Mat4* J_E_F = nullptr);
 
 /// ∂(A X)/∂X as a Mat4 (left multiplication by A), for chain rules on 2×2 tensors.

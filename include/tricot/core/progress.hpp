@@ -1,4 +1,4 @@
-// The library never prints (STYLE.md §4): long work reports through these callbacks and the CLI decides
+// The library never prints (the library never prints): long work reports through these callbacks and the CLI decides
 // how to show them (progress bar with ETA, Newton tables, ...).
 #pragma once
 

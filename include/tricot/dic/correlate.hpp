@@ -1,6 +1,6 @@
 // Correlating one image pair at many points: FFT-CC seeds, then reliability-guided propagation (the
 // highest-ZNCC point hands its shape to its neighbours first, Pan 2009, doi:10.1364/AO.48.001535, as in
-// Ncorr), IC-GN at every point, OpenMP over points (THEORY.md §10).
+// Ncorr), IC-GN at every point, OpenMP over points (docs/theory.md §10).
 #pragma once
 
 #include <array>

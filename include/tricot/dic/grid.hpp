@@ -1,5 +1,5 @@
 // Where DIC measures: a region of interest (rectangle, polygon or mask image) and the grid of subset
-// centres inside it (THEORY.md §10).
+// centres inside it (docs/theory.md §10).
 #pragma once
 
 #include <array>

@@ -1,4 +1,4 @@
-// Subset matching by inverse-compositional Gauss–Newton on the ZNSSD criterion (THEORY.md §10;
+// Subset matching by inverse-compositional Gauss–Newton on the ZNSSD criterion (docs/theory.md §10;
 // Pan, Li & Tong 2013, doi:10.1111/str.12008 for IC-GN in DIC; Gao, Cheng, Yang & Xu 2015,
 // doi:10.1016/j.optlaseng.2014.11.018 for the second-order shape function and its composition).
 //
@@ -83,7 +83,7 @@ struct IcgnOptions {
   /// the weighted ZNSSD of Yuan, Huang, Peng, Xiong, Fang & Yuan, Optics and Lasers in Engineering, 2014), so that
   ///     C(p) = Σ_ξ w [ (f − f̄_w)/Δf_w − (g − ḡ_w)/Δg_w ]²,  f̄_w = Σ w f / Σ w,  Δf_w² = Σ w (f − f̄_w)²:
   /// the subset's centre dominates, which narrows the smoothing kernel of a steep displacement gradient for
-  /// the same noise (docs/validation.md, "Gaussian-weighted subsets"). Sensible σ: N/4 to N/6.
+  /// the same noise (docs/validation.md §3). Sensible σ: N/4 to N/6.
   double weight_sigma = 0;
 
   /// Throws InputError naming the key (`dic.subset_size`, ...) when a field is out of range.

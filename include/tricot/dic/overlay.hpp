@@ -1,5 +1,5 @@
 // Pictures of a DIC frame for a person to look at: displacement, strain and ZNCC maps drawn over the
-// image (DESIGN.md "dic": one overlay per frame). Each tracked point is painted as its deformed grid cell,
+// image (docs/design.md: one overlay per frame). Each tracked point is painted as its deformed grid cell,
 // x_k + F·(±step/2, ±step/2), so the maps follow the material. OpenCV draws; it stays out of this header.
 #pragma once
 

@@ -1,4 +1,4 @@
-// From image pixels to specimen coordinates (THEORY.md §10: the camera on its pantograph aims at the
+// From image pixels to specimen coordinates (docs/theory.md §10: the camera on its pantograph aims at the
 // specimen centre, which therefore stays at a fixed pixel).
 //
 // X_specimen = Q · s · (x_px − c_px), with s the pixel size (mm/px), c_px the specimen-centre pixel

@@ -1,5 +1,5 @@
 // Integer-pixel starting point for IC-GN: FFT cross-correlation of a subset over a search window
-// (THEORY.md §10; the normalised cross-correlation is computed in the Fourier domain by OpenCV's
+// (docs/theory.md §10; the normalised cross-correlation is computed in the Fourier domain by OpenCV's
 // matchTemplate, TM_CCOEFF_NORMED, i.e. ZNCC at every integer shift).
 #pragma once
 

@@ -1,4 +1,4 @@
-// DIC over an image sequence (THEORY.md §10, paper §3.1.3): material points tracked from the first
+// DIC over an image sequence (docs/theory.md §10, paper §3.1.3): material points tracked from the first
 // image through every later one, and fixed-point incremental fields between consecutive images.
 //
 // Modes (the image a frame k is correlated against, its "reference" r):

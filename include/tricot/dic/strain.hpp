@@ -1,4 +1,4 @@
-// Green–Lagrange strain from tracked points by a local least-squares plane fit (THEORY.md §4, §10;
+// Green–Lagrange strain from tracked points by a local least-squares plane fit (docs/theory.md §4, §10;
 // Pan, Asundi, Xie & Gao 2009, doi:10.1016/j.optlaseng.2009.02.008 for the pointwise local fit).
 //
 // Around each point the current positions of its neighbours within a square window of the grid are

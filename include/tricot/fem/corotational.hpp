@@ -1,5 +1,5 @@
 // Corotational Eulerian formulation with an orthotropic linear law on the logarithmic strain
-// (THEORY §4 eqs. (4)–(6); docs/theory/fabric.md §2).
+// (docs/theory.md §4 eqs. (4)–(6); docs/theory/fabric.md §2).
 //
 //   F = R U,  H = ln U (reference components),  Ĥ = Qᵀ H Q (material frame: course, wale),
 //   τ̂_m = 𝔻 : Ĥ with  τ̂11 = D11 Ĥ11 + D12 Ĥ22,  τ̂22 = D12 Ĥ11 + D22 Ĥ22,  τ̂12 = D66 · 2Ĥ12,
@@ -48,7 +48,7 @@ class CorotationalOrthotropic : public Law {
 };
 
 /// Cauchy stress components of a homogeneous simple shear F = [[1, γ], [0, 1]] (det F = 1) for an
-/// isotropic linear law of shear modulus G, under three objective rates (THEORY §4).
+/// isotropic linear law of shear modulus G, under three objective rates (docs/theory.md §4).
 struct SimpleShearStress {
   double s11 = 0, s22 = 0, s12 = 0;
 };

@@ -1,6 +1,6 @@
-// T3/T6/Q4/Q8 membrane elements in the total-Lagrangian form (THEORY §4, §6): shape functions,
+// T3/T6/Q4/Q8 membrane elements in the total-Lagrangian form (docs/theory.md §4, §6): shape functions,
 // Gauss quadrature, and the element internal force f = ∫ Bᵀ P dA0, stiffness K = ∫ Bᵀ A B dA0 and
-// coefficient sensitivity ∂f/∂c_k = ∫ Bᵀ ∂P/∂c_k dA0 (THEORY §7).
+// coefficient sensitivity ∂f/∂c_k = ∫ Bᵀ ∂P/∂c_k dA0 (docs/theory.md §7).
 #pragma once
 
 #include <Eigen/Core>
@@ -75,7 +75,7 @@ struct ElementResponse {
   double min_detF = 1;           ///< smallest det F over the quadrature points
 };
 
-/// Evaluates one element at its nodal displacements ue with `law` (THEORY §4). `scratch` is the
+/// Evaluates one element at its nodal displacements ue with `law` (docs/theory.md §4). `scratch` is the
 /// caller's reusable law output (one per thread). Returns the status; `out` is valid only when ok.
 ElementStatus element_response(const ElementGeometry& g, const ElementVector& ue, const Law& law,
                                const Mat2& Q, const LawRequest& request, LawOutput& scratch,

@@ -1,4 +1,4 @@
-// Meshes from Gmsh (THEORY §6): a mesh file (.msh, formats 2.2 and 4.1, ASCII or binary) read, or a
+// Meshes from Gmsh (docs/theory.md §6): a mesh file (.msh, formats 2.2 and 4.1, ASCII or binary) read, or a
 // geometry (.geo) meshed at run time, through Debian's libgmsh. Physical surfaces name the regions,
 // physical curves and points the boundaries (Mesh::boundaries); lengths are in mm.
 #pragma once

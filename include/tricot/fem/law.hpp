@@ -1,6 +1,6 @@
-// The material law: "the one place you would change" (STYLE.md, deal.II step-44). Every law of the
-// paper is linear in its coefficients (THEORY §5), so a law can also return ∂P/∂c_k, the basis
-// stresses that make exact sensitivities cheap (THEORY §7).
+// The material law: "the one place you would change" (deal.II step-44). Every law of the
+// paper is linear in its coefficients (docs/theory.md §5), so a law can also return ∂P/∂c_k, the basis
+// stresses that make exact sensitivities cheap (docs/theory.md §7).
 #pragma once
 
 #include <Eigen/Core>
@@ -12,7 +12,7 @@
 
 namespace tricot::fem {
 
-/// What the out-of-plane direction does (THEORY §5): a membrane or thin sheet is free across its
+/// What the out-of-plane direction does (docs/theory.md §5): a membrane or thin sheet is free across its
 /// thickness (σ33 = 0, the laws' default); a slice of a thick specimen held across is not (C33 = 1).
 enum class Kinematics { plane_stress, plane_strain };
 const char* to_string(Kinematics k);  ///< "plane_stress", "plane_strain"
@@ -26,7 +26,7 @@ struct LawInput {
 };
 
 /// What a law returns. Forces are per unit reference length (N/mm): the membrane stress times the
-/// reference thickness, because a knit's thickness has no meaning (THEORY, units).
+/// reference thickness, because a knit's thickness has no meaning (docs/theory.md §5).
 struct LawOutput {
   Mat2 P = Mat2::Zero();  ///< first Piola–Kirchhoff membrane force [N/mm]
   Mat4 A = Mat4::Zero();  ///< consistent tangent ∂P/∂F, A(2i+j, 2k+l) = ∂P_ij/∂F_kl
@@ -50,7 +50,7 @@ class Law {
   virtual std::vector<std::string> coefficient_names() const = 0;
   virtual Eigen::VectorXd coefficients() const = 0;
   virtual void set_coefficients(const Eigen::VectorXd& c) = 0;
-  /// P(F; c) = P0(F) + Σ_k c_k B_k(F) (THEORY §5). When true, dP_dc = B_k exactly.
+  /// P(F; c) = P0(F) + Σ_k c_k B_k(F) (docs/theory.md §5). When true, dP_dc = B_k exactly.
   virtual bool linear_in_coefficients() const = 0;
   virtual void evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const = 0;
   virtual std::unique_ptr<Law> clone() const = 0;

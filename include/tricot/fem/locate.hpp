@@ -1,4 +1,4 @@
-// FE values at DIC points (THEORY §7, paper's "capable angles"): finding the element that holds a
+// FE values at DIC points (docs/theory.md §7, paper's "capable angles"): finding the element that holds a
 // point, the inverse isoparametric map, and interpolation of the displacement there.
 #pragma once
 

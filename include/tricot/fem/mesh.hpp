@@ -1,4 +1,4 @@
-// Meshes (THEORY §6): nodes, T3/T6/Q4/Q8 elements, regions, and named boundaries (node sets) that
+// Meshes (docs/theory.md §6): nodes, T3/T6/Q4/Q8 elements, regions, and named boundaries (node sets) that
 // the test models put their boundary conditions on. The built-in generator of the quarter specimen
 // names its four edges as a Gmsh file names its physical curves, so one path serves every mesh.
 #pragma once
@@ -76,7 +76,7 @@ struct MeshOptions {
   /// < 1 refines toward the grip, where the clamp makes the field steep.
   double grading = 1;
   /// Ratio of the first (x = 0) to the last (x = width) element width, > 0. 1 = uniform; < 1 refines
-  /// toward the side edge (the guide's end and the free edge of the rig, THEORY §6).
+  /// toward the side edge (the guide's end and the free edge of the rig, docs/theory.md §6).
   double grading_x = 1;
 
   /// Throws InputError naming `mesh.<field>` when out of range.

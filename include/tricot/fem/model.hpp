@@ -1,4 +1,4 @@
-// Finite-element models of tests (THEORY §6): either the paper's quarter specimen (paper §3.2.2,
+// Finite-element models of tests (docs/theory.md §6): either the paper's quarter specimen (paper §3.2.2,
 // Fig. 5) with symmetry on x = 0 and y = 0, a grip on the top edge and a free or guided side edge; or
 // any mesh with conditions per named boundary and per component (fixed, or a prescribed series of
 // values, one per step), whose measured force is the resultant of a named boundary.
@@ -23,7 +23,7 @@ enum class GripControl {
   force,         ///< the top edge stays straight (one shared u_y) and carries the full-specimen force F(t)
 };
 
-/// One displacement condition on one component of a named boundary (THEORY §6). Symmetry about a line
+/// One displacement condition on one component of a named boundary (docs/theory.md §6). Symmetry about a line
 /// x = const or y = const is a fixed normal component; a rigid grip is both components prescribed
 /// (every node of the boundary moves alike) with its resultant measured (TestModel::force_boundary).
 struct BoundaryCondition {
@@ -55,7 +55,7 @@ struct TestModel {
   /// Guide: u_x = c on the side edge, mm (negative = the specimen is narrowed). One value for all
   /// steps, or one per step (the guide is moved proportionally otherwise: c · load/load_last).
   std::vector<double> guide;
-  /// The paper's rig (THEORY §6): the guide ends this far (mm, ≥ 0, < the specimen's half height)
+  /// The paper's rig (docs/theory.md §6): the guide ends this far (mm, ≥ 0, < the specimen's half height)
   /// short of the grip: right-edge nodes with Y > H − guide_gap are free, so the clip–guide corner is
   /// not a singular point. 0 = the guide covers the whole side edge.
   double guide_gap = 0;
@@ -80,7 +80,7 @@ struct TestModel {
   /// side is then a roller, not a singular clamp–free corner.
   double grip_taper = 0;
 
-  /// Conditions per named boundary (THEORY §6). Non-empty = a model of any mesh: the quarter's own
+  /// Conditions per named boundary (docs/theory.md §6). Non-empty = a model of any mesh: the quarter's own
   /// conditions above (control, side, guide, grip ties) are then unused and must keep their defaults,
   /// `loads` are step labels (strictly increasing, e.g. frame numbers or times), and every boundary
   /// that no condition names is free. A later condition on the same node and component wins.

@@ -1,4 +1,4 @@
-// Incompressible Mooney–Rivlin membrane in plane stress (THEORY §5, paper eq. 7):
+// Incompressible Mooney–Rivlin membrane in plane stress (docs/theory.md §5, paper eq. 7):
 //   W = Σ C_ij (I1 − 3)^i (I2 − 3)^j, any list of (i, j); the paper keeps C10, C20, C21, C03.
 // Incompressibility (det C = 1) gives C33 = 1/det C₂ (C₂ the in-plane Cauchy–Green tensor) and the
 // pressure is eliminated by σ33 = 0, so W is a function of C₂ alone:
@@ -20,7 +20,7 @@ struct MooneyRivlinTerm {
   double C = 0;  ///< N/mm
 };
 
-/// Homogeneous states with closed forms (THEORY §5).
+/// Homogeneous states with closed forms (docs/theory.md §5).
 enum class HomogeneousMode {
   uniaxial,     ///< λ1 = λ, λ2 = λ3 = λ^(−1/2)
   equibiaxial,  ///< λ1 = λ2 = λ, λ3 = λ^(−2)
@@ -33,7 +33,7 @@ enum class HomogeneousMode {
 /// after, P(λ = 2) ≈ 0.45 N/mm; dP/dλ > 0 on λ ∈ [1, 3] in uniaxial, equibiaxial and pure shear.
 std::vector<MooneyRivlinTerm> paper_mooney_rivlin_terms();
 
-/// Nominal stress P11 [N/mm] of the homogeneous state `mode` at stretch λ (> 0), THEORY §5 closed
+/// Nominal stress P11 [N/mm] of the homogeneous state `mode` at stretch λ (> 0), docs/theory.md §5 closed
 /// forms, e.g. uniaxial P = 2(λ − λ⁻²)(W1 + W2/λ).
 double mooney_rivlin_nominal_stress(const std::vector<MooneyRivlinTerm>& terms, HomogeneousMode mode,
                                     double lambda);

@@ -1,4 +1,4 @@
-// Compressible neo-Hookean membrane in plane stress or plane strain (THEORY §5):
+// Compressible neo-Hookean membrane in plane stress or plane strain (docs/theory.md §5):
 //   W = μ/2 (I1 − 3) − μ ln J + λ/2 (ln J)²,  S = μ (I − C⁻¹) + λ ln J C⁻¹ (3-D).
 // σ33 = 0 fixes t = C33 = λ3² through μ (t − 1) + λ ln J = 0, J² = t det C₂ (a local Newton in
 // ln t); then the in-plane S₂ = μ (I − t C₂⁻¹) and P = μ (F − t F⁻ᵀ). Tangent and ∂P/∂(μ, λ) follow

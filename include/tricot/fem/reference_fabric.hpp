@@ -1,6 +1,6 @@
 // A synthetic "true" compression-stocking knit for synthetic experiments (docs/theory/fabric.md §4).
 // Deliberately NOT in the response-surface family: exponential locking and a cross coupling that
-// the separable polynomials of THEORY §5 cannot represent, so an identification against it shows a
+// the separable polynomials of docs/theory.md §5 cannot represent, so an identification against it shows a
 // model error, as the paper's did against the real fabric.
 //
 // Same kinematic frame as ResponseSurface: εC, εW, E_CW are the Green–Lagrange strains in the

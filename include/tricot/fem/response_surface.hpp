@@ -1,4 +1,4 @@
-// Orthotropic response-surface fabric law (THEORY §5 eqs. 8/10 [choice]; docs/theory/fabric.md §3).
+// Orthotropic response-surface fabric law (docs/theory.md §5 eqs. 8/10 [choice]; docs/theory/fabric.md §3).
 //
 // Forces per unit reference width along course and wale are polynomials of the Green–Lagrange
 // strains along the material axes (a_C = Q.col(0), a_W = Q.col(1) in the reference configuration):
@@ -25,7 +25,7 @@
 // plain polynomial everywhere.
 //
 // Coefficient names, in the order of coefficients():
-//   separable / presets (THEORY §5):
+//   separable / presets (docs/theory.md §5):
 //     F_C = Σ_{i=1..nC} a_i εC^i + Σ_{j=1..mC} b_j εW^j,   F_W = Σ_{i=1..nW} c_i εW^i + Σ_{j=1..mW} d_j εC^j,
 //     names "a1".."a{nC}", "b1".."b{mC}", "c1".."c{nW}", "d1".."d{mW}" (units N/mm);
 //   general: "C_p_q" for the course monomial εC^p εW^q, then "W_p_q" for the wale ones.
@@ -61,7 +61,7 @@ class ResponseSurface : public Law {
   /// `[law.response_surface]`.
   ResponseSurface(std::vector<Monomial> course, std::vector<Monomial> wale, double G_s = kDefaultShearStiffness,
                   const Eigen::VectorXd& c = {});
-  /// The separable form of THEORY §5 with orders (nC, mC, nW, mW) ≥ 0, coefficients a, b, c, d = 0.
+  /// The separable form of docs/theory.md §5 with orders (nC, mC, nW, mW) ≥ 0, coefficients a, b, c, d = 0.
   static ResponseSurface separable(int nC, int mC, int nW, int mW, double G_s = kDefaultShearStiffness);
   /// "paper14" = separable(6, 2, 4, 2), "paper24" = separable(6, 6, 6, 6). InputError (key
   /// `material.preset`) for another name.

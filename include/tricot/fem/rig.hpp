@@ -1,4 +1,4 @@
-// The paper's biaxial-induced rig as an FE fixture (THEORY §6; paper §3.1.2, Figs 3–5): a quarter of a
+// The paper's biaxial-induced rig as an FE fixture (docs/theory.md §6; paper §3.1.2, Figs 3–5): a quarter of a
 // square specimen, clipped at the grip, tied to lateral guides that hold the transverse dimension but
 // let the fabric slide along the pull, the guides ending short of the clips. The transverse dimension
 // is set first with the grip at rest, then held while the grip pulls.

@@ -1,4 +1,4 @@
-// Nonlinear quasi-static solution of a test model (THEORY §4–§7): total-Lagrangian assembly, Newton–
+// Nonlinear quasi-static solution of a test model (docs/theory.md §4–§7): total-Lagrangian assembly, Newton–
 // Raphson with the consistent tangent and a line search, load stepping with automatic cutback, a
 // sparse direct solver (Eigen's SimplicialLDLT or CHOLMOD; for non-symmetric tangents a simplicial LU
 // on node blocks below 60 000 unknowns, UMFPACK above or where that LU meets a tiny pivot) whose
@@ -17,7 +17,7 @@
 
 namespace tricot::fem {
 
-/// Sparse direct solver for symmetric tangents (THEORY §4): a factorization on a fill-reducing
+/// Sparse direct solver for symmetric tangents (docs/theory.md §4): a factorization on a fill-reducing
 /// ordering computed once per simulation. Non-symmetric tangents: with eigen_ldlt, and with automatic
 /// below 60 000 unknowns, a simplicial LU without pivoting on 2 × 2 node blocks (UMFPACK where a pivot
 /// is tiny); otherwise, and for LDLᵀ breakdowns, UMFPACK LU.
@@ -41,7 +41,7 @@ struct SolveOptions {
   bool line_search = true;
   /// Halvings of a step that failed before giving up, 0–30.
   int max_cutbacks = 8;
-  /// Compute du/dc and d(edge force)/dc at every step (THEORY §7).
+  /// Compute du/dc and d(edge force)/dc at every step (docs/theory.md §7).
   bool sensitivities = false;
   /// Keep every Newton iteration's residual norm in StepResult::residuals.
   bool keep_residuals = true;

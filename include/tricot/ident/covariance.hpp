@@ -1,4 +1,4 @@
-// Uncertainty of identified coefficients (THEORY §8, beyond the paper): the Gauss–Newton covariance
+// Uncertainty of identified coefficients (docs/theory.md §8, beyond the paper): the Gauss–Newton covariance
 // from the Jacobian S = ∂r/∂J at the optimum, and what it says about identifiability.
 #pragma once
 

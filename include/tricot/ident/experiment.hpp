@@ -1,4 +1,4 @@
-// What was measured (THEORY §1–§2, §7): per physical test, the load steps, the grip's displacement
+// What was measured (docs/theory.md §1–§2, §7): per physical test, the load steps, the grip's displacement
 // and force, and displacements at points of the specimen, with optional measurement σ. The CLI fills
 // it from files; the identification compares it with the FE at the same points and steps.
 #pragma once
@@ -9,7 +9,7 @@
 
 namespace tricot::ident {
 
-/// How the field displacements were measured (THEORY §7, paper §3.1.3).
+/// How the field displacements were measured (docs/theory.md §7, paper §3.1.3).
 enum class FieldKind {
   /// u(X, t_k): total displacement of material points tracked from the reference image. The FE
   /// value is interpolated at X in the reference mesh.
@@ -22,7 +22,7 @@ enum class FieldKind {
 const char* to_string(FieldKind k);  ///< "cumulative", "incremental"
 
 /// Measurement standard deviations, in the data's units; 0 = unknown, and the group is then scaled
-/// by the RMS of its data (THEORY §2). Given σ make f a χ²/2 and the covariance a real one (§8).
+/// by the RMS of its data (docs/theory.md §2). Given σ make f a χ²/2 and the covariance a real one (§8).
 struct Sigma {
   double edge_displacement = 0;  ///< mm, ≥ 0
   double edge_force = 0;         ///< N, ≥ 0
@@ -53,11 +53,11 @@ struct TestData {
 
   Sigma sigma;
   /// Per-point σ of u and v (mm), steps × points, as the DIC gives them (tricot experiment's field.csv);
-  /// both empty = σ.field for every value. When given they replace σ.field (THEORY §8).
+  /// both empty = σ.field for every value. When given they replace σ.field (docs/theory.md §8).
   Eigen::MatrixXd sigma_u, sigma_v;
   /// Weight of each step's data (≥ 0, finite; one per step), multiplying w_g of every group of the
   /// test at that step; empty = 1 for every step. A domain-weighted identification (paper §4.3.2,
-  /// THEORY §9 [choice]: `[data] domain_weight`) sets it below 1 for the steps outside the domain.
+  /// docs/theory.md §9 [choice]: `[data] domain_weight`) sets it below 1 for the steps outside the domain.
   std::vector<double> step_weight;
 
   int steps() const { return static_cast<int>(loads.size()); }

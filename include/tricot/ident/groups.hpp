@@ -1,4 +1,4 @@
-// The data groups of the objective, eq. (1) (THEORY §2): each group g of N_g values has a weight
+// The data groups of the objective, eq. (1) (docs/theory.md §2): each group g of N_g values has a weight
 // w_g and a scale s_g, and contributes the scaled residuals
 //     r_i = √(w_g / N_g) · (y_i − y_i^exp) / s_g,   f = ½ Σ r_i².
 #pragma once
@@ -26,7 +26,7 @@ struct DataGroup {
   int size = 0;       ///< N_g
   double weight = 1;  ///< w_g
   double scale = 1;   ///< s_g: the measurement σ when given, else the RMS of the group's data
-  bool sigma = false; ///< s_g is a measurement σ (THEORY §8)
+  bool sigma = false; ///< s_g is a measurement σ (docs/theory.md §8)
 };
 
 /// Stacks groups and applies eq. (1).
@@ -39,7 +39,7 @@ class ScaledResiduals {
                        double weight = 1, double sigma = 0);
 
   /// Appends a group whose every value has its own measurement σ (> 0, finite, one per value): the row
-  /// factor is √(w/N)/σ_i, so f stays a χ²/2 and the covariance a real one (THEORY §8). The group's
+  /// factor is √(w/N)/σ_i, so f stays a χ²/2 and the covariance a real one (docs/theory.md §8). The group's
   /// `scale` reports the RMS of the σ. Throws InputError (key `data.<name>`) as add() and for a σ ≤ 0.
   const DataGroup& add(const std::string& name, GroupKind kind, int test, const Eigen::VectorXd& y_exp,
                        double weight, const Eigen::VectorXd& sigma_per_value);
@@ -54,7 +54,7 @@ class ScaledResiduals {
   Eigen::VectorXd residuals(const Eigen::VectorXd& y) const;
   /// ∂y/∂J → ∂r/∂J, in place (rows scaled by factors).
   void scale_rows(Eigen::MatrixXd& dy_dJ) const;
-  /// Var(r_i) implied by the measurement σ: w_g ω_i/N_g (THEORY §8). Empty unless every group has σ.
+  /// Var(r_i) implied by the measurement σ: w_g ω_i/N_g (docs/theory.md §8). Empty unless every group has σ.
   Eigen::VectorXd sigma_variance() const;
   /// Multiplies the weight of each row of group g by ω_i ≥ 0 (one per row; the factor by √ω_i): the
   /// per-step weights of a domain-weighted identification (TestData::step_weight).

@@ -1,4 +1,4 @@
-// What the data can tell (THEORY §8, beyond the paper): from the Jacobian S = ∂r/∂J at the optimum,
+// What the data can tell (docs/theory.md §8, beyond the paper): from the Jacobian S = ∂r/∂J at the optimum,
 // which coefficients are pinned down, the least identifiable direction, each test's share of the
 // information, and which added test would help most (D- or A-optimal design over candidates).
 // Everything is in relative units, S·D with D = diag(|J_k|) (scale_k where J_k = 0), so that
@@ -15,7 +15,7 @@ struct IdentifiabilityOptions {
   /// A coefficient is pinned down when its relative standard error √((M⁻¹)_kk)·σ̂ is below this,
   /// (0, ∞). 0.1 = known to 10 %.
   double pinned_relative_error = 0.1;
-  /// σ̂² of the residuals (THEORY §8: 2f/(N − n), or 1 when the scales are measurement σ), > 0.
+  /// σ̂² of the residuals (docs/theory.md §8: 2f/(N − n), or 1 when the scales are measurement σ), > 0.
   double sigma2 = 1;
 
   void validate() const;  ///< InputError naming `identifiability.<field>`

@@ -1,4 +1,4 @@
-// Levenberg–Marquardt identification (THEORY §3, paper §2.1) on Ceres: the paper's ε (eq. 2) and
+// Levenberg–Marquardt identification (docs/theory.md §3, paper §2.1) on Ceres: the paper's ε (eq. 2) and
 // δ (eq. 3) criteria, relative parameters, bounds, the stability test with restarts, covariance
 // (§8), a checkpoint after every accepted step and resume from one.
 #pragma once
@@ -115,9 +115,9 @@ struct IdentifyOptions {
   bool bounds_line_search = true;
   /// The most trial points of that line search per LM step, 1–100 (Ceres's default 20). Each is an
   /// FE evaluation: on the §4 campaign a step LM rejects in the end cost 12–13 of
-  /// them at 20, 5 at 4, with the same accepted points (docs/validation.md, issue 12 "Speed").
+  /// them at 20, 5 at 4, with the same accepted points (CHANGELOG.md, issue 12).
   int line_search_trials = 20;
-  /// With bounds: an active set (docs/validation.md, issue 12 "Bounded coefficients"). A coefficient
+  /// With bounds: an active set (docs/validation.md §5). A coefficient
   /// that a rejected LM step was projected onto its bound, with f decreasing out of the box, is held
   /// there (Ceres's SubsetManifold) and released where f decreases into the box. Off: Ceres's projected
   /// steps alone. On the 110 mm campaign it saves 3 stability restarts (285 → 124 evaluations); on
@@ -130,7 +130,7 @@ struct IdentifyOptions {
   /// are zero at the accepted point, so LM's model does not see them: on the §4 campaign its steps
   /// ran deep into them, where f is certain to be higher and the FE often fails; cut, the 110 mm
   /// identification reaches the same f from any start within ±1 % (uncut: 1 % apart, or walled in)
-  /// in 52–78 FE evaluations instead of 63–213 (docs/validation.md, issue 12 "Steps cut at the
+  /// in 52–78 FE evaluations instead of 63–213 (docs/validation.md §5: steps cut at the
   /// stability barrier").
   double barrier_growth = 0.01;
   /// Called with the state to save after every accepted step (and at the start), once its ε and δ
@@ -186,7 +186,7 @@ struct IdentifyResult {
 IdentifyResult identify(const Problem& problem, const IdentifyOptions& options = {},
                         const Reporter& reporter = {});
 
-/// An identification by mesh levels (issue 15; docs/validation.md "The paper's scale by mesh levels").
+/// An identification by mesh levels (docs/theory.md §3.3).
 struct LevelsResult {
   /// The finest level's run: the answer, f, its uncertainty; stability_passed: the first level's.
   IdentifyResult result;
@@ -201,7 +201,7 @@ struct LevelsResult {
 /// LM on the same tests meshed ever finer (`levels`, coarse to fine). The first level runs LM from
 /// the parameters' start (or options.start) with the paper's stability test. Every finer level starts
 /// from the answer before it and is solved through the first level corrected to it (space mapping;
-/// docs/validation.md "The paper's scale by mesh levels"). At its current point c:
+/// docs/theory.md §3.3). At its current point c:
 /// - it is evaluated once with its Jacobian;
 /// - the first level's residuals are shifted to match its r and ∂r/∂J at c;
 /// - LM minimises that corrected coarse problem (cheap), and c moves to its minimum when the fine f

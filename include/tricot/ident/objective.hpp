@@ -1,4 +1,4 @@
-// The FE objective (THEORY §2, §7): every test of an experiment simulated with the same law, its
+// The FE objective (docs/theory.md §2, §7): every test of an experiment simulated with the same law, its
 // grip displacement, grip force and field displacements compared with the measured ones at the same
 // points and steps, and the exact Jacobian from the FE sensitivities du/dc and dF/dc.
 #pragma once
@@ -21,7 +21,7 @@
 
 namespace tricot::ident {
 
-/// Which data enter f and with what weight w_g (THEORY §2); 0 leaves the data out.
+/// Which data enter f and with what weight w_g (docs/theory.md §2); 0 leaves the data out.
 struct DataWeights {
   /// ≥ 0. Used for force-controlled tests only: under a displacement-controlled grip the FE
   /// reproduces the measured displacement exactly and the group carries no information.

@@ -1,5 +1,5 @@
 // A least-squares problem in the identified coefficients J: the scaled residuals r(J) of eq. (1)
-// and their Jacobian, exact or by finite differences (THEORY §2, §3, §7). The FE objective
+// and their Jacobian, exact or by finite differences (docs/theory.md §2, §3, §7). The FE objective
 // (objective.hpp) is one; tests use analytic ones.
 #pragma once
 
@@ -10,7 +10,7 @@
 
 namespace tricot::ident {
 
-/// One identified coefficient (THEORY §3).
+/// One identified coefficient (docs/theory.md §3).
 struct Parameter {
   std::string name;  ///< the law's coefficient name, e.g. "C10"
   /// Start value; NaN = the law's current value (resolved by the objective).
@@ -56,7 +56,7 @@ class Problem {
   virtual Evaluation evaluate(const Eigen::VectorXd& J, bool jacobian) const = 0;
   /// Whether evaluate() can give an exact Jacobian; if not, only finite differences are allowed.
   virtual bool has_exact_jacobian() const { return true; }
-  /// THEORY §8: Var(r_i) when every scale is a measurement σ (ScaledResiduals::sigma_variance());
+  /// docs/theory.md §8: Var(r_i) when every scale is a measurement σ (ScaledResiduals::sigma_variance());
   /// empty = estimate σ̂² = 2f/(N − n) from the fit.
   virtual Eigen::VectorXd residual_variance() const { return {}; }
   /// A lower bound of f(J) that needs no FE run (the stability barrier's part of f), 0 by default:
@@ -75,7 +75,7 @@ class Problem {
 };
 
 enum class JacobianMode {
-  exact,              ///< from the problem (FE sensitivities, THEORY §7)
+  exact,              ///< from the problem (FE sensitivities, docs/theory.md §7)
   finite_difference,  ///< the paper's way: one perturbed evaluation per column (two when central)
 };
 enum class Difference { forward, central };

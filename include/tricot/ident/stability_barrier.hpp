@@ -1,4 +1,4 @@
-// A material-stability barrier for response-surface identification (THEORY §3, §5; issue 12;
+// A material-stability barrier for response-surface identification (docs/theory.md §3, §5; issue 12;
 // docs/theory/fabric.md §3.2). The polynomial law has no potential: nothing keeps LM's trial laws
 // stable. Where the force–strain Jacobian
 //     A(εC, εW) = ∂(F_C, F_W)/∂(εC, εW)

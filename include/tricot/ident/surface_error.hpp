@@ -1,4 +1,4 @@
-// The paper's error measure, eq. (9) (THEORY §9, paper §4.3.2): the mean relative distance between
+// The paper's error measure, eq. (9) (docs/theory.md §9, paper §4.3.2): the mean relative distance between
 // an identified response surface and the experimental forces per unit width, over the whole strain
 // range and over the strains of practical use.
 #pragma once
@@ -26,7 +26,7 @@ struct StrainDomain {
   void validate() const;
 };
 
-/// One experimental point of a surface (THEORY §9 [choice]): a step of a test pulled along that
+/// One experimental point of a surface (docs/theory.md §9 [choice]): a step of a test pulled along that
 /// direction, its grip force per unit initial width [N/mm] against the strains at the specimen centre.
 struct SurfacePoint {
   double eC = 0, eW = 0;
@@ -46,10 +46,10 @@ struct Eq9Error {
 Eq9Error eq9_error(const std::vector<SurfacePoint>& points, const std::function<double(double, double)>& identified,
                    const StrainDomain& practical = {});
 
-/// Which surface a test's points belong to: the force its grip measures (THEORY §9 [choice]).
+/// Which surface a test's points belong to: the force its grip measures (docs/theory.md §9 [choice]).
 enum class SurfaceForce { course, wale };
 
-/// The eq. 9 points of one measured test (THEORY §9 [choice]), or nullopt when the test gives none:
+/// The eq. 9 points of one measured test (docs/theory.md §9 [choice]), or nullopt when the test gives none:
 /// a material angle other than 0 (wale pulled, along y) or 90 (course pulled) [± 1e-9°], no grip
 /// force, or no cumulative field of ≥ 3 points. Per step: force = edge_force / (2 × the quarter
 /// mesh's width) [N/mm], and (εC, εW) at the specimen centre X = (0, 0) from the Green–Lagrange strain
@@ -66,7 +66,7 @@ std::optional<TestSurfacePoints> test_surface_points(const fem::TestModel& model
 namespace tricot::ident {
 
 /// The identification on a restricted strain domain (paper §4.3.2: "identification of the surface
-/// response on a more restrained experimental domain"; THEORY §9 [choice]). From each test's centre
+/// response on a more restrained experimental domain"; docs/theory.md §9 [choice]). From each test's centre
 /// strains (test_surface_points, `nearest` points): a test is kept when its held strain — across the
 /// pull, at its first step — lies in the domain's interval for that direction; its steps are kept up
 /// to the last whose pulled strain is ≤ the domain's upper bound for the pulled direction (the steps

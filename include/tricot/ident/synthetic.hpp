@@ -14,7 +14,7 @@
 namespace tricot::ident {
 
 /// The test's data as the FE run `sim` of `model` gives them: loads, edge displacement and force
-/// per step, and u, v at `points` (mm, model coordinates) as `kind` measures them (THEORY §7).
+/// per step, and u, v at `points` (mm, model coordinates) as `kind` measures them (docs/theory.md §7).
 /// `ids` default to 0, 1, …. Throws InputError when `sim` is not usable or a point is outside the
 /// mesh (reference mesh; for incremental data, a deformed one).
 TestData measure(const fem::TestModel& model, const fem::SimulationResult& sim, const Eigen::Matrix2Xd& points,

@@ -1,4 +1,4 @@
-// Bicubic B-spline interpolation of an image, with gradients (THEORY.md §10; Unser, Aldroubi & Eden
+// Bicubic B-spline interpolation of an image, with gradients (docs/theory.md §10; Unser, Aldroubi & Eden
 // 1991, doi:10.1109/78.80892 for the recursive pre-filter; Thévenaz, Blu & Unser 2000,
 // doi:10.1109/42.875199 for its boundary conditions).
 //

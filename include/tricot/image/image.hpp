@@ -1,4 +1,4 @@
-// Grayscale images for digital image correlation (THEORY.md §10, DESIGN.md "image/").
+// Grayscale images for digital image correlation (docs/theory.md §10, docs/design.md).
 // Pixels are stored as float, row-major, y down, whatever the bit depth of the file; `full_scale` keeps
 // the white level of the source (255, 65535, 1) so that thresholds can be given as fractions of it.
 // OpenCV is used for decoding and encoding only and never appears in a public header.

@@ -1,5 +1,5 @@
 // TOML configuration with a declared schema: every key has a type, a default, a range and a help text
-// (DESIGN.md "io"). The same schema reads a file (unknown keys are errors with a "did you mean" hint,
+// (docs/design.md). The same schema reads a file (unknown keys are errors with a "did you mean" hint,
 // every bad value names FILE:LINE: KEY) and prints the fully commented default config
 // (`tricot VERB --print-config`).
 #pragma once

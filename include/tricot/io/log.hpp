@@ -1,5 +1,5 @@
 // Acquisition logs: the delimited tables that a load cell's acquisition program (LabVIEW, a testing
-// machine's software) and a camera write (THEORY.md §1, the experimental branch). A lab engineer's
+// machine's software) and a camera write (docs/theory.md §1, the experimental branch). A lab engineer's
 // files are read as they come:
 //   - comma-, semicolon- or tab-separated (detected from the data rows);
 //   - metadata lines before the header (the header is the last all-text row with as many cells as

@@ -1,4 +1,4 @@
-// DIC points in the specimen's coordinates of the quarter model (THEORY.md §6, §10). The camera on
+// DIC points in the specimen's coordinates of the quarter model (docs/theory.md §6, §10). The camera on
 // its pantograph aims at the specimen centre, a fixed pixel; dic::PhysicalFrame takes pixels to mm in
 // specimen axes (X across, Y along the pull, origin at the centre). The FE model is the quarter
 // X ≥ 0, Y ≥ 0 with symmetry on both axes, so points of the other three quadrants are folded into it:
@@ -48,7 +48,7 @@ struct FoldedPoints {
   std::string outside_report(const SpecimenGeometry& g) const;
 };
 
-/// What a field holds (THEORY §7, ident::FieldKind has the same meaning).
+/// What a field holds (docs/theory.md §7, ident::FieldKind has the same meaning).
 enum class FieldKind {
   cumulative,   ///< material points tracked from image 0: u(X, t_k) = x_k − x_0, X = x_0 folded
   incremental,  ///< fixed grid points: u = x(t_k) − x(t_{k−1}) at the grid centres of image 0

@@ -1,4 +1,4 @@
-// Synchronisation of the load cell with the camera (THEORY.md §1, "forces known at the same instants
+// Synchronisation of the load cell with the camera (docs/theory.md §1, "forces known at the same instants
 // that pictures are taken"). The two have their own clocks: an image taken at camera time t_k happened
 // at log time t_k + δ, δ = clock_offset_s. δ is estimated, never assumed zero:
 //   - crosshead: the log's cross-head displacement c(t) is cross-correlated with the grip displacement

@@ -1,5 +1,5 @@
 // The case file of `tricot simulate` (and the shared part of synth's and identify's files): the
-// specimen's mesh, the material law, the solver and the list of tests (THEORY §5–§6). Each table is a
+// specimen's mesh, the material law, the solver and the list of tests (docs/theory.md §5–§6). Each table is a
 // function returning its io::SectionSpec, so that another verb's schema can add its own tables beside
 // them; the builders turn validated tables into the engines' value types. Every check that spans keys
 // goes through io::Node::fail, so errors read `FILE:LINE: KEY: problem (got V, expected R)`.
@@ -44,7 +44,7 @@ enum class TestKind {
   uniaxial,      ///< grip on top, side edge free (clamped grip by default: a non-uniform field)
   biaxial,       ///< grip on top, side edge on a guide (the paper's biaxial-induced test)
   homogeneous,   ///< sliding grip, side free or guided: a uniform field (closed-form checks)
-  simple_shear,  ///< no FE solve: the law at F = [[1, γ], [0, 1]] for γ in the step list (THEORY §4)
+  simple_shear,  ///< no FE solve: the law at F = [[1, γ], [0, 1]] for γ in the step list (docs/theory.md §4)
   rig,           ///< the paper's rig (fem/rig.hpp): clips, tied guides short of the clips, [rig]
   custom,        ///< any mesh ([mesh] file, geometry or generator) with [[test.boundary]] conditions
 };
@@ -111,14 +111,14 @@ struct NeoHookeanSpec {
   std::string kinematics = "plane_stress";  ///< plane_stress or plane_strain
   Origin origin{"law.neo_hookean"};
 };
-/// `[law.corotational]` (THEORY §4).
+/// `[law.corotational]` (docs/theory.md §4).
 struct CorotationalSpec {
   std::string moduli = "isotropic";  ///< isotropic (G, K) or orthotropic (D11, D22, D12, D66)
   double G = 1, K = 2;
   double D11 = 1, D22 = 0.5, D12 = 0.1, D66 = 0.05;
   Origin origin{"law.corotational"};
 };
-/// `[law.response_surface]` (paper eqs. 8/10, THEORY §5).
+/// `[law.response_surface]` (paper eqs. 8/10, docs/theory.md §5).
 struct ResponseSurfaceSpec {
   std::string preset = "paper14";  ///< paper14, paper24 or general
   io::Reals coefficients;          ///< [] = all zero

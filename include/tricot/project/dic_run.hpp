@@ -1,4 +1,4 @@
-// tricot dic's pipeline (THEORY §10, DESIGN.md "dic"): the config with the command line over it, the
+// tricot dic's pipeline (docs/theory.md §10, docs/design.md): the config with the command line over it, the
 // sequence run image by image (a long sequence never sits in memory) and its tables: DIR/points.csv,
 // DIR/frames.csv, one overlay per frame, and on request DIR/increments.csv and DIR/specimen.csv.
 #pragma once

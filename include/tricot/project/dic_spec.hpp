@@ -1,4 +1,4 @@
-// The config of `tricot dic` (THEORY §10): [dic] correlation and sequence settings, [strain] the strain
+// The config of `tricot dic` (docs/theory.md §10): [dic] correlation and sequence settings, [strain] the strain
 // fit, [physical] pixels → specimen millimetres, [output] what is written besides points.csv. Every key
 // has a default, so a one-off run needs no file; command-line flags override the file's keys.
 #pragma once

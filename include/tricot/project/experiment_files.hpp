@@ -1,4 +1,4 @@
-// The experiment on disk: what `tricot synth` writes and `tricot identify` reads (DESIGN.md
+// The experiment on disk: what `tricot synth` writes and `tricot identify` reads (docs/design.md
 // "Outputs"). One folder per experiment, one sub-folder per test:
 //
 //   DIR/<test>/forces.csv   step, load, edge_displacement, edge_force        (one row per step)
@@ -10,7 +10,7 @@
 // horizontal one), forces N for the full specimen. field.csv holds either cumulative displacements of
 // material points (x, y = reference position) or incremental ones at fixed image points (x, y = the
 // fixed position; u, v = displacement since the previous step); the project file says which
-// (THEORY §7). In forces.csv a missing edge_displacement or edge_force column means "not measured".
+// (docs/theory.md §7). In forces.csv a missing edge_displacement or edge_force column means "not measured".
 #pragma once
 
 #include <cstdint>

@@ -52,7 +52,7 @@ struct Project {
   std::unique_ptr<ident::StabilizedObjective> coarse_stability;
 };
 
-/// Eq. 9's experimental points of tests and their data (THEORY §9 [choice]): [0] course (tests with
+/// Eq. 9's experimental points of tests and their data (docs/theory.md §9 [choice]): [0] course (tests with
 /// material_angle 90), [1] wale (angle 0), one per step, from ident::test_surface_points.
 SurfacePoints eq9_points(const std::vector<fem::TestModel>& models, const ident::Experiment& experiment, int nearest);
 /// Checks the spec (its validate()), reads its experiment (relative to `base`) and builds its

@@ -102,7 +102,7 @@ struct DataSpec {
   std::optional<ident::StrainDomain> domain() const;
 };
 
-/// [eq9]: the practical domain and the centre-strain fit of eq. 9 (THEORY §9).
+/// [eq9]: the practical domain and the centre-strain fit of eq. 9 (docs/theory.md §9).
 struct Eq9Spec {
   /// [min, max] εC and εW; unset: ident::StrainDomain's default (which may miss the data: then
   /// result.json's "practical" is null), set: it must hold some of the data's points.

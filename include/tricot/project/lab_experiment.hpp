@@ -1,4 +1,4 @@
-// tricot experiment LAB.toml -o DIR (issue 11, THEORY.md §1 steps i and ii): a lab's raw files — an
+// tricot experiment LAB.toml -o DIR (issue 11, docs/theory.md §1 steps i and ii): a lab's raw files — an
 // image sequence (or a `tricot dic` output folder), a load-cell log, the specimen and the camera — turned
 // into the experiment folder that `tricot identify` reads (experiment_files.hpp):
 //

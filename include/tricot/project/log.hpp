@@ -1,5 +1,5 @@
 // How a pipeline reports: the engines' progress callbacks and the lines of its summary. The library
-// never prints (STYLE.md §4): the CLI's console (apps/tricot/console.hpp) decides how both are shown; a
+// never prints (the library never prints): the CLI's console (apps/tricot/console.hpp) decides how both are shown; a
 // default Log drops them.
 #pragma once
 

@@ -138,7 +138,7 @@ void append(const std::filesystem::path& dir, F&& add, const std::string& title 
   write(d, dir);
 }
 
-/// The kEq9 section from the "eq9" object of an identification's result.json (DESIGN.md: per force
+/// The kEq9 section from the "eq9" object of an identification's result.json (docs/design.md: per force
 /// "whole", "practical", "points_whole", "points_practical", and the "practical" strain domain).
 /// Returns false, adding nothing, when the file has no "eq9" or cannot be read.
 bool add_eq9(Document& doc, const std::filesystem::path& result_json);

@@ -1,6 +1,6 @@
-// tricot simulate's pipeline: the finite-element models of the tests of a case file (THEORY §4–§6)
+// tricot simulate's pipeline: the finite-element models of the tests of a case file (docs/theory.md §4–§6)
 // and, per test, DIR/<test>/steps.csv, newton.csv, step_NNNN.vtu (+ steps.pvd) and force.png; a
-// simple_shear test evaluates the law alone at F = [[1, γ], [0, 1]] (THEORY §4 validation).
+// simple_shear test evaluates the law alone at F = [[1, γ], [0, 1]] (docs/theory.md §4 validation).
 #pragma once
 
 #include <filesystem>

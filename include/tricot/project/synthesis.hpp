@@ -1,4 +1,4 @@
-// tricot synth: a synthetic experiment from FE runs with a known law (issue 4, DESIGN.md "synth").
+// tricot synth: a synthetic experiment from FE runs with a known law (issue 4, docs/design.md).
 // Exposed so that `tricot demo` generates its data through the same code.
 #pragma once
 

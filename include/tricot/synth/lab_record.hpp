@@ -1,4 +1,4 @@
-// A raw lab record with a known truth (issue 11, THEORY.md §1): what a load cell's acquisition and a
+// A raw lab record with a known truth (issue 11, docs/theory.md §1): what a load cell's acquisition and a
 // camera would have written during a tensile test, with the imperfections the synchronisation must
 // undo — a clock offset, a tare, noise, a log that starts before the images and stops after them —
 // and a relaxation test's log. The values are made here; io::to_log_text writes them the way a
@@ -7,7 +7,7 @@
 // Clocks: the log's zero is its first sample. An image taken at log time s has camera time s − δ,
 // δ = clock_offset_s. The cross-head is at rest for `rest_s` after the first image, moves at constant
 // speed for `ramp_s`, then holds for `hold_s` while the images go on. The grip displacement of the
-// quarter model is half the cross-head travel (THEORY §6: symmetry on y = 0).
+// quarter model is half the cross-head travel (docs/theory.md §6: symmetry on y = 0).
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Synthetic camera images of a deformed specimen (DESIGN.md "synth", paper §3.1.3): the camera on its
+// Synthetic camera images of a deformed specimen (docs/design.md, paper §3.1.3): the camera on its
 // pantograph aims at the specimen centre, which stays at the image centre; the fabric's roughness is
 // the speckle. The FE model is the quarter X ≥ 0, Y ≥ 0 with symmetry, so the full specimen's
 // displacement is the quarter's mirrored: u(−X, Y) = (−u_X, u_Y)(X, Y), u(X, −Y) = (u_X, −u_Y)(X, Y).

@@ -1,4 +1,4 @@
-// Synthetic speckle images with an analytic motion, for validating DIC (THEORY.md §10).
+// Synthetic speckle images with an analytic motion, for validating DIC (docs/theory.md §10).
 // The pattern is a continuous function of reference coordinates X, a sum of Gaussian blobs
 //     S(X) = Σ_k w_k exp(−(X − X_k)ᵀ M_k (X − X_k)),   I(X) = background + contrast · (1 − exp(−S(X))),
 // round (M_k = I / r_k², w_k = 1) for a painted speckle, elliptical for a knit's stitches,
