@@ -7,6 +7,7 @@
 # projects) and checks:
 #   - every task of the two-project array (2 MPI ranks each) exits 0, and f, the coefficients, the
 #     iterations and evaluations equal a plain one-process run's; result.json says 2 ranks × 1 thread;
+#     the same with the script's other launcher (LAUNCHER=srun: srun --mpi=pmix) on one project;
 #   - a plain `srun -n 2 tricot identify` is refused: one line, exit 2, nothing written;
 #   - a project that does not converge ends its task with 0 and a `did not converge` line, or with 4
 #     under STRICT_CONVERGENCE=1;
@@ -167,15 +168,22 @@ say "job $job: both tasks exited 0 ($(scontrol show job "$job" 2> /dev/null | gr
 for p in project-110 project-150; do
   env -u SLURM_CONF "$tricot" identify "$site/examples/knit-campaign/$p.toml" -o "$tmp/plain/$p" -q --no-plots > /dev/null
 done
-"$python" - "$site/out/campaign" "$tmp/plain" << 'PY'
+# The script's other launcher, srun --mpi=pmix (Debian's Slurm and Open MPI both have PMIx), on one project.
+( cd "$site" && as_user env LAUNCHER=srun OUT=out/srun sbatch --wait --ntasks=2 --array=0 --output=srun-%A_%a.log \
+  examples/knit-campaign/campaign.slurm ) > /dev/null ||
+  { echo "LAUNCHER=srun: the task failed:"; cat "$site"/srun-*.log; exit 1; }
+grep -q "(srun --mpi=pmix --ntasks=2 --cpus-per-task=1)$" "$site"/srun-*.log || { cat "$site"/srun-*.log; exit 1; }
+say "LAUNCHER=srun: done"
+
+"$python" - "$site/out" "$tmp/plain" << 'PY'
 import json, sys
 # The ranks run each test's arithmetic unchanged, so the answer is a plain run's to the last bit; the
 # contract (issue 15) asks for 1e-12 relative.
 TOL = 1e-12
-slurm, plain = sys.argv[1], sys.argv[2]
+out, plain = sys.argv[1], sys.argv[2]
 ok = True
-for p in ("project-110", "project-150"):
-    r = json.load(open(f"{slurm}/{p}/result.json"))
+for launcher, p in (("mpirun", "project-110"), ("mpirun", "project-150"), ("srun", "project-110")):
+    r = json.load(open(f"{out}/{'campaign' if launcher == 'mpirun' else 'srun'}/{p}/result.json"))
     one = json.load(open(f"{plain}/{p}/result.json"))
     for key in ("iterations", "evaluations", "termination"):
         if r[key] != one[key]:
@@ -188,7 +196,7 @@ for p in ("project-110", "project-150"):
         if abs(a - b) > TOL * abs(b):
             print(f"{p}: {name} {a!r} != {b!r}"); ok = False
     same = all(a == b for _, a, b in pairs)
-    print(f"slurm_campaign: {p}: f = {r['objective']!r}, {r['parameters']}, {r['iterations']} iterations, "
+    print(f"slurm_campaign: {p} ({launcher}): f = {r['objective']!r}, {r['parameters']}, {r['iterations']} iterations, "
           f"{r['ranks']} ranks x {r['threads']} threads against {one['ranks']} x {one['threads']}: "
           f"{'bit-identical' if same else 'within 1e-12'}")
 sys.exit(0 if ok else 1)
