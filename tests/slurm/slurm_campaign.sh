@@ -69,11 +69,11 @@ mkdir -m 755 "$tmp/munge"
 dd if=/dev/urandom of="$tmp/munge/munge.key" bs=1024 count=1 status=none
 chmod 600 "$tmp/munge/munge.key"
 chown -R munge:munge "$tmp/munge"
-runuser -u munge -- munged --foreground --socket="$tmp/munge/socket" --key-file="$tmp/munge/munge.key" \
+# It forks into the background once its socket is up, and writes its own PID.
+runuser -u munge -- munged --socket="$tmp/munge/socket" --key-file="$tmp/munge/munge.key" \
   --log-file="$tmp/munge/munged.log" --pid-file="$tmp/munge/munged.pid" --seed-file="$tmp/munge/munged.seed" \
-  > "$tmp/munged.out" 2>&1 &
-pids+=($!)
-for _ in $(seq 50); do [ -S "$tmp/munge/socket" ] && break; sleep 0.1; done
+  > "$tmp/munged.out" 2>&1 || { cat "$tmp/munged.out"; skip "munged did not start"; }
+pids+=("$(cat "$tmp/munge/munged.pid")")
 [ -S "$tmp/munge/socket" ] || { show_logs; skip "munged did not start"; }
 
 # Two free ports on the loopback for slurmctld and slurmd.
