@@ -128,6 +128,7 @@ Runner add_identify(CLI::App& app) {
     req.kill_after_evaluations = args->kill_after_evaluations;
     req.kill_before_publish = args->kill_before_publish;
     req.distribute = [&world](ident::Objective& objective) { world.lead(objective); };
+    req.ranks = world.size();
     const project::IdentifyOutcome o = project::run_identification(spec, req, console.log());
     if (args->verbose && world.size() > 1)
       console.log().print(world.traffic().brief_report() + " (" + std::to_string(world.size()) + " ranks)");

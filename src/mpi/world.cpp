@@ -271,7 +271,10 @@ std::string Traffic::brief_report() const {
 }
 
 World::World() : impl_(std::make_shared<Impl>()) {
-  if (launcher_size() == 1) return;  // not started by an MPI launcher: one process, no MPI
+  if (launcher_size() == 1) {  // not started by an MPI launcher: one process, no MPI
+    refuse_duplicated_tasks(1);
+    return;
+  }
   int provided = 0;
   // Serialized: rank 0 calls MPI from whichever thread evaluates (one at a time, RankSplit's lock).
   MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
@@ -283,6 +286,11 @@ World::World() : impl_(std::make_shared<Impl>()) {
       std::fprintf(stderr, "tricot: error: %s\n",
                    format_error({"mpi", 0, ""}, "this MPI library cannot be called from several threads", "", "MPI_THREAD_SERIALIZED").c_str());
     MPI_Abort(MPI_COMM_WORLD, static_cast<int>(ExitCode::usage));
+  }
+  if (size_ == 1 && slurm_step_tasks() > 1) {  // each task its own world of one (a PMI it does not speak)
+    MPI_Finalize();
+    impl_->initialized = false;
+    refuse_duplicated_tasks(size_);
   }
 }
 

@@ -15,6 +15,7 @@ World::World() {
     throw InputError(Location{"", 0, "mpi"}, "this tricot was built without MPI (-DTRICOT_MPI=OFF)",
                      size > 1 ? std::to_string(size) + " processes" : "an MPI launch",
                      "one process: run it without mpirun, or build with -DTRICOT_MPI=ON");
+  refuse_duplicated_tasks(1);
 }
 World::~World() = default;
 void World::lead(ident::Objective&) {}

@@ -12,6 +12,7 @@
 
 #include "identification_outputs.hpp"
 #include "identification_report.hpp"
+#include "tricot/ident/problem.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/project/checkpoint.hpp"
 #include "tricot/project/output_dir.hpp"
@@ -83,6 +84,8 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   const auto& objective = P.objective;
   const auto& parameters = objective->parameters();
   IdentifyOutcome outcome;
+  outcome.ranks = req.ranks;
+  outcome.threads = ident::thread_team(options.threads);
   outcome.truth = P.truth;
   outcome.residuals = objective->residuals();
   outcome.dofs = models.front().mesh.dofs();
@@ -118,9 +121,10 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   const ident::Problem& minimised = P.stability ? static_cast<const ident::Problem&>(*P.stability) : *objective;
   const KillAfterEvaluations killer(minimised, req.kill_after_evaluations);  // testing aid
 
-  log.print(fmt::format("identify: {} coefficients of {} from {} values ({}), {} dofs, {} Jacobian{}",
+  log.print(fmt::format("identify: {} coefficients of {} from {} values ({}), {} dofs, {} Jacobian, {} MPI rank{} × {} thread{}{}",
                             parameters.size(), law->name(), outcome.residuals, outcome.data, outcome.dofs,
-                            ident::to_string(options.jacobian),
+                            ident::to_string(options.jacobian), outcome.ranks, outcome.ranks == 1 ? "" : "s",
+                            outcome.threads, outcome.threads == 1 ? "" : "s",
                             req.resume ? fmt::format(", resumed at iteration {}", options.resume_from->iterations) : ""));
   if (P.stability) log.print(fmt::format("identify: with the stability barrier ({} rows)", P.stability->barrier_rows()));
   const double outside = spec.data.domain_weight;  // 0: left out (restricted), else the weight (weighted)

@@ -56,6 +56,8 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
   j["jacobian_evaluations"] = r.jacobian_evaluations;
   j["resumed"] = resumed;
   j["start"] = named(r.names, r.start);
+  j["ranks"] = o.ranks;      // MPI processes that simulated the tests
+  j["threads"] = o.threads;  // OpenMP threads per process for the tests
   if (o.levels) {  // [identify] coarse_mesh: what each level did; the keys above are the last level's
     json levels = json::array();
     for (std::size_t l = 0; l < o.levels->levels.size(); ++l) {

@@ -4,8 +4,13 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "testing/experiment_case.hpp"
 #include "tricot/project/experiment_files.hpp"
@@ -227,6 +232,69 @@ TEST_F(Identify, ARunThatDoesNotConvergeExitsFourWithItsResult) {
   const json j = result("cut");
   EXPECT_EQ(j["termination"], "max_iterations");
   EXPECT_FALSE(j["converged"].get<bool>());
+}
+
+// Sets environment variables for one test and puts the process's own back after it.
+using EnvVars = std::vector<std::pair<std::string, std::string>>;
+class ScopedEnv {
+ public:
+  explicit ScopedEnv(const EnvVars& set) {
+    for (const auto& [name, value] : set) {
+      const char* v = std::getenv(name.c_str());
+      saved_.emplace_back(name, v ? std::optional<std::string>(v) : std::nullopt);
+      ::setenv(name.c_str(), value.c_str(), 1);
+    }
+  }
+  ~ScopedEnv() {
+    for (const auto& [name, value] : saved_)
+      if (value) ::setenv(name.c_str(), value->c_str(), 1); else ::unsetenv(name.c_str());
+  }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  std::vector<std::pair<std::string, std::optional<std::string>>> saved_;
+};
+
+// Issue 34: result.json and the first line say how many processes and threads ran the tests.
+TEST_F(Identify, RecordsTheRanksAndThreadsThatRan) {
+  const auto one = identify("threads1", small_project("../exp", "[identify]\nthreads = 1\nmax_iterations = 1\n"));
+  ASSERT_TRUE(one.exit_code == 0 || one.exit_code == 4) << one.err;
+  EXPECT_EQ(result("threads1")["ranks"], 1);
+  EXPECT_EQ(result("threads1")["threads"], 1);
+  EXPECT_NE(one.out.find(", 1 MPI rank × 1 thread\n"), std::string::npos) << one.out;
+
+  // threads = 0 (the default) follows OpenMP's OMP_NUM_THREADS, as campaign.slurm sets it.
+  ScopedEnv env(EnvVars{{"OMP_NUM_THREADS", "3"}});
+  const auto three = identify("threads3", small_project("../exp", "[identify]\nmax_iterations = 1\n"));
+  ASSERT_TRUE(three.exit_code == 0 || three.exit_code == 4) << three.err;
+  EXPECT_EQ(result("threads3")["ranks"], 1);
+  EXPECT_EQ(result("threads3")["threads"], 3);
+  EXPECT_NE(three.out.find(", 1 MPI rank × 3 threads\n"), std::string::npos) << three.out;
+}
+
+// Issue 34: `srun -n 2 tricot identify` without an MPI plugin starts two processes that no MPI world
+// joins; each would run the whole identification into the same folder and exit 0. Task 0 says so in
+// one line, every task exits 2 and nothing is written.
+TEST_F(Identify, RefusesSeveralSlurmTasksThatNoMpiWorldJoins) {
+  const fs::path dir = root_ / "duplicated";
+  fs::remove_all(dir);
+  write_file(dir / "project.toml", small_project("../exp"));
+  const std::string args = "identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " -q";
+  for (const std::string task : {"0", "1"}) {
+    ScopedEnv env(EnvVars{{"SLURM_STEP_NUM_TASKS", "2"}, {"SLURM_STEP_ID", "0"}, {"SLURM_NTASKS", "2"}, {"SLURM_PROCID", task}});
+    const auto r = run_tricot(args);
+    EXPECT_EQ(r.exit_code, 2) << "task " << task << ": " << r.err;
+    if (task == "0") {
+      EXPECT_EQ(r.err.rfind("tricot: error: mpi: Slurm started 2 tasks of tricot and no MPI world joins them", 0), 0u) << r.err;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    } else {
+      EXPECT_EQ(r.err, "") << "only task 0 prints";
+    }
+    EXPECT_FALSE(fs::exists(dir / "out")) << "task " << task;
+  }
+  ScopedEnv one(EnvVars{{"SLURM_STEP_NUM_TASKS", "1"}, {"SLURM_STEP_ID", "0"}, {"SLURM_NTASKS", "1"}, {"SLURM_PROCID", "0"}});
+  EXPECT_EQ(run_tricot(args + " --no-plots").exit_code, 0) << "one task is one run";
 }
 
 TEST_F(Identify, FiniteDifferencesReachTheSameAnswer) {

@@ -30,6 +30,8 @@ for n in (2, 4):
     for key in ("iterations", "evaluations", "termination"):
         if r[key] != one[key]:
             print(f"np {n}: {key} {r[key]} != {one[key]}"); ok = False
+    if r["ranks"] != n or one["ranks"] != 1:  # result.json records the processes (issue 34)
+        print(f"np {n}: result.json ranks {r['ranks']}, one process {one['ranks']}"); ok = False
     pairs = [("objective", r["objective"], one["objective"])]
     pairs += [(f"parameters.{k}", r["parameters"][k], v) for k, v in one["parameters"].items()]
     pairs += [(f"std_error.{k}", r["std_error"][k], v) for k, v in one["std_error"].items()]

@@ -34,10 +34,21 @@ struct Traffic {
 int launcher_rank();
 int launcher_size();  ///< 0 when the launcher does not say (PMIx)
 
+/// The tasks Slurm started for this job step (SLURM_STEP_NUM_TASKS, set by srun; SLURM_NTASKS
+/// where an older srun sets SLURM_STEP_ID without it); 1 outside Slurm and in a batch script itself
+/// (one process, whatever the allocation's --ntasks).
+int slurm_step_tasks();
+/// Throws InputError (key `mpi`, exit 2) when Slurm started several tasks (slurm_step_tasks() > 1)
+/// and `world_size` is 1: a plain `srun -n N` without an MPI plugin (MpiDefault=none), or an MPI
+/// library that does not speak the plugin's PMI, where each task would run the whole identification
+/// into the same folder and all would exit 0.
+void refuse_duplicated_tasks(int world_size);
+
 /// MPI_COMM_WORLD, when this process was started by an MPI launcher (mpirun, srun) and the build has
 /// MPI; otherwise one process (rank 0 of 1) and every method is a no-op. In a build without MPI,
 /// started by a launcher with more than one process, the constructor throws InputError (key `mpi`):
-/// the ranks would each run the whole identification into the same folder.
+/// the ranks would each run the whole identification into the same folder. In both builds it throws
+/// refuse_duplicated_tasks's error when Slurm started several tasks that no MPI world joins.
 class World {
  public:
   World();

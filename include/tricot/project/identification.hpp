@@ -85,6 +85,9 @@ struct IdentifyRequest {
   /// Called with the objective once it is built, before any evaluation; may be empty. `tricot
   /// identify` under mpirun spreads its tests over the ranks here (mpi::World::lead).
   std::function<void(ident::Objective&)> distribute;
+  /// The processes `distribute` spreads the tests over (the MPI world's size), for result.json's
+  /// "ranks" and the first log line; 1 without MPI.
+  int ranks = 1;
 };
 
 struct IdentifyOutcome {
@@ -99,6 +102,8 @@ struct IdentifyOutcome {
   std::vector<int> level_dofs;
   /// `--resume` found the run finished: nothing was run or written; `result` is the checkpoint's.
   bool already_finished = false;
+  int ranks = 1;    ///< MPI processes that simulated the tests (IdentifyRequest::ranks)
+  int threads = 1;  ///< OpenMP threads per process for the tests ([identify] threads, resolved)
 };
 
 /// Runs the identification of a validated project: reads the experiment, builds the objective,
