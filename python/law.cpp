@@ -52,9 +52,9 @@ PyLaw make_law(const py::object& spec, const py::object& base) {
 py::array_t<double, py::array::c_style | py::array::forcecast> tensors(const py::object& a, const char* what) {
   auto t = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
   if (!t) throw py::error_already_set();
-  if (t.ndim() == 2) t = t.reshape({py::ssize_t(1), py::ssize_t(2), py::ssize_t(2)});
+  if (t.ndim() == 2 && t.shape(0) == 2 && t.shape(1) == 2) t = t.reshape({py::ssize_t(1), py::ssize_t(2), py::ssize_t(2)});
   if (t.ndim() != 3 || t.shape(1) != 2 || t.shape(2) != 2)
-    throw InputError({what, 0, ""}, "not 2 × 2 tensors", "shape of " + std::to_string(t.ndim()) + " dimensions", "(2, 2) or (n, 2, 2)");
+    throw InputError({what, 0, ""}, "not 2 × 2 tensors", py::str(a.attr("shape")).cast<std::string>(), "(2, 2) or (n, 2, 2)");
   return t;
 }
 

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 
+#include <pybind11/stl.h>
+
 #include "arrays.hpp"
 #include "run.hpp"
 #include "spec.hpp"
