@@ -64,7 +64,8 @@ py::tuple evaluate(const PyLaw& self, const py::object& F_in, const py::object& 
   const auto F = tensors(F_in, "F");
   const py::ssize_t n = F.shape(0);
   py::array_t<double, py::array::c_style | py::array::forcecast> Q;
-  if (!Q_in.is_none()) {
+  const bool has_Q = !Q_in.is_none();  // (a default array_t is an empty array, not a null handle)
+  if (has_Q) {
     Q = tensors(Q_in, "Q");
     if (Q.shape(0) != 1 && Q.shape(0) != n)
       throw InputError({"Q", 0, ""}, "one material frame, or one per F", std::to_string(Q.shape(0)), "1 or " + std::to_string(n));
@@ -74,7 +75,7 @@ py::tuple evaluate(const PyLaw& self, const py::object& F_in, const py::object& 
   {
     py::gil_scoped_release release;
     const double* f = F.data();
-    const double* q = Q ? Q.data() : nullptr;
+    const double* q = has_Q ? Q.data() : nullptr;
     const fem::LawRequest request{tangent != "none", false};
     for (py::ssize_t k = 0; k < n; ++k) {
       fem::LawInput in;

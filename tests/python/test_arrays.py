@@ -115,6 +115,21 @@ class LawAtF(unittest.TestCase):
         with self.assertRaises(tricot.ConfigError):
             law.evaluate(np.ones((3, 3)))
 
+    def test_an_orthotropic_law_in_its_material_frame(self):
+        # paper14's response surface: no Q is the identity frame; a frame turned by 90° swaps course and
+        # wale, so F = diag(a, b) in it gives the forces of diag(b, a) in the identity frame, swapped.
+        law = tricot.Law({"type": "response_surface",
+                          "response_surface": {"preset": "paper14", "coefficients": [0.1] * 14}})
+        F = np.diag([1.2, 1.1])
+        P, _, _ = law.evaluate(F)
+        P_I, _, _ = law.evaluate(F, Q=np.eye(2))
+        np.testing.assert_array_equal(P, P_I)
+        self.assertTrue(np.isfinite(P).all())
+        turned = np.array([[0.0, -1.0], [1.0, 0.0]])
+        P_T, _, _ = law.evaluate(F, Q=turned)
+        P_swapped, _, _ = law.evaluate(np.diag([1.1, 1.2]))
+        np.testing.assert_allclose(np.diag(P_T[0]), np.diag(P_swapped[0])[::-1], rtol=1e-12)
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)
