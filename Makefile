@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS  ?= 2
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build test test-fast bench demo sanitize fuzz clean
+.PHONY: all deps configure build python test test-fast bench demo sanitize fuzz clean
 
 all: build
 
@@ -17,6 +17,11 @@ configure: deps $(BUILD)/build.ninja
 
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
+
+# The `tricot` Python module alone (build/python; the default build makes it too):
+#   PYTHONPATH=build/python python3 -c "import tricot"
+python: configure
+	cmake --build $(BUILD) -j $(JOBS) --target python
 
 # All tests, slow ones included (CI runs this).
 test: build

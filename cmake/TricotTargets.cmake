@@ -8,6 +8,13 @@ function(tricot_engine name)
     file(WRITE ${sources} "")
   endif()
   add_library(tricot_${name} STATIC ${sources})
+  if(TRICOT_PYTHON)
+    # The Python module (python/) is a shared object that links these libraries: position-independent
+    # code (thread-locals included), with -fno-semantic-interposition so that GCC still inlines and
+    # calls the libraries' own functions directly, as in the executables.
+    set_target_properties(tricot_${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    target_compile_options(tricot_${name} PRIVATE -fno-semantic-interposition)
+  endif()
   target_include_directories(tricot_${name} PUBLIC ${PROJECT_SOURCE_DIR}/include
                                             PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
   target_link_libraries(tricot_${name} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
