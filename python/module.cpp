@@ -1,4 +1,4 @@
-// The `tricot` Python module (issue 33, DESIGN.md "python/"): the pipelines of the verbs and their
+// The `tricot` Python module (issue 33, docs/design.md): the pipelines of the verbs and their
 // results with NumPy arrays, a law at given deformation gradients, images and fields without copies.
 #include <pybind11/pybind11.h>
 

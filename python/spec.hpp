@@ -1,7 +1,7 @@
 // Specs from Python (issue 33): a dict becomes TOML text and goes through the same config reader as a
 // file (io::parse_config with the verb's schema), so defaults, ranges and error messages are the CLI's;
 // a str or os.PathLike names a TOML file (io::read_config). And the Python exception classes, one per
-// exit-code class of the CLI (DESIGN.md "Exit codes"), carrying the CLI's one-line message.
+// exit-code class of the CLI (docs/design.md, "Exit codes"), carrying the CLI's one-line message.
 #pragma once
 
 #include <pybind11/pybind11.h>
