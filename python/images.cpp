@@ -53,15 +53,7 @@ py::object correlate(Frames& frames, const py::object& spec, const py::object& s
   if (frames.images.size() < 2)
     throw InputError({"frames", 0, ""}, "a sequence needs a reference and a frame", std::to_string(frames.images.size()) + " frames", ">= 2");
   project::DicSpec d = project::DicSpec::from_config(s.root, s.base);
-  if (!subset.is_none()) d.dic.subset_size = subset.cast<int>(), d.dic.origin.set_by_flag("subset_size", "subset=");
-  if (!step.is_none()) d.dic.step = step.cast<int>(), d.dic.origin.set_by_flag("step", "step=");
-  if (!mode.empty()) d.dic.mode = mode, d.dic.origin.set_by_flag("mode", "mode=");
-  if (!roi.is_none()) {
-    d.dic.roi = roi.cast<std::vector<double>>();
-    d.dic.roi_polygon.clear();
-    d.dic.roi_mask.clear();
-    d.dic.origin.set_by_flag("roi", "roi=");
-  }
+  apply_dic_keywords(d, subset, step, mode, roi);
   for (const image::Image& img : frames.images) image::require_same_size(frames.images.front(), img, "frames");
   const project::DicSettings settings = d.settings(frames.images.front());
   Runner runner(progress, py::none());

@@ -231,15 +231,7 @@ DicRun dic(const py::object& images, const py::object& out, const py::object& sp
   if (files.empty()) throw InputError({"images", 0, ""}, "no image given", {}, "the reference image, then the frames");
   // The keywords over the spec, as the CLI's flags over the file (project::dic_spec).
   project::DicSpec d = project::DicSpec::from_config(s.root, s.base);
-  if (!subset.is_none()) d.dic.subset_size = subset.cast<int>(), d.dic.origin.set_by_flag("subset_size", "subset=");
-  if (!step.is_none()) d.dic.step = step.cast<int>(), d.dic.origin.set_by_flag("step", "step=");
-  if (!mode.empty()) d.dic.mode = mode, d.dic.origin.set_by_flag("mode", "mode=");
-  if (!roi.is_none()) {
-    d.dic.roi = roi.cast<std::vector<double>>();
-    d.dic.roi_polygon.clear();
-    d.dic.roi_mask.clear();
-    d.dic.origin.set_by_flag("roi", "roi=");
-  }
+  apply_dic_keywords(d, subset, step, mode, roi);
   project::DicRunOptions options;
   options.resume = resume;
   options.keep_frames = true;  // the arrays of every frame
@@ -251,6 +243,19 @@ DicRun dic(const py::object& images, const py::object& out, const py::object& sp
 }
 
 }  // namespace
+
+void apply_dic_keywords(project::DicSpec& d, const py::object& subset, const py::object& step, const std::string& mode,
+                        const py::object& roi) {
+  if (!subset.is_none()) d.dic.subset_size = subset.cast<int>(), d.dic.origin.set_by_flag("subset_size", "subset=");
+  if (!step.is_none()) d.dic.step = step.cast<int>(), d.dic.origin.set_by_flag("step", "step=");
+  if (!mode.empty()) d.dic.mode = mode, d.dic.origin.set_by_flag("mode", "mode=");
+  if (!roi.is_none()) {
+    d.dic.roi = roi.cast<std::vector<double>>();
+    d.dic.roi_polygon.clear();
+    d.dic.roi_mask.clear();
+    d.dic.origin.set_by_flag("roi", "roi=");
+  }
+}
 
 py::dict dic_arrays(const dic::SequenceResult& r) {
   const std::size_t F = r.frames.size(), N = r.grid.size();
