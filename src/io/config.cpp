@@ -311,12 +311,16 @@ void print_comment(std::string& out, const std::string& text) {
   for (std::string line; std::getline(in, line);) out += line.empty() ? "#\n" : "# " + line + "\n";
 }
 
-void print_section(std::string& out, const SectionSpec& s, const std::string& path) {
+// An array of tables inside another table (e.g. [[test.boundary]]) is optional: its example entry is
+// printed commented out, so that the printed config runs as it is.
+void print_section(std::string& out, const SectionSpec& s, const std::string& path, bool commented = false) {
+  commented = commented || (s.array && path.find('.') != std::string::npos);
+  const std::string lead = commented ? "# " : "";
   if (!path.empty()) {
     out += "\n";
     print_comment(out, s.help);
-    if (s.array) print_comment(out, "(repeat this table once per entry)");
-    out += (s.array ? "[[" + path + "]]\n" : "[" + path + "]\n");
+    if (s.array) print_comment(out, commented ? "(optional: uncomment, and repeat once per entry)" : "(repeat this table once per entry)");
+    out += lead + (s.array ? "[[" + path + "]]\n" : "[" + path + "]\n");
   } else if (!s.help.empty()) {
     print_comment(out, s.help);
     out += "\n";
@@ -326,9 +330,9 @@ void print_section(std::string& out, const SectionSpec& s, const std::string& pa
     const std::string r = range_text(k);
     if (!r.empty()) help += (help.empty() ? "" : " ") + std::string("[") + r + "]";
     print_comment(out, help);
-    out += k.name + " = " + to_toml(k.default_value) + "\n";
+    out += lead + k.name + " = " + to_toml(k.default_value) + "\n";
   }
-  for (const auto& sub : s.sections) print_section(out, sub, join(path, sub.name));
+  for (const auto& sub : s.sections) print_section(out, sub, join(path, sub.name), commented);
 }
 
 }  // namespace
