@@ -305,11 +305,13 @@ void schema_cases(const Verb& v, const io::SectionSpec& s, const std::string& he
   for (const io::SectionSpec& sub : s.sections) {
     const std::string name = path.empty() ? sub.name : path + "." + sub.name;
     const std::string h = sub.array ? "[[" + name + "]]" : "[" + (header.empty() ? sub.name : name) + "]";
-    // An array table's entries are named `test[0]`; a sub-table of it `[test.mesh]`, named `test[0].mesh`.
+    // An array table's entries are named `test[0]`; a sub-table of it `[test.mesh]`, named `test[0].mesh`,
+    // and an array inside it `[[test.boundary]]`, named `test[0].boundary[0]`.
     std::string hdr = h, p = sub.array ? name + "[0]" : name;
     if (!header.empty() && header.rfind("[[", 0) == 0) {
-      hdr = "[" + replace_all(replace_all(header, "[[", ""), "]]", "") + "." + sub.name + "]";
-      p = path + "." + sub.name;
+      const std::string table = replace_all(replace_all(header, "[[", ""), "]]", "") + "." + sub.name;
+      hdr = sub.array ? "[[" + table + "]]" : "[" + table + "]";
+      p = path + "." + sub.name + (sub.array ? "[0]" : "");
     }
     schema_cases(v, sub, hdr, p, out);
   }
