@@ -122,9 +122,10 @@ TEST(ReportInBrowser, EveryFigureLoadsAndThePagePrintsToPdf) {
   ASSERT_TRUE(fs::exists(html));
   ASSERT_TRUE(fs::exists(dir / "out" / "report.json"));
 
-  // The figures the page embeds: the LM history, the fit of the one test and the eq. 9 surface.
+  // The figures the page embeds: the LM history, the fit of the one test, its field residual map and
+  // the eq. 9 surface.
   const std::size_t images = count_images(io::read_text(html));
-  EXPECT_EQ(images, 3u);
+  EXPECT_EQ(images, 4u);
 
   check_in_browser(exe, dir, html, images, dir / "report.png", 4600);
 }
