@@ -11,16 +11,25 @@ namespace tricot::fem::detail {
 
 namespace {
 
-// Conditions per named boundary (TestModel::conditions): fixed or series dofs; the force boundary's
-// component plays the quarter's top u_y (DofMap::top_y).
+// Conditions per named boundary (TestModel::conditions): fixed, series or tied dofs, a later condition
+// winning; the force boundary's component plays the quarter's top u_y (DofMap::top_y).
 void map_conditions(const TestModel& test, DofMap& d) {
   const Mesh& m = test.mesh;
-  for (const BoundaryCondition& c : test.conditions) {
+  for (size_t i = 0; i < test.conditions.size(); ++i) {
+    const BoundaryCondition& c = test.conditions[i];
     const int s = c.values.empty() ? -1 : static_cast<int>(d.series_values.size());
     if (s >= 0) d.series_values.push_back(c.values);
-    for (int n : m.boundary(c.boundary)) {
-      d.eq[2 * n + c.component] = -1;
-      d.series[2 * n + c.component] = s;
+    auto set = [&](int n, int eq, double tie) {
+      const int k = 2 * n + c.component;
+      d.eq[k] = eq, d.tie[k] = tie;
+      d.series[k] = eq < 0 ? s : -1;
+      d.anchor[k] = eq < 0 ? -1 : s;
+      d.scale[k] = c.proportional ? m.X(c.component, n) : 1.0;
+    };
+    if (c.tie > 0) {
+      for (const auto& [n, tie] : test.tie_stiffness(i)) set(n, 0, tie);
+    } else {
+      for (int n : m.boundary(c.boundary)) set(n, -1, 0.0);
     }
   }
   if (!test.force_boundary.empty())
@@ -38,6 +47,8 @@ DofMap make_dof_map(const TestModel& test) {
   d.guide.assign(ndof, 0.0);
   d.tie.assign(ndof, 0.0);
   d.series.assign(ndof, -1);
+  d.anchor.assign(ndof, -1);
+  d.scale.assign(ndof, 1.0);
   for (const std::string& name : test.resultant_boundaries()) d.resultant_nodes.push_back(m.boundary(name));
   if (test.has_conditions()) {
     map_conditions(test, d);
@@ -126,7 +137,7 @@ void expand(const DofMap& dofs, const Eigen::VectorXd& z, const Load& load, Eige
       u(k) = z(dofs.eq[k]);
     } else {
       u(k) = load.d * dofs.grip[k] + load.c * dofs.guide[k];
-      if (dofs.series[k] >= 0) u(k) += series_value(dofs.series_values[dofs.series[k]], load.t);
+      if (dofs.series[k] >= 0) u(k) += dofs.scale[k] * series_value(dofs.series_values[dofs.series[k]], load.t);
     }
   }
 }
@@ -134,8 +145,14 @@ void expand(const DofMap& dofs, const Eigen::VectorXd& z, const Load& load, Eige
 Eigen::VectorXd series_displacements(const DofMap& dofs, double t) {
   Eigen::VectorXd u = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dofs.eq.size()));
   for (size_t k = 0; k < dofs.eq.size(); ++k)
-    if (dofs.series[k] >= 0) u(static_cast<Eigen::Index>(k)) = series_value(dofs.series_values[dofs.series[k]], t);
+    if (dofs.series[k] >= 0)
+      u(static_cast<Eigen::Index>(k)) = dofs.scale[k] * series_value(dofs.series_values[dofs.series[k]], t);
   return u;
+}
+
+double tie_anchor(const DofMap& dofs, int k, const Load& load) {
+  const double c = load.c * dofs.guide[k];
+  return dofs.anchor[k] < 0 ? c : c + dofs.scale[k] * series_value(dofs.series_values[dofs.anchor[k]], load.t);
 }
 
 namespace {
@@ -253,7 +270,7 @@ Assembler::Assembler(const TestModel& test, const DofMap& dofs, const Law& law)
   }
 }
 
-bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assembled& a, double c) const {
+bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assembled& a, const Load& load) const {
   const Mesh& m = test_.mesh;
   const int ndof = m.dofs(), neq = dofs_.equations;
   a.f.setZero(ndof);
@@ -337,11 +354,11 @@ bool Assembler::assemble(const Eigen::VectorXd& u, const LawRequest& req, Assemb
       if (a.status == ElementStatus::ok) a.min_detF = std::min(a.min_detF, min_detF);
     }
   }
-  // Ties: f += t (u − c w), ∂R/∂u = t, ∂R/∂c = −t w.
+  // Ties: f += t (u − anchor), ∂R/∂u = t, ∂R/∂c = −t w (anchor = c w on the quarter).
   for (int k = 0; k < ndof && !failed; ++k) {
     const double t = dofs_.tie[k];
     if (t == 0) continue;
-    a.f(k) += t * (u(k) - c * dofs_.guide[k]);
+    a.f(k) += t * (u(k) - tie_anchor(dofs_, k, load));
     if (req.tangent) {
       a.K.coeffRef(dofs_.eq[k], dofs_.eq[k]) += t;
       a.g_guide(dofs_.eq[k]) -= t * dofs_.guide[k];

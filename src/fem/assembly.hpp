@@ -38,6 +38,11 @@ struct DofMap {
   std::vector<double> tie;
   /// Per node dof: the boundary series (index into `series_values`) that prescribes it, or −1.
   std::vector<int> series;
+  /// Per node dof: the series whose value its tie pulls toward (a tied condition), or −1.
+  std::vector<int> anchor;
+  /// Per node dof: the factor of its series' value (1, or the node's coordinate for a proportional
+  /// condition, BoundaryCondition::proportional).
+  std::vector<double> scale;
   std::vector<std::vector<double>> series_values;  ///< TestModel::conditions' values, one per step
   /// Nodes of each boundary whose resultant is recorded (TestModel::resultant_boundaries()).
   std::vector<std::vector<int>> resultant_nodes;
@@ -51,6 +56,9 @@ DofMap make_dof_map(const TestModel& test);
 void expand(const DofMap& dofs, const Eigen::VectorXd& z, const Load& load, Eigen::VectorXd& u);
 /// The boundary series' values at step parameter t on their dofs, 0 on every other dof (2·nodes).
 Eigen::VectorXd series_displacements(const DofMap& dofs, double t);
+/// Where the tie of dof k pulls toward under `load`: c·guide on the quarter, the scaled series value of
+/// a tied condition (DofMap::anchor), or 0.
+double tie_anchor(const DofMap& dofs, int k, const Load& load);
 
 /// Everything one assembly returns.
 struct Assembled {
@@ -74,8 +82,9 @@ class Assembler {
   /// Evaluates every element at u; without `request.tangent`, K, g_*, h_top and `symmetric` keep the
   /// values of the last assembly that had one. Returns false (with a.status/element set) on an inverted element
   /// or a non-finite law value; a's vectors are then meaningless.
-  /// `c` is the guide position the ties (DofMap::tie) pull toward; f then includes the tie forces.
-  bool assemble(const Eigen::VectorXd& u, const LawRequest& request, Assembled& a, double c = 0) const;
+  /// The ties (DofMap::tie) pull toward their anchors under `load` (tie_anchor); f then includes the
+  /// tie forces.
+  bool assemble(const Eigen::VectorXd& u, const LawRequest& request, Assembled& a, const Load& load = {}) const;
   /// The free-free pattern (values zero), for the symbolic factorization.
   const Eigen::SparseMatrix<double>& pattern() const { return pattern_; }
 

@@ -162,7 +162,7 @@ bool Simulation::evaluate(const Eigen::VectorXd& z, const Load& L, bool tangent,
   req.sensitivities = sensitivities;
   if (tangent) factor_current_ = false;
   tangent_fresh_ = tangent;
-  return assembler_.assemble(u_, req, assembled_, L.c);
+  return assembler_.assemble(u_, req, assembled_, L);
 }
 
 // K(assembled_) x = b (b may have several columns), factorizing assembled_.K unless the factorization is of it. With
@@ -274,8 +274,14 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
   const Eigen::VectorXd z0 = z_;
   Eigen::VectorXd rhs = (to.d - from.d) * assembled_.g_grip + (to.c - from.c) * assembled_.g_guide;
   if (dofs_.master >= 0) rhs(dofs_.master) -= 0.5 * (to.F - from.F);
-  if (to.t != from.t)
+  if (to.t != from.t) {
     rhs += assembled_.K_fs * (detail::series_displacements(dofs_, to.t) - detail::series_displacements(dofs_, from.t));
+    for (size_t k = 0; k < dofs_.anchor.size(); ++k)  // tied conditions: ∂R/∂anchor = −t
+      if (dofs_.anchor[k] >= 0) {
+        const int i = static_cast<int>(k);
+        rhs(dofs_.eq[k]) -= dofs_.tie[k] * (detail::tie_anchor(dofs_, i, to) - detail::tie_anchor(dofs_, i, from));
+      }
+  }
   Eigen::MatrixXd sol;
   Failure ignored;  // without a tangent predictor, Newton starts from z0 and reports its own failure
   if (!linear_solve(rhs, sol, ignored, true)) sol.setZero(rhs.size(), 1);
@@ -543,15 +549,17 @@ bool Simulation::add_sensitivities(SimulationResult& result) {
 void Simulation::record(const Load& L, StepResult& step) {
   step.u = u_;
   step.edge_displacement = dofs_.master >= 0 ? z_(dofs_.master) : L.d;
+  // The fabric's pull on what holds it: the internal force, without the ties' own force.
+  auto pull = [&](int k) { return assembled_.f(k) - dofs_.tie[k] * (u_(k) - detail::tie_anchor(dofs_, k, L)); };
   double top = 0, side = 0;
-  for (int k : dofs_.top_y) top += assembled_.f(k);
-  for (int k : dofs_.right_x) side += assembled_.f(k) - dofs_.tie[k] * (u_(k) - L.c * dofs_.guide[k]);  // the fabric's pull
+  for (int k : dofs_.top_y) top += pull(k);
+  for (int k : dofs_.right_x) side += pull(k);
   step.edge_force = force_scale() * top;
   step.side_force = test_.side == SideEdge::guide ? 2 * side : 0.0;
   step.resultants.clear();
   for (const std::vector<int>& nodes : dofs_.resultant_nodes) {
     Vec2 sum = Vec2::Zero();
-    for (int n : nodes) sum += assembled_.f.segment<2>(2 * n);
+    for (int n : nodes) sum += Vec2(pull(2 * n), pull(2 * n + 1));
     step.resultants.push_back(sum);
   }
   if (!test_.has_conditions()) {

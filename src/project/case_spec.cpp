@@ -327,6 +327,24 @@ io::SectionSpec test_section() {
       key("uy_column", std::string(""), "series: the column of u_y, mm."),
       key("force", std::string(""), "x or y: this boundary's resultant along it is the test's force (N).", -kInf,
           kInf, {"", "x", "y"}),
+      key("proportional", false,
+          "ux and uy are displacements per mm of the node's x and y (u_x = ux·X, mm/mm): a clamp that spreads\n"
+          "about the axis, as the paper's pantograph clips follow the guides."),
+      key("tie", 0.0,
+          "> 0: the components this table holds or prescribes are held by compliant ties instead (N/mm per mm\n"
+          "of boundary, lumped on the nodes by their share of its length): a compliant clamp or a guide that\n"
+          "the fabric slides along. 0 = rigid.",
+          0, 1e12),
+      key("tie_end", Reals{},
+          "[x, y], mm: the tie ends at the boundary's point closest to this one; it runs from the boundary's\n"
+          "far end up to it (the nodes beyond are left free): a guide that ends short of the clips.",
+          -1e9, 1e9),
+      key("tie_taper", 0.0, "mm: the tie's stiffness falls linearly to 0 over this length before tie_end.", 0, 1e9),
+      key("tie_lumping", std::string("consistent"),
+          "How the tie is shared among the nodes: \"consistent\" (∫ N_i ds over each element side: a uniform tie\n"
+          "pulls a quadratic side as a uniform traction does) or \"segments\" (half of each node-to-node\n"
+          "segment, the built-in rig's rule; the same on linear elements).",
+          -kInf, kInf, {"consistent", "segments"}),
   };
   s.sections = {test_mesh_section(), b};
   return s;
@@ -398,6 +416,9 @@ BoundarySpec BoundarySpec::from_config(const io::Node& n) {
   b.ux = n.reals("ux"), b.uy = n.reals("uy");
   b.series = n.string("series"), b.ux_column = n.string("ux_column"), b.uy_column = n.string("uy_column");
   b.force = n.string("force");
+  b.proportional = n.boolean("proportional");
+  b.tie = n.real("tie"), b.tie_end = n.reals("tie_end"), b.tie_taper = n.real("tie_taper");
+  b.tie_lumping = n.string("tie_lumping");
   b.folder = n.file().empty() ? std::string() : fs::path(n.file()).parent_path().string();
   b.origin = Origin(n);
   return b;
@@ -808,6 +829,7 @@ fem::TestModel TestSpec::custom_model(const MeshSpec& case_mesh) const {
       if (word != "x" && word != "y") o.fail(key, "not a component", "\"" + word + "\"", "\"x\" or \"y\"");
       return word == "x" ? 0 : 1;
     };
+    const size_t first = t.conditions.size();
     for (const std::string& c : b.fix) t.conditions.push_back({b.name, component(c, "fix"), {}});
     if (b.symmetry) {
       // The boundary lies on x = const (normal x) or y = const (normal y).
@@ -837,7 +859,31 @@ fem::TestModel TestSpec::custom_model(const MeshSpec& case_mesh) const {
                fmt::format("the series of boundary '{}' has {} values for {} steps", b.name, v.size(), t.loads.size()),
                fmt::format("{} values", v.size()), fmt::format("one per step ({})", t.loads.size()));
       t.conditions.push_back({b.name, c, v});
+      t.conditions.back().proportional = b.proportional;
     }
+    if (b.proportional && ux.empty() && uy.empty())
+      o.fail("proportional", "proportional values need ux or uy", "true", "ux or uy (mm per mm)");
+    if (b.tie > 0) {
+      if (b.symmetry) o.fail("tie", "a line of symmetry is exact: it takes no tie", num(b.tie), "0, or no symmetry");
+      if (t.conditions.size() == first)
+        o.fail("tie", "a tie needs the components it holds: fix, ux or uy", num(b.tie), "fix = [\"x\"], ux or uy");
+      if (!b.tie_end.empty() && b.tie_end.size() != 2)
+        o.fail("tie_end", "not a point", fmt::format("{} values", b.tie_end.size()), "[x, y] in mm");
+      for (size_t i = first; i < t.conditions.size(); ++i) {
+        fem::BoundaryCondition& c = t.conditions[i];
+        c.tie = b.tie, c.tie_taper = b.tie_taper, c.tie_consistent = b.tie_lumping == "consistent";
+        if (!b.tie_end.empty()) c.tie_end = Vec2(b.tie_end[0], b.tie_end[1]);
+        try {
+          t.tie_stiffness(i);
+        } catch (const InputError& e) {
+          o.fail(e.where().key.substr(e.where().key.rfind('.') + 1), problem_of(e));
+        }
+      }
+    } else if (!b.tie_end.empty() || b.tie_taper != 0) {
+      o.fail(b.tie_end.empty() ? "tie_taper" : "tie_end", "a tie's end and taper need a tie", "tie = 0", "tie > 0");
+    }
+    if (b.tie_taper > 0 && b.tie_end.empty())
+      o.fail("tie_taper", "a taper needs the tie's end", num(b.tie_taper), "tie_end = [x, y]");
     if (!b.force.empty()) {
       if (!t.force_boundary.empty())
         o.fail("force", "two boundaries give the test's force", "\"" + t.force_boundary + "\" and \"" + b.name + "\"",

@@ -29,6 +29,9 @@ Physical Curve("bottom") = Curve In BoundingBox{-eps, -eps, -eps, 20 + eps, eps,
 Physical Curve("top") = Curve In BoundingBox{-eps, 50 - eps, -eps, 20 + eps, 50 + eps, eps};
 Physical Curve("left") = Curve In BoundingBox{-eps, -eps, -eps, eps, 50 + eps, eps};
 Physical Curve("right") = Curve In BoundingBox{20 - eps, -eps, -eps, 20 + eps, 50 + eps, eps};
+sides() = Curve In BoundingBox{-eps, -eps, -eps, eps, 50 + eps, eps};
+sides() += Curve In BoundingBox{20 - eps, -eps, -eps, 20 + eps, 50 + eps, eps};
+Physical Curve("sides") = {sides()};
 )";
 
 // A plane-strain neo-Hookean sheet held across (left and right u_x = 0), its bottom held along y and
@@ -104,6 +107,33 @@ TEST(CustomSpecimen, AGmshSheetHeldAcrossGivesThePlaneStrainClosedFormOnEveryEle
   }
 }
 
+// The top pulled through compliant ties (t = 0.04 N/mm per mm) instead of rigidly: the sheet and the
+// ties are springs in series. The held sheet stays homogeneous, F = diag(1, λ), and its force is also
+// the ties' t · width · (d − (λ − 1) L): λ solves 20 P22(λ) = 0.04 · 20 (d − 50 (λ − 1)) (bisection).
+TEST(CustomSpecimen, ATiedGripIsASpringInSeriesWithTheSheet) {
+  for (const char* element : {"T3", "T6", "Q4", "Q8"}) {
+    SCOPED_TRACE(element);
+    std::string text = held_sheet(element);
+    text.replace(text.find("force = \"y\""), 11, "force = \"y\"\ntie = 0.04");
+    const fs::path c = write_case(std::string("tied_") + element, text);
+    const fs::path out = c.parent_path() / "out";
+    const auto r = run_tricot("simulate " + c.string() + " -o " + out.string() + " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const io::Table t = io::read_csv(out / "held" / "steps.csv");
+    const std::vector<double> force = t.values("edge_force");
+    for (int k = 0; k < 2; ++k) {
+      const double d = 10.0 * (k + 1);
+      auto P22 = [](double l) { return 0.8 * (l - 1 / l) + 2.5 * std::log(l) / l; };
+      auto gap = [&](double l) { return P22(l) - 0.04 * (d - 50 * (l - 1)); };
+      double lo = 1, hi = 1 + d / 50;  // gap(lo) < 0 < gap(hi)
+      for (int i = 0; i < 200; ++i) (gap(0.5 * (lo + hi)) < 0 ? lo : hi) = 0.5 * (lo + hi);
+      const double expected = 20 * P22(0.5 * (lo + hi));
+      EXPECT_NEAR(force[k], expected, kHomogeneous * expected);
+      EXPECT_LT(force[k], 0.5 * 20 * P22(1 + d / 50));  // far below the rigid grip's force
+    }
+  }
+}
+
 TEST(CustomSpecimen, TheStripWithAHoleExampleBalancesItsClampsAndComesBackUnloaded) {
   const fs::path out = test::scratch_dir("custom_strip") / "out";
   const auto r = run_tricot("simulate " + (test::source_dir() / "examples/strip-with-hole/case.toml").string() +
@@ -134,7 +164,14 @@ TEST(CustomSpecimen, BadInputIsOneLineNamingTheFileKeyAndValueAndWritesNothing) 
   not_custom.replace(not_custom.find("kind = \"custom\""), 15, "kind = \"uniaxial\"");
   std::string missing = held_sheet("T3");
   missing.replace(missing.find("rect.geo"), 8, "none.geo");
+  std::string two_lines = held_sheet("T3");  // a guide that ends on two separate lines
+  two_lines.replace(two_lines.find("name = \"left\"\nfix = [\"x\"]"), 25,
+                    "name = \"sides\"\nfix = [\"x\"]\ntie = 1.0\ntie_end = [0, 40]");
+  std::string taper = held_sheet("T3");  // a taper with no end to fall toward
+  taper.replace(taper.find("force = \"y\""), 11, "force = \"y\"\ntie = 1.0\ntie_taper = 5.0");
   const Case cases[] = {
+      {"tie_two_lines", two_lines, "test[0].boundary[0].tie_end: test 'held': a tie that ends needs the boundary 'sides' to be one open line"},
+      {"tie_taper", taper, "test[0].boundary[3].tie_taper: a taper needs the tie's end"},
       {"unknown_boundary", no_such, "test[0].boundary[3].name: no boundary of the mesh is named 'tpo' (did you mean 'top'?)"},
       {"short_series", short_series, "test[0].boundary[3].uy: the series of boundary 'top' has 1 values for 2 steps"},
       {"not_custom", not_custom, "mesh.geometry: a Gmsh mesh is for tests of kind = \"custom\""},

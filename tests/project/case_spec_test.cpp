@@ -7,10 +7,14 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iostream>
 #include <memory>
 
+#include "testing/paths.hpp"
 #include "tricot/fem/reference_fabric.hpp"
+#include "tricot/fem/solver.hpp"
 #include "tricot/fem/wrinkling.hpp"
+#include "tricot/io/files.hpp"
 
 namespace tricot::project {
 namespace {
@@ -95,6 +99,49 @@ TEST(CaseSpec, ARigTestFromAFileIsTheEnginesRigTest) {
   EXPECT_NEAR((engine.mesh.X - t.mesh.X).cwiseAbs().maxCoeff(), 0, kExact);
   EXPECT_EQ(engine.loads, t.loads);
   EXPECT_EQ(spec.test[0].mesh_options(spec.mesh).width, 75);
+}
+
+// The paper's rig written as data (examples/rig-as-data: a .geo quarter, ties, a tapered guide end and a
+// pantograph clamp as [[test.boundary]] tables) gives the built-in rig's answer: the same nodes, the same
+// forces and displacements at every setting increment and pull step, to 1e-10.
+TEST(CaseSpec, TheRigWrittenAsDataGivesTheBuiltInRigsAnswerTo1e10) {
+  auto run = [](const char* file, fem::TestModel& model) {
+    const std::filesystem::path path = test::source_dir() / "examples/rig-as-data" / file;
+    const CaseSpec spec = CaseSpec::from_config(io::parse_config(case_schema(), io::read_text(path), path.string()));
+    model = spec.test.at(0).model(spec.mesh, spec.rig);
+    const fem::SimulationResult r = fem::simulate(model, *spec.law.law(), spec.solver.options());
+    EXPECT_EQ(r.termination, fem::SolveTermination::converged) << r.message;
+    return r;
+  };
+  fem::TestModel builtin, data;
+  const fem::SimulationResult a = run("builtin.toml", builtin), b = run("case.toml", data);
+  ASSERT_EQ(builtin.mesh.nodes(), data.mesh.nodes());
+  ASSERT_EQ(a.setting.size(), 4u);
+  ASSERT_EQ(a.steps.size(), 21u);
+  ASSERT_EQ(b.steps.size(), 25u);
+  // Each node of the .geo's mesh is a node of the built-in's.
+  std::vector<int> same(data.mesh.nodes(), -1);
+  for (int n = 0; n < data.mesh.nodes(); ++n)
+    for (int m = 0; m < builtin.mesh.nodes(); ++m)
+      if ((data.mesh.X.col(n) - builtin.mesh.X.col(m)).norm() < 1e-10 * 55) same[n] = m;
+  ASSERT_EQ(std::count(same.begin(), same.end(), -1), 0);
+  double u_max = 0, du = 0, F_max = 0, dF = 0;
+  auto compare = [&](const fem::StepResult& x, const fem::StepResult& y) {
+    for (int n = 0; n < data.mesh.nodes(); ++n) {
+      u_max = std::max(u_max, x.u.segment<2>(2 * same[n]).norm());
+      du = std::max(du, (x.u.segment<2>(2 * same[n]) - y.u.segment<2>(2 * n)).norm());
+    }
+    const double side = 2 * y.resultants.at(1)(0);  // the guide's pull: resultants top, right, left, bottom
+    F_max = std::max({F_max, std::abs(x.edge_force), std::abs(x.side_force)});
+    dF = std::max({dF, std::abs(x.edge_force - y.edge_force), std::abs(x.side_force - side)});
+  };
+  for (size_t i = 0; i < 4; ++i) compare(a.setting[i], b.steps[i]);
+  for (size_t k = 0; k < 21; ++k) compare(a.steps[k], b.steps[4 + k]);
+  EXPECT_GT(u_max, 10);  // the guide opens by 18.8 mm, the grip pulls 28.4 mm
+  EXPECT_GT(F_max, 10);
+  EXPECT_LT(du / u_max, 1e-10) << du;
+  EXPECT_LT(dF / F_max, 1e-10) << dF;
+  std::cerr << "rig as data: |du| / max |u| = " << du / u_max << ", |dF| / max |F| = " << dF / F_max << "\n";
 }
 
 TEST(CaseSpec, ARigTestBuiltInCodeIsTheSameAsFromAFile) {

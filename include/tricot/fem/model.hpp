@@ -4,7 +4,9 @@
 // values, one per step), whose measured force is the resultant of a named boundary.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tricot/fem/mesh.hpp"
@@ -25,14 +27,40 @@ enum class GripControl {
 
 /// One displacement condition on one component of a named boundary (docs/theory.md §6). Symmetry about a line
 /// x = const or y = const is a fixed normal component; a rigid grip is both components prescribed
-/// (every node of the boundary moves alike) with its resultant measured (TestModel::force_boundary).
+/// (every node of the boundary moves alike) with its resultant measured (TestModel::force_boundary);
+/// a compliant grip or a guide holds a component through ties instead (`tie`).
 struct BoundaryCondition {
+  BoundaryCondition() = default;
+  /// Fixed (no values) or prescribed per step, rigid.
+  BoundaryCondition(std::string name, int c, std::vector<double> v = {})
+      : boundary(std::move(name)), component(c), values(std::move(v)) {}
+
   std::string boundary;  ///< a name in Mesh::boundaries
   int component = 0;     ///< 0 = u_x, 1 = u_y
   /// The displacement at each load step (mm; any sign, not necessarily monotone: loading, holds,
   /// unloading), one value per step; between steps it varies linearly from 0 at the reference state.
   /// Empty = fixed (u = 0).
   std::vector<double> values;
+  /// The values are displacements per mm of the node's coordinate along `component` (u = value · X or
+  /// value · Y): a clamp that spreads about the axis, as the rig's pantograph clips do (docs/theory.md §6).
+  bool proportional = false;
+  /// > 0: the component is held by compliant ties (N/mm per mm of boundary) that pull it toward the
+  /// prescribed value instead of prescribing it: a spring on each node of stiffness `tie` × its share
+  /// of the boundary's length (tie_consistent) × the taper. The dof stays free.
+  double tie = 0;
+  /// With a tie: where it ends. The tie then runs along the boundary (an open chain of element sides)
+  /// from the end farther from this point up to the boundary's point closest to it; the nodes the tie
+  /// does not reach are left as they were. Empty = the whole boundary.
+  std::optional<Vec2> tie_end;
+  /// With tie_end: over this length (mm, ≥ 0) before the end the stiffness falls linearly to zero, as
+  /// the fabric leaves a guide's rounded end.
+  double tie_taper = 0;
+  /// How the tie is lumped on the nodes. true: consistently, ∫ tie · taper · N_i ds over each element
+  /// side's tied part, so that a uniform tie loads a quadratic side as a uniform traction does (a
+  /// uniformly pulled sheet stays homogeneous). false: the built-in rig's rule, half of each
+  /// node-to-node segment (mid-side nodes included) to each node before the end, the taper at the node;
+  /// the same on linear sides, not on quadratic ones.
+  bool tie_consistent = true;
 };
 
 /// One physical test, loaded through a list of steps.
@@ -96,6 +124,10 @@ struct TestModel {
   std::vector<std::string> resultants;
 
   bool has_conditions() const { return !conditions.empty(); }
+  /// The tie stiffness (N/mm) of each node that condition `i` ties (BoundaryCondition::tie, tie_end,
+  /// tie_taper, tie_consistent), by node. InputError naming `test.conditions[i].tie_end`
+  /// when the end is given and the boundary is not one open line, `…tie` when it has no length.
+  std::vector<std::pair<int, double>> tie_stiffness(size_t i) const;
   /// The boundaries whose resultants are recorded (see `resultants`).
   std::vector<std::string> resultant_boundaries() const;
 
