@@ -96,9 +96,12 @@ TEST_P(AnyElement, AFullStripPulledByItsTopIsHomogeneousWithTheForceAsItsResulta
   EXPECT_NEAR(last.resultants[2].x(), 0, kPatch * last.edge_force);
 }
 
-TEST_P(AnyElement, SensitivitiesOfTheResultantAndTheFieldMatchCentralDifferences) {
+TEST_P(AnyElement, SensitivitiesOfTheResultantAndTheFieldMatchCentralDifferencesWithTiedSides) {
   TestModel t = full_strip(GetParam(), {3, 6, 4});  // load, then partly unload
-  t.conditions.push_back({"right", 0, {-0.5, -1.0, -0.8}});  // and squeeze the side
+  t.conditions.push_back({"right", 0, {-0.5, -1.0, -0.8}});  // and squeeze the side through ties
+  t.conditions.back().tie = 0.3;                                // ending 20 mm short of the top,
+  t.conditions.back().tie_end = Vec2(t.mesh.X.row(0).maxCoeff(), t.mesh.X.row(1).maxCoeff() - 20);
+  t.conditions.back().tie_taper = 10;                           // tapered
   t.material_angle = 20;
   test::TestingLaw law(1.0, 2.0, 0.5);
   SolveOptions o = tight();
