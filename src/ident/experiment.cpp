@@ -1,6 +1,7 @@
 // Checks of measured data (docs/theory.md §2): everything the objective relies on, before any FE run.
 #include "tricot/ident/experiment.hpp"
 
+#include <cassert>
 #include <cmath>
 #include <set>
 #include <string>
@@ -71,6 +72,22 @@ void TestData::validate() const {
   for (auto [s, f] : {std::pair{sigma.edge_displacement, "sigma.edge_displacement"},
                       std::pair{sigma.edge_force, "sigma.edge_force"}, std::pair{sigma.field, "sigma.field"}})
     if (!(s >= 0) || !std::isfinite(s)) fail(f, "out of range", format_number(s), ">= 0 (0 = unknown)");
+}
+
+TestData TestData::select_steps(const std::vector<int>& keep) const {
+  assert(field_kind == FieldKind::cumulative || !has_field());
+  TestData d = *this;
+  auto pick = [&](const std::vector<double>& v) {
+    std::vector<double> out;
+    if (!v.empty())
+      for (int k : keep) out.push_back(v.at(static_cast<size_t>(k)));
+    return out;
+  };
+  auto rows = [&](const Eigen::MatrixXd& m) { return m.size() == 0 ? m : Eigen::MatrixXd(m(keep, Eigen::all)); };
+  d.loads = pick(loads), d.edge_displacement = pick(edge_displacement), d.edge_force = pick(edge_force);
+  d.step_weight = pick(step_weight);
+  d.u = rows(u), d.v = rows(v), d.sigma_u = rows(sigma_u), d.sigma_v = rows(sigma_v);
+  return d;
 }
 
 void Experiment::validate() const {

@@ -35,8 +35,8 @@ const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, i
   g.offset = size();
   g.size = static_cast<int>(y_exp.size());
   g.weight = weight;
-  g.sigma = sigma > 0;
-  g.scale = sigma > 0 ? sigma : std::sqrt(y_exp.squaredNorm() / g.size);  // docs/theory.md §2 [choice]: RMS
+  g.sigma = sigma > 0 && !fixed_;
+  g.scale = fixed_ ? 1.0 : sigma > 0 ? sigma : std::sqrt(y_exp.squaredNorm() / g.size);  // docs/theory.md §2 [choice]: RMS
   if (!(g.scale > 0))
     throw InputError(where, "all data are zero, so the group has no scale: give its sigma");
   if (!std::isfinite(g.scale))  // the sum of squares overflowed: the group would silently weigh 0
@@ -46,7 +46,7 @@ const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, i
   measured_.conservativeResize(n0 + g.size);
   measured_.tail(g.size) = y_exp;
   factor_.conservativeResize(n0 + g.size);
-  factor_.tail(g.size).setConstant(std::sqrt(weight / g.size) / g.scale);
+  factor_.tail(g.size).setConstant(fixed_ ? std::sqrt(weight) : std::sqrt(weight / g.size) / g.scale);
   row_weight_.conservativeResize(n0 + g.size);
   row_weight_.tail(g.size).setOnes();
   groups_.push_back(g);
@@ -56,6 +56,7 @@ const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, i
 const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, int test, const Eigen::VectorXd& y_exp,
                                       double weight, const Eigen::VectorXd& sigma_per_value) {
   const Location where{"", 0, "data." + name};
+  if (fixed_) throw InputError(where, "a σ per value and fixed weights do not mix", "fixed weights", "scaled groups");
   if (sigma_per_value.size() != y_exp.size())
     throw InputError(where, "one sigma per value", std::to_string(sigma_per_value.size()), std::to_string(y_exp.size()));
   for (Eigen::Index i = 0; i < sigma_per_value.size(); ++i)

@@ -111,6 +111,7 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
 
   // Data groups (docs/theory.md §2).
   const DataWeights& w = options_.weights;
+  data_ = ScaledResiduals(w.fixed);
   for (size_t t = 0; t < models_.size(); ++t) {
     const TestData& d = experiment_.tests[t];
     const size_t first_group = data_.groups().size();

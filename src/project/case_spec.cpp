@@ -305,6 +305,11 @@ io::SectionSpec test_section() {
       key("pull_strain", fem::RigOptions{}.pull_strain,
           "rig: nominal Green–Lagrange strain along the pull at the last step, > 0.", -kInf, kInf),
   };
+  s.keys.push_back(key("fit_steps", Reals{},
+                       "tricot identify: the steps to fit, chosen among the experiment's (1-based numbers of its\n"
+                       "forces.csv rows, increasing), e.g. [5, 10, 15, 20]: the FE solves these steps alone and the\n"
+                       "other frames' data are left out (cumulative field data only). Empty = every step.",
+                       1, 1e9));
   s.keys.push_back(key("force_scale", 1.0,
                        "custom: the test's force is this times the resultant of the boundary whose `force` is set\n"
                        "(2 for a half model whose line of symmetry carries the other half), > 0.",
@@ -507,6 +512,7 @@ TestSpec TestSpec::from_config(const io::Node& n) {
   }
   t.guide = n.reals("guide");
   t.loads = n.reals("loads");
+  t.fit_steps = n.reals("fit_steps");
   t.load_max = n.real("load_max");
   t.uniform_loads_given = n.given("load_max") || n.given("steps");
   t.steps = static_cast<int>(n.integer("steps"));

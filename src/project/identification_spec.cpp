@@ -78,6 +78,12 @@ SectionSpec data_section() {
       key("edge_force", d.edge_force, "Grip force, ≥ 0; used for displacement-controlled tests only.", 0, 1e12),
       key("field", d.field, "Displacements u, v at the field points, ≥ 0.", 0, 1e12),
       key("field_uv", d.field_uv, "u and v in one group with one scale (false: a group each)."),
+      key("weighting", std::string("scaled"),
+          "How the weights act. scaled: eq. (1), each group divided by its size and by its σ (or RMS), so that\n"
+          "weights compare kinds of data. fixed: the weights are absolute, per value, in 1/unit² of the data\n"
+          "(f = ½ Σ w Σ (y − y*)², e.g. edge_force = 1 per N², field = 100 per mm²), as a published objective\n"
+          "has them; standard errors then come from the residuals, not from σ.",
+          -kInf, kInf, {"scaled", "fixed"}),
       key("field_sigma", std::string("group"),
           "σ of the field values. group: [experiment] sigma_field (or the RMS); per_point: the sigma_u,\n"
           "sigma_v columns of field.csv (tricot experiment writes the DIC's σ), so that the covariance\n"
@@ -460,6 +466,45 @@ void check_tests_match_data(const CaseSpec& spec, const std::vector<fem::TestMod
   }
 }
 
+// [[test]] fit_steps: the FE models and the data of the chosen steps alone (a condition's series and a
+// guide per step are cut with them).
+void select_fit_steps(const IdentificationSpec& spec, ident::FieldKind kind, Project& P, ident::Experiment& experiment) {
+  for (std::size_t i = 0; i < spec.test.size() && i < P.models.size(); ++i) {
+    const TestSpec& t = spec.test[i];
+    if (t.fit_steps.empty()) continue;
+    ident::TestData* d = nullptr;
+    for (ident::TestData& x : experiment.tests)
+      if (x.name == t.name) d = &x;
+    if (!d) continue;
+    std::vector<int> keep;
+    for (double s : t.fit_steps) {
+      if (s != std::floor(s) || s > d->steps() || (!keep.empty() && s - 1 <= keep.back()))
+        t.origin.fail("fit_steps", fmt::format("not an increasing list of step numbers from 1 to {}", d->steps()),
+                      format_number(s), fmt::format("whole numbers, increasing, at most {} (the rows of {})",
+                                                    d->steps(), (fs::path(spec.experiment.dir) / t.name / kForcesFile).string()));
+      keep.push_back(static_cast<int>(s) - 1);
+    }
+    if (kind == ident::FieldKind::incremental && d->has_field())
+      t.origin.fail("fit_steps", "incremental field data refer to the step before: choose steps with cumulative data",
+                    "a choice of steps", "[experiment] field_kind = \"cumulative\", or every step");
+    *d = d->select_steps(keep);
+    auto cut = [&](std::vector<double>& v, std::size_t n) {
+      if (v.size() != n) return;
+      std::vector<double> out;
+      for (int k : keep) out.push_back(v[static_cast<std::size_t>(k)]);
+      v = std::move(out);
+    };
+    for (std::vector<fem::TestModel>* models : {&P.models, &P.coarse_models}) {
+      if (i >= models->size()) continue;
+      fem::TestModel& m = (*models)[i];
+      const std::size_t n = m.loads.size();
+      for (fem::BoundaryCondition& c : m.conditions) cut(c.values, n);
+      cut(m.guide, n);
+      cut(m.loads, n);
+    }
+  }
+}
+
 }  // namespace
 
 SurfacePoints eq9_points(const std::vector<fem::TestModel>& models, const ident::Experiment& experiment, int nearest) {
@@ -508,10 +553,14 @@ DataSpec DataSpec::from_config(const io::Node& n) {
   d.field = n.real("field");
   d.field_uv = n.boolean("field_uv");
   d.field_sigma = n.string("field_sigma");
+  d.weighting = n.string("weighting");
   if (n.given("domain_course")) d.domain_course = n.reals("domain_course");
   if (n.given("domain_wale")) d.domain_wale = n.reals("domain_wale");
   d.domain_weight = n.real("domain_weight");
   d.origin = Origin(n);
+  if (d.weighting == "fixed" && d.field_sigma == "per_point")
+    d.origin.fail("field_sigma", "a σ per point scales the field data, fixed weights do not", "\"per_point\"",
+                  "\"group\", or weighting = \"scaled\"");
   if (d.domain_weight > 0 && !d.domain_course && !d.domain_wale)
     d.origin.fail("domain_weight", "weights the steps outside a domain, but no domain is given", format_number(d.domain_weight),
                   "domain_course or domain_wale set, or domain_weight = 0");
@@ -627,6 +676,7 @@ Project build_project(const IdentificationSpec& given, const fs::path& base) {
   ident::Experiment experiment = read_experiment(dir, m.names, kind);
   P.truth = read_truth(dir);
   check_tests_match_data(spec, P.models, experiment, P.truth, dir);
+  select_fit_steps(spec, kind, P, experiment);
   const bool has_field = std::any_of(experiment.tests.begin(), experiment.tests.end(),
                                      [](const ident::TestData& d) { return d.has_field(); });
   if (P.truth && has_field && P.truth->field_kind != kind)
@@ -681,6 +731,7 @@ Project build_project(const IdentificationSpec& given, const fs::path& base) {
   oo.weights.edge_force = dn.edge_force;
   oo.weights.field = dn.field;
   oo.weights.field_uv = dn.field_uv;
+  oo.weights.fixed = dn.weighting == "fixed";
   oo.solver = P.solver;
   oo.threads = P.options.threads;
   oo.warm_start = spec.identify.warm_start;

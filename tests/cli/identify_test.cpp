@@ -434,6 +434,31 @@ TEST_F(Identify, ADomainWeightKeepsEveryStepAndWeighsTheOnesOutside) {
     EXPECT_NEAR(weighted["parameters"][kNames[k]].get<double>() / kTruth[k], 1.0, kRecovered) << kNames[k];
 }
 
+// [[test]] fit_steps (issue 28): the FE solves the chosen steps alone and the other frames' data are
+// left out; noise-free data give the truth from the chosen steps too. [data] weighting = "fixed" weighs
+// each value absolutely: the truth again, with f = ½ Σ w (y − y*)² at the start.
+TEST_F(Identify, ChosenStepsAndFixedWeightsReachTheTruth) {
+  std::string project = small_project("../exp", kStopOnDelta);
+  const auto at = project.find("[[test]]");
+  ASSERT_NE(at, std::string::npos);
+  ASSERT_EQ(identify("all_steps", project).exit_code, 0);
+  const std::string chosen = std::string(project).insert(project.find('\n', at) + 1, "fit_steps = [2, 4]\n");
+  const auto r = identify("fit_steps", chosen);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json all = result("all_steps"), some = result("fit_steps");
+  EXPECT_LT(some["residuals"].get<int>(), all["residuals"].get<int>());
+  for (size_t k = 0; k < kNames.size(); ++k)
+    EXPECT_NEAR(some["parameters"][kNames[k]].get<double>() / kTruth[k], 1.0, kRecovered) << kNames[k];
+  const auto fixed = identify("fixed", project + "\n[data]\nweighting = \"fixed\"\nedge_force = 1.0\nfield = 100.0\n");
+  ASSERT_EQ(fixed.exit_code, 0) << fixed.err;
+  for (size_t k = 0; k < kNames.size(); ++k)
+    EXPECT_NEAR(result("fixed")["parameters"][kNames[k]].get<double>() / kTruth[k], 1.0, kRecovered) << kNames[k];
+  const std::string bad = std::string(project).insert(project.find('\n', at) + 1, "fit_steps = [3, 2]\n");
+  const auto b = identify("bad_steps", bad);
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("fit_steps: not an increasing list of step numbers"), std::string::npos) << b.err;
+}
+
 // [identify] coarse_mesh (issue 15): LM on 2 × 4 Q8 with the stability test, then the project's 3 × 8
 // through the coarse model corrected to it. The same answer as LM on 3 × 8 alone, from the project's
 // start, with fewer fine evaluations; result.json says what each level did.

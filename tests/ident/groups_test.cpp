@@ -27,6 +27,21 @@ TEST(ScaledResiduals, ScalesEachGroupByItsRmsAndWeightAsEquationOne) {
   EXPECT_TRUE(d.sigma_variance().size() == 0);  // RMS scales are not σ
 }
 
+// Fixed weights (a published objective's): f = ½ Σ_g w_g Σ_i (y_i − y*_i)², whatever the group's size,
+// RMS or σ; a σ per value does not mix with them.
+TEST(ScaledResiduals, FixedWeightsAreAbsoluteAndPerValue) {
+  ScaledResiduals d(true);
+  d.add("a", GroupKind::edge_force, 0, Eigen::Vector2d(3, 4), 2.0, 0.5);  // σ ignored
+  d.add("b", GroupKind::field_u, 0, Eigen::Vector3d(0.1, 0.2, 0.2), 100.0);
+  Eigen::VectorXd y(5);
+  y << 3.3, 4, 0.1, 0.25, 0.2;
+  const double f = 0.5 * (2.0 * 0.09 + 100.0 * 0.0025);
+  EXPECT_NEAR(0.5 * d.residuals(y).squaredNorm(), f, 1e-15);
+  EXPECT_EQ(d.groups()[0].scale, 1.0);
+  EXPECT_TRUE(d.sigma_variance().size() == 0);  // no σ: standard errors from the residuals
+  EXPECT_THROW(d.add("c", GroupKind::field_v, 0, Eigen::Vector2d(1, 2), 1.0, Eigen::Vector2d(0.1, 0.1)), InputError);
+}
+
 TEST(ScaledResiduals, UsesAGivenSigmaAsTheScale) {
   ScaledResiduals d;
   d.add("a", GroupKind::edge_force, 0, Eigen::Vector4d(1, 2, 3, 4), 3.0, 0.5);

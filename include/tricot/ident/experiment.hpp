@@ -61,6 +61,10 @@ struct TestData {
   std::vector<double> step_weight;
 
   int steps() const { return static_cast<int>(loads.size()); }
+  /// The data of the steps `keep` (0-based, increasing, in range) alone, in their order: the steps to
+  /// fit chosen among the frames. Cumulative field data only (an incremental one refers to the step
+  /// before).
+  TestData select_steps(const std::vector<int>& keep) const;
   int point_count() const { return static_cast<int>(points.cols()); }
   bool has_field() const { return points.cols() > 0; }
 

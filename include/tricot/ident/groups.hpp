@@ -32,6 +32,11 @@ struct DataGroup {
 /// Stacks groups and applies eq. (1).
 class ScaledResiduals {
  public:
+  /// fixed_weights: each row's factor is √w_g, the weights being absolute (1/unit² of the data): no
+  /// division by the group's size or scale, as a published objective Σ_g w_g Σ_i (y_i − y*_i)² has it.
+  /// false: eq. (1), √(w_g/N_g)/s_g.
+  explicit ScaledResiduals(bool fixed_weights = false) : fixed_(fixed_weights) {}
+
   /// Appends a group of measured values y_exp with weight w (≥ 0, finite) and measurement σ (0 =
   /// unknown: the scale is then RMS(y_exp)). Throws InputError (key `data.<name>`) for an empty
   /// group, non-finite data, or a zero RMS without σ.
@@ -61,6 +66,7 @@ class ScaledResiduals {
   void weight_rows(const DataGroup& g, const Eigen::VectorXd& omega);
 
  private:
+  bool fixed_ = false;
   std::vector<DataGroup> groups_;
   Eigen::VectorXd measured_, factor_;
   Eigen::VectorXd row_weight_;  ///< ω_i, 1 unless weight_rows() set it

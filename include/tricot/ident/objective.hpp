@@ -31,6 +31,9 @@ struct DataWeights {
   double field = 1;  ///< ≥ 0, for u and v
   /// true: u and v form one group per test with one scale; false: a group each.
   bool field_uv = false;
+  /// true: the weights are absolute, per value (ScaledResiduals(true)): f = ½ Σ_g w_g Σ_i (y_i − y*_i)²;
+  /// false: eq. (1), each group divided by its size and its σ or RMS (docs/theory.md §2).
+  bool fixed = false;
 
   void validate() const;  ///< InputError naming `data.<field>`
 };

@@ -230,6 +230,7 @@ struct TestSpec {
   TestMeshSpec mesh;
   std::vector<BoundarySpec> boundary;  ///< kind = "custom": the conditions per named boundary
   double force_scale = 1;              ///< kind = "custom": force = force_scale × the boundary's resultant
+  io::Reals fit_steps;                 ///< identify: the steps to fit (1-based), empty = all
   Origin origin{"test"};
 
   static TestSpec from_config(const io::Node& test);

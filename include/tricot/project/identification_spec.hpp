@@ -89,6 +89,7 @@ struct DataSpec {
   double field = ident::DataWeights{}.field;
   bool field_uv = ident::DataWeights{}.field_uv;
   std::string field_sigma = "group";  ///< group or per_point
+  std::string weighting = "scaled";   ///< scaled (eq. 1) or fixed (ident::DataWeights::fixed)
   /// [min, max] εC and εW of a domain-restricted identification (ident::restrict_to_domain); both
   /// unset: every step of every test. One unset: that direction is not restricted.
   std::optional<io::Reals> domain_course, domain_wale;
