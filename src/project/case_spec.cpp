@@ -14,6 +14,7 @@
 #include "tricot/fem/gmsh.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/fem/mooney_rivlin.hpp"
+#include "tricot/fem/compressible_mooney_rivlin.hpp"
 #include "tricot/fem/neo_hookean.hpp"
 #include "tricot/fem/reference_fabric.hpp"
 #include "tricot/fem/response_surface.hpp"
@@ -157,7 +158,9 @@ io::SectionSpec law_section() {
                   0, 0.1)};
 
   SectionSpec mr{"mooney_rivlin",
-                 "Incompressible Mooney–Rivlin, W = Σ C_ij (I1 − 3)^i (I2 − 3)^j (paper eq. 7), plane stress.",
+                 "Mooney–Rivlin, W = Σ C_ij (I1 − 3)^i (I2 − 3)^j (paper eq. 7): incompressible in plane stress; with\n"
+                 "kappa > 0 compressible, W = Σ C_ij (Ī1 − 3)^i (Ī2 − 3)^j + κ/2 (ln J)² on the isochoric invariants\n"
+                 "(docs/theory.md §5.2), in plane stress or plane strain.",
                  false, {}, {}};
   // Default: the paper's validation set (docs/validation.md §1), a rubber-like S curve.
   Strings mr_names;
@@ -169,6 +172,13 @@ io::SectionSpec law_section() {
   mr.keys = {
       key("terms", mr_names, "Names C<i><j> of the terms kept (i, j = 0..9, not both 0)."),
       key("values", mr_values, "C_ij of each term, N/mm, in the order of `terms`.", -1e6, 1e6),
+      key("kappa", 0.0,
+          "Bulk modulus κ of the volumetric term, N/mm: 0 = incompressible; > 0 = compressible (identified\n"
+          "as the coefficient \"kappa\"). At small strain μ = 2 (C10 + C01).",
+          0, 1e9),
+      key("kinematics", std::string("plane_stress"),
+          "plane_stress (σ33 = 0) or plane_strain (C33 = 1; needs kappa > 0).", -kInf, kInf,
+          {"plane_stress", "plane_strain"}),
   };
   SectionSpec nh{"neo_hookean", "Compressible neo-Hookean membrane (a helper law for tests).", false, {}, {}};
   nh.keys = {
@@ -448,6 +458,7 @@ LawSpec LawSpec::from_config(const io::Node& law) {
   l.origin = Origin(law);
   const Node& mr = law.section("mooney_rivlin");
   l.mooney_rivlin.terms = mr.strings("terms"), l.mooney_rivlin.values = mr.reals("values");
+  l.mooney_rivlin.kappa = mr.real("kappa"), l.mooney_rivlin.kinematics = mr.string("kinematics");
   l.mooney_rivlin.origin = Origin(mr);
   const Node& nh = law.section("neo_hookean");
   l.neo_hookean.mu = nh.real("mu"), l.neo_hookean.lambda = nh.real("lambda");
@@ -944,6 +955,12 @@ std::unique_ptr<fem::Law> LawSpec::inner_law() const {
                       "C10, C01, C20, C21, C03, …");
       terms.push_back({n[1] - '0', n[2] - '0', s.values[k]});
     }
+    const auto kinematics = s.kinematics == "plane_strain" ? fem::Kinematics::plane_strain : fem::Kinematics::plane_stress;
+    if (s.kappa > 0)
+      return build(s.origin, [&] { return std::make_unique<fem::CompressibleMooneyRivlin>(std::move(terms), s.kappa, kinematics); });
+    if (kinematics == fem::Kinematics::plane_strain)
+      s.origin.fail("kinematics", "an incompressible sheet cannot be held across (C33 = 1 with det C = 1 locks it)",
+                    "\"plane_strain\"", "kappa > 0, or plane_stress");
     return build(s.origin, [&] { return std::make_unique<fem::MooneyRivlin>(std::move(terms)); });
   }
   if (type == "neo_hookean") {

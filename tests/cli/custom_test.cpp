@@ -134,6 +134,31 @@ TEST(CustomSpecimen, ATiedGripIsASpringInSeriesWithTheSheet) {
   }
 }
 
+// A compressible Mooney–Rivlin sheet (kappa > 0) held across in plane strain: F = diag(1, λ), C33 = 1,
+// and the force is the width times dW/dλ of W = C10 (Ī1 − 3) + C01 (Ī2 − 3) + κ/2 (ln J)² written
+// here (central differences, h = 1e-6).
+TEST(CustomSpecimen, ACompressibleMooneyRivlinSheetHeldAcrossGivesItsEnergysForce) {
+  std::string text = held_sheet("T6");
+  const std::string law = "[law.neo_hookean]\nmu = 0.8\nlambda = 2.5\nkinematics = \"plane_strain\"\n";
+  text.replace(text.find(law), law.size(),
+               "[law.mooney_rivlin]\nterms = [\"C10\", \"C01\"]\nvalues = [0.3, 0.1]\nkappa = 3.0\n"
+               "kinematics = \"plane_strain\"\n");
+  text.replace(text.find("type = \"neo_hookean\""), 20, "type = \"mooney_rivlin\"");
+  const fs::path c = write_case("mooney_compressible", text);
+  const fs::path out = c.parent_path() / "out";
+  const auto r = run_tricot("simulate " + c.string() + " -o " + out.string() + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<double> force = io::read_csv(out / "held" / "steps.csv").values("edge_force");
+  auto W = [](double l) {
+    const double I1 = 2 + l * l, I2 = 1 + 2 * l * l, I3 = l * l;
+    return 0.3 * (I1 / std::cbrt(I3) - 3) + 0.1 * (I2 / std::pow(I3, 2.0 / 3) - 3) + 1.5 * std::pow(std::log(l), 2);
+  };
+  for (int k = 0; k < 2; ++k) {
+    const double l = 1 + 10.0 * (k + 1) / 50, h = 1e-6, expected = 20 * (W(l + h) - W(l - h)) / (2 * h);
+    EXPECT_NEAR(force[k], expected, 1e-7 * expected);
+  }
+}
+
 TEST(CustomSpecimen, TheStripWithAHoleExampleBalancesItsClampsAndComesBackUnloaded) {
   const fs::path out = test::scratch_dir("custom_strip") / "out";
   const auto r = run_tricot("simulate " + (test::source_dir() / "examples/strip-with-hole/case.toml").string() +

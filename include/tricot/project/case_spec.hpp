@@ -101,6 +101,8 @@ struct TestMeshSpec {
 struct MooneyRivlinSpec {
   io::Strings terms;  ///< C<i><j>; default: the paper's validation set
   io::Reals values;   ///< N/mm, one per term
+  double kappa = 0;   ///< > 0: compressible (fem::CompressibleMooneyRivlin)
+  std::string kinematics = "plane_stress";
   Origin origin{"law.mooney_rivlin"};
   MooneyRivlinSpec();
 };
