@@ -165,7 +165,7 @@ py::object simulate(const py::object& spec, const py::object& out, const std::st
   const std::string dir = path_string(out);
   const LoadedSpec s = load_spec(spec, project::case_schema(), base);
   check_out_dir(dir);
-  project::SimulationRequest req{dir, test, vtu, vtu_every, io::VtuFormat::binary, s.name};
+  project::SimulationRequest req{dir, test, vtu, vtu_every, io::VtuFormat::binary, s.name, {}, {}};
   Runner runner(progress, log);
   const project::Log lg = runner.log();
   const project::SimulationOutcome o = runner.run([&] { return project::run_simulation(s.root, req, lg); });

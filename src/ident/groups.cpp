@@ -75,6 +75,15 @@ Eigen::VectorXd ScaledResiduals::residuals(const Eigen::VectorXd& y) const {
 
 void ScaledResiduals::scale_rows(Eigen::MatrixXd& dy_dJ) const { dy_dJ = factor_.asDiagonal() * dy_dJ; }
 
+double ScaledResiduals::chi_square(const Eigen::VectorXd& r) const {
+  double chi2 = 0;
+  for (const DataGroup& g : groups_) {
+    if (!g.sigma || !(g.weight > 0) || r.size() < g.offset + g.size) return NAN;
+    chi2 += g.size / g.weight * r.segment(g.offset, g.size).squaredNorm();
+  }
+  return chi2;
+}
+
 Eigen::VectorXd ScaledResiduals::sigma_variance() const {
   for (const DataGroup& g : groups_)
     if (!g.sigma) return {};

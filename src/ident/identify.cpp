@@ -743,6 +743,7 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
     if (const Evaluation* e = cost.at(state.x, true)) {
       result.objective = e->objective();
       result.uncertainty = uncertainty(e->jacobian, e->r, result.parameters, scales, problem.residual_variance());
+      result.residuals = e->r;
     }
   }
   result.iterations = state.iterations;
@@ -863,6 +864,7 @@ IdentifyResult corrected_level(const Problem& coarse, const Problem& fine, const
   r.parameters = c;
   r.objective = e.objective();
   r.uncertainty = uncertainty(e.jacobian, e.r, c, scales, fine.residual_variance());
+  r.residuals = e.r;
   r.wall_seconds = seconds();
   return r;
 }

@@ -26,6 +26,11 @@ json named(const std::vector<std::string>& names, const Eigen::VectorXd& v) {
   return j;
 }
 
+double chi2_per_dof(const ident::Objective& objective, const ident::IdentifyResult& r) {
+  const Eigen::Index dof = objective.data().size() - r.parameters.size();
+  return dof > 0 ? objective.data().chi_square(r.residuals) / static_cast<double>(dof) : NAN;
+}
+
 json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bool resumed) {
   const ident::IdentifyResult& r = o.result;
   const ident::Uncertainty& u = r.uncertainty;
@@ -75,10 +80,23 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
   j["covariance_from"] = u.from_sigma ? "measurement_sigma" : "fit";
   j["sigma2"] = u.sigma2;
   j["residuals"] = o.residuals;
+  // Each group's part of f = ½ Σ r² and its share (issue 29: no group buried by another's scaling), and
+  // with measurement σ, χ²/dof: 1 for a fit to the noise, its root the model-error factor (docs/theory.md §8).
+  const Eigen::VectorXd& res = r.residuals;
+  const bool have_r = res.size() >= objective.data().size();
+  const double f_total = have_r ? 0.5 * res.squaredNorm() : 0.0;
   json groups = json::array();
-  for (const auto& g : objective.data().groups())
-    groups.push_back({{"name", g.name}, {"size", g.size}, {"weight", g.weight}, {"scale", g.scale}, {"sigma", g.sigma}});
+  for (const auto& g : objective.data().groups()) {
+    json x = {{"name", g.name}, {"size", g.size}, {"weight", g.weight}, {"scale", g.scale}, {"sigma", g.sigma}};
+    const double fg = have_r ? 0.5 * res.segment(g.offset, g.size).squaredNorm() : NAN;
+    x["f"] = have_r ? json(fg) : json(nullptr);
+    x["share"] = have_r && f_total > 0 ? json(fg / f_total) : json(nullptr);
+    groups.push_back(x);
+  }
   j["data"] = groups;
+  const double chi2 = chi2_per_dof(objective, r);
+  j["chi2_per_dof"] = std::isfinite(chi2) ? json(chi2) : json(nullptr);
+  j["model_error_factor"] = std::isfinite(chi2) ? json(std::sqrt(chi2)) : json(nullptr);
   if (o.truth) {
     json truth = json::object(), err = json::object(), in_se = json::object();
     for (std::size_t k = 0; k < r.names.size(); ++k) {

@@ -14,6 +14,9 @@ namespace tricot::project {
 
 /// DIR/result.json (docs/design.md keys, then the uncertainty, the data groups and the truth's errors).
 json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bool resumed);
+/// χ²/dof of the data at J* (ScaledResiduals::chi_square over N − n); NaN without measurement σ on
+/// every group, or without the residuals at J*.
+double chi2_per_dof(const ident::Objective& objective, const ident::IdentifyResult& r);
 /// result.json's "eq9" (docs/theory.md §9, paper Table 5): {"course": {"whole", "practical", "points_whole",
 /// "points_practical"}, "wale": {…}, "practical": {"course": [min, max], "wale": [min, max]}}, the
 /// identified law against the experimental points; a force without points is null.

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <set>
 
+#include "identification_outputs.hpp"
 #include "json.hpp"
 #include "tricot/io/files.hpp"
 
@@ -134,11 +135,16 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
       p.rows.push_back({q.start, q.resolved_scale(), q.lower, q.upper});
     }
     s.table(std::move(p));
-    NumericTable g{"Data groups of f (eq. 1): values N_g, weight w_g and scale s_g", "group",
-                   {"values", "weight", "scale", "scale is σ"}, {}, {}, 6, {}};
+    NumericTable g{"Data groups of f (eq. 1): values N_g, weight w_g, scale s_g, and each group's part of f at J* "
+                   "and its share",
+                   "group", {"values", "weight", "scale", "scale is σ", "f_g", "share of f"}, {}, {}, 6, {}};
+    const Eigen::VectorXd& res = r.residuals;
+    const bool have_r = res.size() >= objective.data().size();
+    const double f = have_r ? 0.5 * res.squaredNorm() : 0.0;
     for (const auto& grp : objective.data().groups()) {
       g.labels.push_back(grp.name);
-      g.rows.push_back({double(grp.size), grp.weight, grp.scale, grp.sigma ? 1.0 : 0.0});
+      const double fg = have_r ? 0.5 * res.segment(grp.offset, grp.size).squaredNorm() : NAN;
+      g.rows.push_back({double(grp.size), grp.weight, grp.scale, grp.sigma ? 1.0 : 0.0, fg, f > 0 ? fg / f : NAN});
     }
     s.table(std::move(g));
   }
@@ -199,7 +205,9 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
               {"stability restarts", r.restarts},
               {"stability test passed", r.stability_passed},
               {"covariance from", u.from_sigma ? "measurement σ (docs/theory.md §8)" : "the fit: σ̂² = 2f/(N − n)"},
-              {"σ̂²", Value(u.sigma2, 4)}};
+              {"σ̂²", Value(u.sigma2, 4)},
+              {"χ²/dof (with measurement σ; 1 = a fit to the noise)", Value(chi2_per_dof(objective, r), 4)},
+              {"model-error factor √(χ²/dof)", Value(std::sqrt(chi2_per_dof(objective, r)), 4)}};
     s.table(std::move(t));
   }
 

@@ -645,10 +645,7 @@ Project build_project(const io::Node& root, const fs::path& base) {
   return build_project(read_identification_spec(root), base);
 }
 
-Project build_project(const IdentificationSpec& given, const fs::path& base) {
-  // A [[test]] without loads, load_max or steps takes its loads from its forces.csv (issue 29): the
-  // lab's loads are written once, in the experiment.
-  IdentificationSpec spec = given;
+void read_loads_from_experiment(IdentificationSpec& spec, const fs::path& base) {
   for (TestSpec& t : spec.test) {
     const TestKind k = t.test_kind();
     if (!t.loads.empty() || t.uniform_loads_given || k == TestKind::rig || k == TestKind::simple_shear) continue;
@@ -656,6 +653,11 @@ Project build_project(const IdentificationSpec& given, const fs::path& base) {
     if (!fs::exists(dir / t.name / kForcesFile)) continue;
     t.loads = read_test_data(dir, t.name, ident::FieldKind::cumulative).loads;
   }
+}
+
+Project build_project(const IdentificationSpec& given, const fs::path& base) {
+  IdentificationSpec spec = given;
+  read_loads_from_experiment(spec, base);
   Model m = check_model(spec);
   Project P;
   P.law = std::move(m.law);

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <chrono>
 
 #include "tricot/fem/corotational.hpp"
@@ -248,6 +249,25 @@ SimulationOutcome run_simulation(const io::Node& root, const SimulationRequest& 
 SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& args, const Log& log) {
   spec.check_tests();
   const auto law = spec.law.law();
+  if (!args.coefficients.empty()) {  // --law: the identified values, by name
+    const std::vector<std::string> known = law->coefficient_names();
+    Eigen::VectorXd c = law->coefficients();
+    for (const auto& [name, value] : args.coefficients) {
+      const auto at = std::find(known.begin(), known.end(), name);
+      if (at == known.end()) {
+        const std::string hint = io::closest_name(name, known);
+        throw InputError({args.coefficients_file, 0, "parameters." + name},
+                         "not a coefficient of the project's law" + (hint.empty() ? std::string() : "; did you mean '" + hint + "'?"),
+                         "\"" + name + "\"", "a result.json of this project");
+      }
+      c(at - known.begin()) = value;
+    }
+    try {
+      law->set_coefficients(c);
+    } catch (const InputError& e) {
+      throw InputError({args.coefficients_file, 0, "parameters"}, problem_of(e));
+    }
+  }
   const fem::SolveOptions options = spec.solver.options();
 
   // Build every chosen test first: a config error stops the run before any work.

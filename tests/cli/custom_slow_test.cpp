@@ -55,6 +55,23 @@ TEST(StripWithAHole, NoiseFreeDataOnTheTruthsMeshGiveTheTruth) {
   const nlohmann::json r = identify(dir);
   EXPECT_NEAR(r["parameters"]["mu"].get<double>(), 0.5, kNoiseFree * 0.5);
   EXPECT_NEAR(r["parameters"]["lambda"].get<double>(), 1.0, kNoiseFree * 1.0);
+  // The identified law replayed on the project's tests (tricot simulate --law, issue 29): its clamp
+  // force is the noise-free data's, step by step (the loads come from forces.csv).
+  const auto s = run_tricot("simulate " + (dir / "project.toml").string() + " --law " + (dir / "out" / "result.json").string() +
+                            " -o " + (dir / "replay").string() + " -q --no-vtu");
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  const std::vector<double> replay = io::read_csv(dir / "replay" / "one-sided" / "steps.csv").values("edge_force"),
+                            data = io::read_csv(dir / "experiment" / "one-sided" / "forces.csv").values("edge_force");
+  ASSERT_EQ(replay.size(), data.size());
+  for (std::size_t k = 0; k < data.size(); ++k) EXPECT_NEAR(replay[k], data[k], 1e-5 * std::abs(data[2])) << k;
+  // A coefficient the law does not have is named with the file.
+  std::ofstream(dir / "bad.json") << R"({"parameters": {"mu": 0.5, "lamda": 1.0}})";
+  const auto b = run_tricot("simulate " + (dir / "project.toml").string() + " --law " + (dir / "bad.json").string() +
+                            " -o " + (dir / "bad").string() + " -q");
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("bad.json: parameters.lamda: not a coefficient of the project's law; did you mean 'lambda'?"),
+            std::string::npos) << b.err;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
 }
 
 TEST(StripWithAHole, NoisyDataOnACoarserMeshGiveTheTruthWithinItsStandardErrors) {
@@ -64,6 +81,9 @@ TEST(StripWithAHole, NoisyDataOnACoarserMeshGiveTheTruthWithinItsStandardErrors)
     EXPECT_LT(std::abs(value - truth), kStandardErrors * se) << name << " = " << value << " ± " << se;
     EXPECT_LT(std::abs(value - truth), 5e-3 * truth) << name;
   }
+  // σ scales every group: χ²/dof near 1 for a fit to the noise; the coarser mesh's own error adds a little.
+  EXPECT_GT(r["chi2_per_dof"].get<double>(), 0.9);
+  EXPECT_LT(r["chi2_per_dof"].get<double>(), 1.5);
 }
 
 }  // namespace

@@ -83,6 +83,22 @@ TEST_F(Identify, RecoversTheTruthFromSynthesisedData) {
   EXPECT_NE(r.out.find("converged"), std::string::npos);
 }
 
+// Each data group's part of f and its share are in result.json (issue 29: a group buried by another's
+// scaling shows); the shares sum to 1. Without measurement σ there is no χ²: σ̂² = 2f/(N − n) instead.
+TEST_F(Identify, ResultJsonHasEachGroupsShareOfFAndChiSquarePerDof) {
+  ASSERT_EQ(identify("shares", small_project("../exp")).exit_code, 0);
+  const json j = result("shares");
+  double share = 0, f = 0;
+  for (const json& g : j["data"]) share += g["share"].get<double>(), f += g["f"].get<double>();
+  const double objective = j["objective"].get<double>();
+  EXPECT_NEAR(share, 1.0, 1e-12);
+  EXPECT_NEAR(f, objective, 1e-12 * objective);
+  const int N = j["residuals"].get<int>(), n = static_cast<int>(kNames.size());
+  EXPECT_NEAR(j["sigma2"].get<double>() * (N - n), 2 * objective, 1e-9 * objective);
+  EXPECT_TRUE(j["chi2_per_dof"].is_null());
+  EXPECT_TRUE(j["model_error_factor"].is_null());
+}
+
 TEST_F(Identify, ResultJsonHasEveryKeyOfTheContract) {
   ASSERT_EQ(identify("keys", small_project("../exp")).exit_code, 0);
   const json j = result("keys");

@@ -59,6 +59,10 @@ class ScaledResiduals {
   Eigen::VectorXd residuals(const Eigen::VectorXd& y) const;
   /// ∂y/∂J → ∂r/∂J, in place (rows scaled by factors).
   void scale_rows(Eigen::MatrixXd& dy_dJ) const;
+  /// χ² = Σ_i ((y_i − y*_i)/σ_i)² of scaled residuals r (eq. 1 undone: N_g/w_g Σ_{i∈g} r_i² per group,
+  /// the row weights left in), over the data's rows; NaN unless every group has a measurement σ. Per
+  /// degree of freedom it is 1 for a fit to the noise, and its root is the model-error factor (§8).
+  double chi_square(const Eigen::VectorXd& r) const;
   /// Var(r_i) implied by the measurement σ: w_g ω_i/N_g (docs/theory.md §8). Empty unless every group has σ.
   Eigen::VectorXd sigma_variance() const;
   /// Multiplies the weight of each row of group g by ω_i ≥ 0 (one per row; the factor by √ω_i): the

@@ -159,6 +159,9 @@ struct IdentifyResult {
   Eigen::VectorXd parameters;  ///< J*, the lowest f found
   double objective = 0;        ///< f(J*)
   Uncertainty uncertainty;     ///< at J* (empty when J* could not be evaluated with a Jacobian)
+  /// r(J*), the scaled residuals (eq. 1; a stability barrier's rows after the data's), when J* was
+  /// evaluated: each data group's share of f.
+  Eigen::VectorXd residuals;
   int iterations = 0;            ///< LM iterations (accepted and rejected), restarts included
   int evaluations = 0;           ///< r(J) computations: trials, finite-difference columns, stability
   int jacobian_evaluations = 0;  ///< Jacobians LM used

@@ -152,5 +152,9 @@ struct IdentificationSpec : CaseSpec {
 
 /// The spec of a project file validated by identify_schema() (types and ranges checked there).
 IdentificationSpec read_identification_spec(const io::Node& root);
+/// A [[test]] without loads, load_max or steps takes its loads from its forces.csv in the experiment
+/// folder (relative to `base`, the project file's folder), when there is one (issue 29): the lab's
+/// loads are written once, in the experiment.
+void read_loads_from_experiment(IdentificationSpec& spec, const std::filesystem::path& base);
 
 }  // namespace tricot::project
