@@ -92,6 +92,7 @@ ElementGeometry element_geometry(const Mesh& mesh, int e) {
   const auto rule = quadrature(mesh.type);
   g.points = static_cast<int>(rule.size());
   g.min_detJ0 = INFINITY;
+  g.region = mesh.region.empty() ? 0 : mesh.region[static_cast<size_t>(e)];
   const auto& c = mesh.connectivity[e];
   for (int q = 0; q < g.points; ++q) {
     const ShapeValues s = shape(mesh.type, rule[q].xi);
@@ -167,6 +168,7 @@ ElementStatus response(const ElementGeometry& g, const ElementVector& ue, const 
   for (int a = 0; a < NN; ++a) U.col(a) = ue.template segment<2>(2 * a);
   LawInput in;
   in.Q = Q;
+  in.region = g.region;
   for (int q = 0; q < g.points; ++q) {
     const Grad G = g.dN_dX[q].template topRows<NN>();
     // F = I + U G entry by entry: as one 2 × 2 product GCC stores F in two 16-byte halves and reloads

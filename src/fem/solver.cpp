@@ -246,6 +246,7 @@ std::string Simulation::ellipticity_note(int element) const {
   const Mat2 Q = material_axes(test_.material_angle);
   LawInput in;
   in.Q = Q;
+  in.region = g.region;
   LawOutput out;
   Ellipticity worst{1e300, 0};
   Mat2 E_worst = Mat2::Zero();

@@ -159,7 +159,7 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
     Run run;
     Wrinkle w = wrinkle(F, z(0), z(1));
     LawOutput at;
-    inner_->evaluate({w.Ft, in.Q}, with_tangent, at);
+    inner_->evaluate({w.Ft, in.Q, in.region}, with_tangent, at);
     Vec2 g = residual(F, w, at);
     int it = 0;
     for (; it < options_.max_iterations; ++it) {
@@ -173,7 +173,7 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
           const Vec2 zt = z - lu.solve(g);
           const Wrinkle wt = wrinkle(F, zt(0), zt(1));
           LawOutput trial;
-          inner_->evaluate({wt.Ft, in.Q}, with_tangent, trial);
+          inner_->evaluate({wt.Ft, in.Q, in.region}, with_tangent, trial);
           const Vec2 gt = residual(F, wt, trial);
           if (gt.allFinite() && gt.norm() <= g.norm()) z = zt, w = wt, at = std::move(trial), g = gt;
         }
@@ -191,7 +191,7 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
         if (!(zt(0) > -0.5 && zt(0) < kBetaMax)) continue;
         const Wrinkle wt = wrinkle(F, zt(0), zt(1));
         LawOutput trial;
-        inner_->evaluate({wt.Ft, in.Q}, with_tangent, trial);
+        inner_->evaluate({wt.Ft, in.Q, in.region}, with_tangent, trial);
         const Vec2 gt = residual(F, wt, trial);
         if (gt.allFinite() && gt.norm() < g.norm()) {
           z = zt, w = wt, at = std::move(trial), g = gt;
@@ -242,7 +242,7 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
     st.beta = smooth_ramp(z(0), width)(0);
     st.angle = wrap_angle(z(1) + std::numbers::pi / 2);
     st.tension = w.t.dot(at_Ft.P * w.Ft.transpose() * w.t);
-    if (sensitivities) inner_->evaluate({w.Ft, in.Q}, {true, true}, at_Ft);
+    if (sensitivities) inner_->evaluate({w.Ft, in.Q, in.region}, {true, true}, at_Ft);
   } else if (beta_start != 0 || below_foot) {
     st.state = MembraneState::taut;  // a taut-side root below the ramp's foot (or none found there)
   } else {
@@ -286,7 +286,7 @@ void WrinklingLaw::evaluate(const LawInput& in, const LawRequest& req, LawOutput
   const bool at_root = st.beta == st.root_beta;
   const Wrinkle we = at_root ? w : wrinkle(F, st.beta, theta);  // the effective wavy sheet
   LawOutput at_eff;
-  if (!at_root) inner_->evaluate({we.Ft, in.Q}, {true, req.sensitivities}, at_eff);
+  if (!at_root) inner_->evaluate({we.Ft, in.Q, in.region}, {true, req.sensitivities}, at_eff);
   const LawOutput& eff = at_root ? at_Ft : at_eff;
   out.P = (1 - eta) * eff.P + eta * out.P;
   out.lambda3 = eff.lambda3;

@@ -16,6 +16,7 @@
 #include "tricot/fem/mooney_rivlin.hpp"
 #include "tricot/fem/compressible_mooney_rivlin.hpp"
 #include "tricot/fem/neo_hookean.hpp"
+#include "tricot/fem/region_laws.hpp"
 #include "tricot/fem/reference_fabric.hpp"
 #include "tricot/fem/response_surface.hpp"
 
@@ -245,6 +246,17 @@ io::SectionSpec law_section() {
       key("G_s", rp.G_s, "In-plane shear stiffness, N/mm, > 0.", 0, 1e6),
   };
   law.sections = {mr, nh, co, rs, rf};
+  // [[law.region]]: a whole law table per named region (docs/theory.md §5.2).
+  SectionSpec region{"region",
+                     "The law of one region of the mesh (a Gmsh physical surface): a lesion in healthy skin, a seam\n"
+                     "in a knit. The same keys and sub-tables as [law] ([law.region.neo_hookean], …); the regions no\n"
+                     "table names keep [law]. Its coefficients are named \"<region>.<coefficient>\" in [[parameter]]\n"
+                     "(e.g. \"lesion.mu\"): the ones a project does not name stay fixed.",
+                     true, {}, {}};
+  region.keys = law.keys;
+  region.keys.insert(region.keys.begin(), key("name", std::string(""), "The region: a physical surface of the mesh."));
+  region.sections = law.sections;
+  law.sections.push_back(region);
   return law;
 }
 
@@ -449,7 +461,10 @@ MooneyRivlinSpec::MooneyRivlinSpec() {
   }
 }
 
-LawSpec LawSpec::from_config(const io::Node& law) {
+namespace {
+
+// One law table: [law] or a [[law.region]].
+LawSpec law_table(const io::Node& law) {
   LawSpec l;
   l.type = law.string("type");
   l.wrinkling = law.boolean("wrinkling");
@@ -484,6 +499,17 @@ LawSpec LawSpec::from_config(const io::Node& law) {
   p.k_X = rf.real("k_X"), p.k_P = rf.real("k_P"), p.k_J = rf.real("k_J"), p.eps_J = rf.real("eps_J");
   p.s_J = rf.real("s_J"), p.G_s = rf.real("G_s");
   p.origin = Origin(rf);
+  return l;
+}
+
+}  // namespace
+
+LawSpec LawSpec::from_config(const io::Node& law) {
+  LawSpec l = law_table(law);
+  for (const io::Node& r : law.array("region")) {
+    l.region.push_back(law_table(r));
+    l.region.back().name = r.string("name");
+  }
   return l;
 }
 
@@ -802,6 +828,10 @@ std::string resolve(const std::string& folder, const std::string& path) {
 
 }  // namespace
 
+std::vector<std::string> MeshSpec::region_names() const {
+  return from_gmsh() ? gmsh_mesh().region_names : std::vector<std::string>{};
+}
+
 fem::Mesh MeshSpec::gmsh_mesh() const {
   if (!file.empty() && !geometry.empty())
     origin.fail("geometry", "a mesh comes from a file or a geometry, not both", "\"" + geometry + "\"", "\"\"");
@@ -917,7 +947,32 @@ fem::TestModel TestSpec::custom_model(const MeshSpec& case_mesh) const {
   return t;
 }
 
-std::unique_ptr<fem::Law> LawSpec::law() const {
+std::unique_ptr<fem::Law> LawSpec::law(const std::vector<std::string>& mesh_regions) const {
+  if (region.empty()) return region_law();
+  if (mesh_regions.empty())
+    region.front().origin.fail("name", "region laws need a mesh with named regions (Gmsh physical surfaces)",
+                               "\"" + region.front().name + "\"", "[mesh] file or geometry with physical surfaces");
+  std::vector<std::unique_ptr<fem::Law>> laws;
+  std::vector<std::string> prefixes{""};
+  laws.push_back(region_law());
+  std::vector<int> law_of_region(mesh_regions.size(), 0);
+  for (const LawSpec& r : region) {
+    const auto at = std::find(mesh_regions.begin(), mesh_regions.end(), r.name);
+    if (at == mesh_regions.end()) {
+      const std::string hint = fem::closest_name(r.name, mesh_regions);
+      r.origin.fail("name", "no region of the mesh is named '" + r.name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)"),
+                    "\"" + r.name + "\"", "a physical surface of the mesh");
+    }
+    if (std::find(prefixes.begin(), prefixes.end(), r.name) != prefixes.end())
+      r.origin.fail("name", "a second law for the region '" + r.name + "'", "\"" + r.name + "\"", "one table per region");
+    law_of_region[static_cast<size_t>(at - mesh_regions.begin())] = static_cast<int>(laws.size());
+    laws.push_back(r.region_law());
+    prefixes.push_back(r.name);
+  }
+  return std::make_unique<fem::RegionLaws>(std::move(laws), std::move(prefixes), std::move(law_of_region));
+}
+
+std::unique_ptr<fem::Law> LawSpec::region_law() const {
   std::unique_ptr<fem::Law> inner = inner_law();
   if (!wrinkling) return inner;
   fem::WrinklingOptions o;

@@ -55,6 +55,7 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
       fem::LawInput in;
       in.F = F;
       in.Q = Q;
+      in.region = geo.region;
       double l3 = std::numeric_limits<double>::quiet_NaN();
       Mat2 sq = Mat2::Constant(std::numeric_limits<double>::quiet_NaN());
       if (F.determinant() > 0) {

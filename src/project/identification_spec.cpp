@@ -241,7 +241,7 @@ struct Model {
 Model check_model(const IdentificationSpec& spec) {
   Model m;
   spec.check_tests();
-  m.law = spec.law.law();
+  m.law = spec.law.law(spec.mesh.region_names());
   m.solver = spec.solver.options();
   for (const auto& t : spec.test) {
     if (t.test_kind() == TestKind::simple_shear)

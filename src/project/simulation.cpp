@@ -248,7 +248,7 @@ SimulationOutcome run_simulation(const io::Node& root, const SimulationRequest& 
 
 SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& args, const Log& log) {
   spec.check_tests();
-  const auto law = spec.law.law();
+  const auto law = spec.law.law(spec.mesh.region_names());
   if (!args.coefficients.empty()) {  // --law: the identified values, by name
     const std::vector<std::string> known = law->coefficient_names();
     Eigen::VectorXd c = law->coefficients();

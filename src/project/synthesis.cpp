@@ -131,7 +131,7 @@ io::SectionSpec synth_schema() {
 Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
   const CaseSpec spec = CaseSpec::from_config(root);
   spec.check_tests();
-  const auto law = spec.law.law();
+  const auto law = spec.law.law(spec.mesh.region_names());
   const fem::SolveOptions solver = spec.solver.options();
   const io::Node& s = root.section("synth");
   if (s.real("noise_relative") > 0)

@@ -159,6 +159,63 @@ TEST(CustomSpecimen, ACompressibleMooneyRivlinSheetHeldAcrossGivesItsEnergysForc
   }
 }
 
+// Two materials in series ([[law.region]]): a 20 × 50 mm sheet, its lower 30 mm "soft" (the [law]) and
+// its upper 20 mm "stiff" (a region law), held across in plane strain and pulled. Each part is
+// homogeneous, F = diag(1, λ_i), with the same force per width p = P22(λ_soft) = P22(λ_stiff) and
+// 30 (λ_soft − 1) + 20 (λ_stiff − 1) = d: p by bisection.
+const char* kTwoMaterials = R"(
+SetFactory("OpenCASCADE");
+Rectangle(1) = {0, 0, 0, 20, 30};
+Rectangle(2) = {0, 30, 0, 20, 20};
+BooleanFragments{ Surface{1, 2}; Delete; }{}
+eps = 1e-6;
+Physical Surface("soft") = Surface In BoundingBox{-eps, -eps, -eps, 20 + eps, 30 + eps, eps};
+Physical Surface("stiff") = Surface In BoundingBox{-eps, 30 - eps, -eps, 20 + eps, 50 + eps, eps};
+Physical Curve("bottom") = Curve In BoundingBox{-eps, -eps, -eps, 20 + eps, eps, eps};
+Physical Curve("top") = Curve In BoundingBox{-eps, 50 - eps, -eps, 20 + eps, 50 + eps, eps};
+Physical Curve("left") = Curve In BoundingBox{-eps, -eps, -eps, eps, 50 + eps, eps};
+Physical Curve("right") = Curve In BoundingBox{20 - eps, -eps, -eps, 20 + eps, 50 + eps, eps};
+)";
+
+std::string two_materials(const std::string& region) {
+  std::string text = held_sheet("T3");
+  text += "\n[[law.region]]\nname = \"" + region + "\"\ntype = \"neo_hookean\"\n\n[law.region.neo_hookean]\nmu = 2.0\n"
+          "lambda = 4.0\nkinematics = \"plane_strain\"\n";
+  return text;
+}
+
+TEST(CustomSpecimen, TwoMaterialsInSeriesGiveTheClosedFormAndAnUnknownRegionIsNamed) {
+  const fs::path c = write_case("two_materials", two_materials("stiff"));
+  std::ofstream(c.parent_path() / "rect.geo") << kTwoMaterials;
+  const fs::path out = c.parent_path() / "out";
+  const auto r = run_tricot("simulate " + c.string() + " -o " + out.string() + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<double> force = io::read_csv(out / "held" / "steps.csv").values("edge_force");
+  auto P22 = [](double l, double mu, double lam) { return mu * (l - 1 / l) + lam * std::log(l) / l; };
+  auto stretch = [&](double p, double mu, double lam) {  // P22(λ) = p, P22 increasing
+    double lo = 1, hi = 10;
+    for (int i = 0; i < 200; ++i) (P22(0.5 * (lo + hi), mu, lam) < p ? lo : hi) = 0.5 * (lo + hi);
+    return 0.5 * (lo + hi);
+  };
+  for (int k = 0; k < 2; ++k) {
+    const double d = 10.0 * (k + 1);
+    double lo = 0, hi = 100;
+    for (int i = 0; i < 200; ++i) {
+      const double p = 0.5 * (lo + hi);
+      (30 * (stretch(p, 0.8, 2.5) - 1) + 20 * (stretch(p, 2.0, 4.0) - 1) < d ? lo : hi) = p;
+    }
+    const double expected = 20 * 0.5 * (lo + hi);
+    EXPECT_NEAR(force[k], expected, kHomogeneous * expected);
+  }
+  const fs::path bad = write_case("two_materials_typo", two_materials("stif"));
+  std::ofstream(bad.parent_path() / "rect.geo") << kTwoMaterials;
+  const auto b = run_tricot("simulate " + bad.string() + " -o " + (bad.parent_path() / "out").string());
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("law.region[0].name: no region of the mesh is named 'stif' (did you mean 'stiff'?)"), std::string::npos)
+      << b.err;
+  EXPECT_FALSE(fs::exists(bad.parent_path() / "out"));
+}
+
 TEST(CustomSpecimen, TheStripWithAHoleExampleBalancesItsClampsAndComesBackUnloaded) {
   const fs::path out = test::scratch_dir("custom_strip") / "out";
   const auto r = run_tricot("simulate " + (test::source_dir() / "examples/strip-with-hole/case.toml").string() +

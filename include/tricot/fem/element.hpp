@@ -45,6 +45,7 @@ struct ElementGeometry {
   std::array<double, kMaxQuadraturePoints> dA0;  ///< Gauss weight × det(∂X/∂ξ)
   /// Smallest det(∂X/∂ξ) over the points; ≤ 0 means the element is inverted in the reference mesh.
   double min_detJ0 = 0;
+  int region = 0;  ///< Mesh::region of the element (0 without regions), passed to the law
 };
 ElementGeometry element_geometry(const Mesh& mesh, int e);
 

@@ -23,6 +23,9 @@ struct LawInput {
   /// Material axes in the reference configuration, as columns: Q.col(0) = course a_C, Q.col(1) =
   /// wale a_W (orthonormal). Identity for isotropic laws and for a test loaded along course = x.
   Mat2 Q = Mat2::Identity();
+  /// The region of the point's element (Mesh::region; 0 in a mesh without regions): RegionLaws
+  /// evaluates that region's law, every other law ignores it.
+  int region = 0;
 };
 
 /// What a law returns. Forces are per unit reference length (N/mm): the membrane stress times the

@@ -79,6 +79,8 @@ struct MeshSpec {
   /// The mesh of `file` or `geometry` (read or meshed by Gmsh, checked: fem::read_gmsh). Throws
   /// InputError / FileError naming the file and `mesh.file` or `mesh.geometry`.
   fem::Mesh gmsh_mesh() const;
+  /// The regions of the Gmsh mesh (physical surfaces, Mesh::region_names); none for a generated mesh.
+  std::vector<std::string> region_names() const;
 };
 
 /// `[test.mesh]`: a non-zero (non-empty) value replaces the key of [mesh].
@@ -150,15 +152,22 @@ struct LawSpec {
   /// `wrinkle_smoothing`: fem::WrinklingOptions::smoothing, the width of the smoothed taut/wrinkled
   /// switch (only with `wrinkling`).
   double wrinkle_smoothing = fem::WrinklingOptions{}.smoothing;
+  /// `[[law.region]]`: the laws of named regions (Gmsh physical surfaces), each a whole law table
+  /// with its `name`; the regions none names keep this law (fem::RegionLaws).
+  std::vector<LawSpec> region;
+  std::string name;  ///< a [[law.region]]'s region
   Origin origin{"law"};
 
   static LawSpec from_config(const io::Node& law);
   /// The law of `type`: the law's constructor is the one check of its coefficients; its error
   /// (`material.<name>`) is placed at the sub-table's key. Throws InputError.
-  /// Wrapped in fem::WrinklingLaw when `wrinkling`.
-  std::unique_ptr<fem::Law> law() const;
+  /// Wrapped in fem::WrinklingLaw when `wrinkling`. With [[law.region]] tables, a fem::RegionLaws over
+  /// the mesh's regions `mesh_regions` (Mesh::region_names), each name checked against them.
+  std::unique_ptr<fem::Law> law(const std::vector<std::string>& mesh_regions = {}) const;
   /// The law of `type` alone (never wrapped).
   std::unique_ptr<fem::Law> inner_law() const;
+  /// The law of `type`, wrapped when `wrinkling`: this table's own law, without its regions.
+  std::unique_ptr<fem::Law> region_law() const;
 };
 
 /// `[solver]` (fem::SolveOptions).
