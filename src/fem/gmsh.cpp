@@ -218,6 +218,8 @@ Mesh with_gmsh(const std::string& path, const std::string& key, Body body) {
     }
     if (!last.empty()) why = last;
     throw FileError(Location{path, 0, key}, "Gmsh cannot read it: " + why);
+  } catch (const std::string& why) {  // libgmsh's API throws its last error as a string
+    throw FileError(Location{path, 0, key}, "Gmsh cannot read it: " + why);
   }
 }
 

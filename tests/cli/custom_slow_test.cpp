@@ -86,5 +86,38 @@ TEST(StripWithAHole, NoisyDataOnACoarserMeshGiveTheTruthWithinItsStandardErrors)
   EXPECT_LT(r["chi2_per_dof"].get<double>(), 1.5);
 }
 
+// examples/two-pad (issue 28): the skin's μ and λ from a pad extensometer with a lesion of a known second
+// material between the pads, plane strain, T6.
+fs::path copy_two_pad(const std::string& name) {
+  const fs::path dir = test::scratch_dir(name), from = test::source_dir() / "examples" / "two-pad";
+  for (const char* f : {"pads.geo", "experiment.toml", "project.toml", "project-lesion.toml"}) fs::copy_file(from / f, dir / f);
+  return dir;
+}
+
+TEST(TwoPad, NoiseFreeDataOnTheTruthsMeshGiveTheSkinWithinATenthOfAPercent) {
+  const fs::path dir = copy_two_pad("two_pad_noise_free");
+  edit(dir / "experiment.toml", "noise_edge_force = 0.002", "noise_edge_force = 0.0");
+  edit(dir / "experiment.toml", "noise_field = 0.002", "noise_field = 0.0");
+  edit(dir / "experiment.toml", "size = 1.0", "size = 1.5");
+  edit(dir / "project.toml", "sigma_from_truth = true", "sigma_from_truth = false");
+  const nlohmann::json r = identify(dir);
+  EXPECT_NEAR(r["parameters"]["mu"].get<double>(), 0.05, 1e-3 * 0.05);  // measured 1.1e-7
+  EXPECT_NEAR(r["parameters"]["lambda"].get<double>(), 0.2, 1e-3 * 0.2);
+}
+
+TEST(TwoPad, NoisyDataOnACoarserMeshGiveTheSkinAndTheLesionWithinTwoStandardErrors) {
+  const fs::path dir = copy_two_pad("two_pad_noisy");
+  const nlohmann::json r = identify(dir);
+  for (const auto& [name, truth] : {std::pair<std::string, double>{"mu", 0.05}, {"lambda", 0.2}}) {
+    const double value = r["parameters"][name].get<double>(), se = r["std_error"][name].get<double>();
+    EXPECT_LT(std::abs(value - truth), 2 * se) << name << " = " << value << " ± " << se;
+  }
+  const auto l = run_tricot("identify " + (dir / "project-lesion.toml").string() + " -o " + (dir / "lesion").string() + " -q");
+  ASSERT_EQ(l.exit_code, 0) << l.err;
+  const nlohmann::json j = nlohmann::json::parse(text(dir / "lesion" / "result.json"));
+  const double value = j["parameters"]["lesion.mu"].get<double>(), se = j["std_error"]["lesion.mu"].get<double>();
+  EXPECT_LT(std::abs(value - 0.15), 2 * se) << value << " ± " << se;
+}
+
 }  // namespace
 }  // namespace tricot
