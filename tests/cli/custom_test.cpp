@@ -216,6 +216,20 @@ TEST(CustomSpecimen, TwoMaterialsInSeriesGiveTheClosedFormAndAnUnknownRegionIsNa
   EXPECT_FALSE(fs::exists(bad.parent_path() / "out"));
 }
 
+// A geometry Gmsh cannot build (OpenCASCADE's ellipse takes its larger radius first) is one line naming
+// the file and Gmsh's reason, exit 3, not a crash (libgmsh throws its errors as strings).
+TEST(CustomSpecimen, AGeometryGmshCannotBuildIsNamedWithGmshsReason) {
+  const fs::path c = write_case("broken_geo", held_sheet("T3"));
+  std::ofstream(c.parent_path() / "rect.geo") << "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 20, 50};\n"
+                                                  "Disk(2) = {10, 25, 0, 3, 6};\n"
+                                                  "BooleanFragments{ Surface{1}; Delete; }{ Surface{2}; Delete; }\n";
+  const auto r = run_tricot("simulate " + c.string() + " -o " + (c.parent_path() / "out").string());
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("rect.geo"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Gmsh cannot read it"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
 TEST(CustomSpecimen, TheStripWithAHoleExampleBalancesItsClampsAndComesBackUnloaded) {
   const fs::path out = test::scratch_dir("custom_strip") / "out";
   const auto r = run_tricot("simulate " + (test::source_dir() / "examples/strip-with-hole/case.toml").string() +
