@@ -26,13 +26,36 @@ NeoHookean::NeoHookean(double mu, double lambda, Kinematics kinematics)
   check(mu, lambda);
 }
 
+NeoHookean::NeoHookean(YoungPoisson e, Kinematics kinematics)
+    : mu_(0), lambda_(0), kinematics_(kinematics), young_poisson_(true) {
+  set_coefficients(Eigen::Vector2d(e.E, e.nu));
+}
+
+std::vector<std::string> NeoHookean::coefficient_names() const {
+  return young_poisson_ ? std::vector<std::string>{"E", "nu"} : std::vector<std::string>{"mu", "lambda"};
+}
+
+Eigen::VectorXd NeoHookean::coefficients() const {
+  return young_poisson_ ? Eigen::Vector2d(E_, nu_) : Eigen::Vector2d(mu_, lambda_);
+}
+
 void NeoHookean::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != 2)
     throw InputError(Location{"", 0, "material"}, "wrong number of neo-Hookean coefficients",
                      std::to_string(c.size()), "2");
-  check(c(0), c(1));
-  mu_ = c(0);
-  lambda_ = c(1);
+  if (!young_poisson_) {
+    check(c(0), c(1));
+    mu_ = c(0);
+    lambda_ = c(1);
+    return;
+  }
+  if (!(c(0) > 0) || !std::isfinite(c(0)))
+    throw InputError(Location{"", 0, "material.E"}, "out of range", std::to_string(c(0)), "> 0 N/mm");
+  if (!(c(1) > -1 && c(1) < 0.5))
+    throw InputError(Location{"", 0, "material.nu"}, "out of range", std::to_string(c(1)), "in (-1, 0.5)");
+  E_ = c(0), nu_ = c(1);
+  mu_ = E_ / (2 * (1 + nu_));
+  lambda_ = E_ * nu_ / ((1 + nu_) * (1 - 2 * nu_));
 }
 
 void NeoHookean::evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const {
@@ -55,6 +78,7 @@ void NeoHookean::evaluate(const LawInput& in, const LawRequest& req, LawOutput& 
         }
     out.dP_dc.clear();
     if (req.sensitivities) out.dP_dc = {F - Fit, lnJ * Fit};
+    to_young_poisson(out.dP_dc);
     return;
   }
   const double lnJ2 = 2 * std::log(detF);
@@ -89,9 +113,21 @@ void NeoHookean::evaluate(const LawInput& in, const LawRequest& req, LawOutput& 
     out.dP_dc.resize(2);
     out.dP_dc[0] = (F - t * Fit) - mu * t * (-(t - 1) / h) * Fit;
     out.dP_dc[1] = -mu * t * (-lnJ / h) * Fit;
+    to_young_poisson(out.dP_dc);
   } else {
     out.dP_dc.clear();
   }
+}
+
+void NeoHookean::to_young_poisson(std::vector<Mat2>& dP) const {
+  if (!young_poisson_ || dP.size() != 2) return;
+  // ∂(μ, λ)/∂(E, ν): μ = E/(2(1 + ν)), λ = Eν/((1 + ν)(1 − 2ν)).
+  const double a = 1 + nu_, b = 1 - 2 * nu_;
+  const double dmu_dE = 1 / (2 * a), dmu_dnu = -E_ / (2 * a * a);
+  const double dl_dE = nu_ / (a * b), dl_dnu = E_ * (1 + 2 * nu_ * nu_) / (a * a * b * b);
+  const Mat2 dmu = dP[0], dl = dP[1];
+  dP[0] = dmu_dE * dmu + dl_dE * dl;
+  dP[1] = dmu_dnu * dmu + dl_dnu * dl;
 }
 
 }  // namespace tricot::fem

@@ -330,7 +330,7 @@ void print_section(std::string& out, const SectionSpec& s, const std::string& pa
     const std::string r = range_text(k);
     if (!r.empty()) help += (help.empty() ? "" : " ") + std::string("[") + r + "]";
     print_comment(out, help);
-    out += lead + k.name + " = " + to_toml(k.default_value) + "\n";
+    out += (k.alternative ? "# " : lead) + k.name + " = " + to_toml(k.default_value) + "\n";
   }
   for (const auto& sub : s.sections) print_section(out, sub, join(path, sub.name), commented);
 }

@@ -185,11 +185,19 @@ io::SectionSpec law_section() {
   nh.keys = {
       key("mu", 0.1, "Shear modulus μ, N/mm, > 0.", 0, 1e6),
       key("lambda", 0.2, "Lamé modulus λ, N/mm.", 0, 1e6),
+      key("E", 0.0,
+          "Or Young's modulus E, N/mm, with `nu` instead of mu and lambda: the law's coefficients are then\n"
+          "\"E\" and \"nu\" (μ = E/(2(1 + ν)), λ = Eν/((1 + ν)(1 − 2ν)), the 3-D Lamé modulus, for either\n"
+          "kinematics).",
+          0, 1e9),
+      key("nu", 0.0, "Poisson's ratio ν in (−1, 0.5), with `E`.", -1, 0.5),
       key("kinematics", std::string("plane_stress"),
           "plane_stress (a membrane, σ33 = 0) or plane_strain (a slice of a thick specimen, C33 = 1: then\n"
           "μ and λ are the moduli times the thickness).",
           -kInf, kInf, {"plane_stress", "plane_strain"}),
   };
+  for (auto& k : nh.keys)
+    if (k.name == "E" || k.name == "nu") k.alternative = true;
   SectionSpec co{"corotational",
                  "Corotational Eulerian law τ̂ = 𝔻 : ln U (docs/theory.md §4): orthotropic linear on the logarithmic\n"
                  "strain in the material frame (course, wale), or isotropic.",
@@ -478,6 +486,13 @@ LawSpec law_table(const io::Node& law) {
   const Node& nh = law.section("neo_hookean");
   l.neo_hookean.mu = nh.real("mu"), l.neo_hookean.lambda = nh.real("lambda");
   l.neo_hookean.kinematics = nh.string("kinematics");
+  if (nh.given("E") || nh.given("nu")) {
+    if (!nh.given("E") || !nh.given("nu"))
+      nh.fail(nh.given("E") ? "nu" : "E", "E and nu go together", "one of them", "both, or mu and lambda");
+    if (nh.given("mu") || nh.given("lambda"))
+      nh.fail(nh.given("mu") ? "mu" : "lambda", "give E and nu, or mu and lambda, not both", "both", "one pair");
+    l.neo_hookean.E = nh.real("E"), l.neo_hookean.nu = nh.real("nu");
+  }
   l.neo_hookean.origin = Origin(nh);
   const Node& co = law.section("corotational");
   CorotationalSpec& c = l.corotational;
@@ -1021,6 +1036,8 @@ std::unique_ptr<fem::Law> LawSpec::inner_law() const {
   if (type == "neo_hookean") {
     const NeoHookeanSpec& s = neo_hookean;
     const auto kinematics = s.kinematics == "plane_strain" ? fem::Kinematics::plane_strain : fem::Kinematics::plane_stress;
+    if (s.E)
+      return build(s.origin, [&] { return std::make_unique<fem::NeoHookean>(fem::YoungPoisson{*s.E, *s.nu}, kinematics); });
     return build(s.origin, [&] { return std::make_unique<fem::NeoHookean>(s.mu, s.lambda, kinematics); });
   }
   if (type == "corotational") {

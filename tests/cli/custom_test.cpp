@@ -265,7 +265,10 @@ TEST(CustomSpecimen, BadInputIsOneLineNamingTheFileKeyAndValueAndWritesNothing) 
                     "name = \"sides\"\nfix = [\"x\"]\ntie = 1.0\ntie_end = [0, 40]");
   std::string taper = held_sheet("T3");  // a taper with no end to fall toward
   taper.replace(taper.find("force = \"y\""), 11, "force = \"y\"\ntie = 1.0\ntie_taper = 5.0");
+  std::string both_pairs = held_sheet("T3");  // (E, ν) and (μ, λ) at once
+  both_pairs.replace(both_pairs.find("lambda = 2.5"), 12, "lambda = 2.5\nE = 2.0\nnu = 0.3");
   const Case cases[] = {
+      {"both_pairs", both_pairs, "law.neo_hookean.mu: give E and nu, or mu and lambda, not both"},
       {"tie_two_lines", two_lines, "test[0].boundary[0].tie_end: test 'held': a tie that ends needs the boundary 'sides' to be one open line"},
       {"tie_taper", taper, "test[0].boundary[3].tie_taper: a taper needs the tie's end"},
       {"unknown_boundary", no_such, "test[0].boundary[3].name: no boundary of the mesh is named 'tpo' (did you mean 'top'?)"},

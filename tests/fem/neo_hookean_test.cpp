@@ -141,3 +141,37 @@ TEST(NeoHookean, InvertedDeformationGivesNaN) {
 
 }  // namespace
 }  // namespace tricot::fem
+
+namespace tricot::fem {
+namespace {
+
+// (E, ν) as the coefficients: the same stress as (μ, λ) = (E/(2(1 + ν)), Eν/((1 + ν)(1 − 2ν))), and
+// ∂P/∂(E, ν) by the chain rule vs central differences, in plane stress and plane strain.
+TEST(NeoHookean, YoungsModulusAndPoissonsRatioAreTheSameLawWithTheirOwnDerivatives) {
+  const double E = 0.9, nu = 0.35, mu = E / (2 * (1 + nu)), lam = E * nu / ((1 + nu) * (1 - 2 * nu));
+  for (Kinematics k : {Kinematics::plane_stress, Kinematics::plane_strain}) {
+    const NeoHookean law(YoungPoisson{E, nu}, k);
+    EXPECT_EQ(law.coefficient_names(), (std::vector<std::string>{"E", "nu"}));
+    EXPECT_FALSE(law.linear_in_coefficients());
+    const NeoHookean lame(mu, lam, k);
+    for (const auto& [what, F] : states()) {
+      EXPECT_LT((eval(law, F).P - eval(lame, F).P).cwiseAbs().maxCoeff(), 1e-14) << what;
+      if (what == "identity") continue;
+      const LawOutput out = eval(law, F, true);
+      Eigen::MatrixXd J(4, 2);
+      for (int c = 0; c < 2; ++c)
+        for (int r = 0; r < 4; ++r) J(r, c) = out.dP_dc[static_cast<size_t>(c)](r / 2, r % 2);
+      auto P_of_c = [&](const Eigen::VectorXd& c) -> Eigen::VectorXd {
+        NeoHookean l = law;
+        l.set_coefficients(c);
+        return flatten(eval(l, F).P);
+      };
+      EXPECT_TRUE(test::JacobianMatches(P_of_c, Eigen::Vector2d(E, nu), J, kTangentTol)) << what << " " << to_string(k);
+    }
+  }
+  EXPECT_THROW(NeoHookean(YoungPoisson{0.0, 0.3}), InputError);
+  EXPECT_THROW(NeoHookean(YoungPoisson{1.0, 0.5}), InputError);
+}
+
+}  // namespace
+}  // namespace tricot::fem

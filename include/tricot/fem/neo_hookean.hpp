@@ -12,16 +12,27 @@
 
 namespace tricot::fem {
 
+/// Young's modulus and Poisson's ratio of the 3-D law at small strain, for either kinematics:
+/// μ = E / (2(1 + ν)), λ = E ν / ((1 + ν)(1 − 2ν)) (λ the 3-D Lamé modulus).
+struct YoungPoisson {
+  double E = 0;   ///< N/mm (a modulus times the thickness)
+  double nu = 0;  ///< in (−1, 0.5)
+};
+
 class NeoHookean : public Law {
  public:
   /// Throws InputError (key `material.mu` / `material.lambda`) unless μ > 0 and λ ≥ 0, finite.
   NeoHookean(double mu, double lambda, Kinematics kinematics = Kinematics::plane_stress);
+  /// The same law with (E, ν) as its coefficients (names "E", "nu"; ∂P/∂(E, ν) by the chain rule, so
+  /// it is not linear in them). Throws InputError (key `material.E` / `material.nu`) unless E > 0 and
+  /// −1 < ν < 0.5.
+  NeoHookean(YoungPoisson e, Kinematics kinematics = Kinematics::plane_stress);
 
   std::string name() const override { return "neo_hookean"; }
-  std::vector<std::string> coefficient_names() const override { return {"mu", "lambda"}; }
-  Eigen::VectorXd coefficients() const override { return Eigen::Vector2d(mu_, lambda_); }
+  std::vector<std::string> coefficient_names() const override;
+  Eigen::VectorXd coefficients() const override;
   void set_coefficients(const Eigen::VectorXd& c) override;
-  bool linear_in_coefficients() const override { return kinematics_ == Kinematics::plane_strain; }
+  bool linear_in_coefficients() const override { return kinematics_ == Kinematics::plane_strain && !young_poisson_; }
   Kinematics kinematics() const { return kinematics_; }
   /// det F ≤ 0 gives NaN outputs (the solver reports an invalid state).
   void evaluate(const LawInput& in, const LawRequest& req, LawOutput& out) const override;
@@ -31,6 +42,10 @@ class NeoHookean : public Law {
   double mu_;
   double lambda_;
   Kinematics kinematics_;
+  bool young_poisson_ = false;  ///< the coefficients are (E, ν)
+  /// ∂P/∂(μ, λ) → ∂P/∂(E, ν) when the coefficients are (E, ν).
+  void to_young_poisson(std::vector<Mat2>& dP) const;
+  double E_ = 0, nu_ = 0;
 };
 
 }  // namespace tricot::fem

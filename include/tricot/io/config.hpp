@@ -37,6 +37,9 @@ struct KeySpec {
   /// A string key that also takes a number (a word for some entries, a size for others, e.g. the
   /// side of [[test]]: free or guide, or the rig's specimen side in mm); read it with Node::value().
   bool or_number = false;
+  /// An alternative to other keys, read only when the user writes it (e.g. E and ν instead of μ and
+  /// λ): --print-config prints it commented out, so that the printed config runs as it is.
+  bool alternative = false;
 };
 
 /// A KeySpec in one line, as the verbs' schemas write them.

@@ -112,6 +112,8 @@ struct MooneyRivlinSpec {
 struct NeoHookeanSpec {
   double mu = 0.1;
   double lambda = 0.2;
+  /// E and ν when given (both, and neither mu nor lambda): the law's coefficients are then (E, ν).
+  std::optional<double> E, nu;
   std::string kinematics = "plane_stress";  ///< plane_stress or plane_strain
   Origin origin{"law.neo_hookean"};
 };
