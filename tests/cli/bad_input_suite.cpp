@@ -313,7 +313,16 @@ void schema_cases(const Verb& v, const io::SectionSpec& s, const std::string& he
       hdr = sub.array ? "[[" + table + "]]" : "[" + table + "]";
       p = path + "." + sub.name + (sub.array ? "[0]" : "");
     }
-    schema_cases(v, sub, hdr, p, out);
+    // An array of tables that the base file lacks (e.g. [[law.region]]) gets one entry, so that the
+    // sub-tables of that entry ([law.region.neo_hookean]) belong to it.
+    const bool lacking = sub.array && std::none_of(v.base.begin(), v.base.end(), [&](const Table& t) { return t.header == hdr; });
+    if (!lacking) {
+      schema_cases(v, sub, hdr, p, out);
+      continue;
+    }
+    Verb with_entry = v;
+    with_entry.base.push_back({hdr, {}});
+    schema_cases(with_entry, sub, hdr, p, out);
   }
 }
 

@@ -46,12 +46,19 @@ void edit(const fs::path& file, const std::string& pattern, const std::string& w
   std::ofstream(file) << t;
 }
 
+// An example's experiment made noise-free on the project's own mesh (the truth's mesh size `truth`
+// becomes the project's `project`), its σ no longer taken from truth.json.
+void noise_free_on_the_projects_mesh(const fs::path& dir, const std::string& force_noise, const std::string& field_noise,
+                                     const std::string& truth, const std::string& project) {
+  edit(dir / "experiment.toml", force_noise, "noise_edge_force = 0.0");
+  edit(dir / "experiment.toml", field_noise, "noise_field = 0.0");
+  edit(dir / "experiment.toml", truth, project);
+  edit(dir / "project.toml", "sigma_from_truth = true", "sigma_from_truth = false");
+}
+
 TEST(StripWithAHole, NoiseFreeDataOnTheTruthsMeshGiveTheTruth) {
   const fs::path dir = copy_example("strip_noise_free");
-  edit(dir / "experiment.toml", "noise_edge_force = 0.02", "noise_edge_force = 0.0");
-  edit(dir / "experiment.toml", "noise_field = 0.005", "noise_field = 0.0");
-  edit(dir / "experiment.toml", "size = 2.0", "size = 3.0");
-  edit(dir / "project.toml", "sigma_from_truth = true", "sigma_from_truth = false");
+  noise_free_on_the_projects_mesh(dir, "noise_edge_force = 0.02", "noise_field = 0.005", "size = 2.0", "size = 3.0");
   const nlohmann::json r = identify(dir);
   EXPECT_NEAR(r["parameters"]["mu"].get<double>(), 0.5, kNoiseFree * 0.5);
   EXPECT_NEAR(r["parameters"]["lambda"].get<double>(), 1.0, kNoiseFree * 1.0);
@@ -96,10 +103,7 @@ fs::path copy_two_pad(const std::string& name) {
 
 TEST(TwoPad, NoiseFreeDataOnTheTruthsMeshGiveTheSkinWithinATenthOfAPercent) {
   const fs::path dir = copy_two_pad("two_pad_noise_free");
-  edit(dir / "experiment.toml", "noise_edge_force = 0.002", "noise_edge_force = 0.0");
-  edit(dir / "experiment.toml", "noise_field = 0.002", "noise_field = 0.0");
-  edit(dir / "experiment.toml", "size = 1.0", "size = 1.5");
-  edit(dir / "project.toml", "sigma_from_truth = true", "sigma_from_truth = false");
+  noise_free_on_the_projects_mesh(dir, "noise_edge_force = 0.002", "noise_field = 0.002", "size = 1.0", "size = 1.5");
   const nlohmann::json r = identify(dir);
   EXPECT_NEAR(r["parameters"]["mu"].get<double>(), 0.05, 1e-3 * 0.05);  // measured 1.1e-7
   EXPECT_NEAR(r["parameters"]["lambda"].get<double>(), 0.2, 1e-3 * 0.2);
