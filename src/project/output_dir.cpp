@@ -4,8 +4,14 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdlib>
+#include <cerrno>
+#include <cstring>
 #include <set>
 #include <system_error>
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include "json.hpp"
 #include "tricot/core/error.hpp"
@@ -88,8 +94,20 @@ OutputDir::OutputDir(fs::path dir, std::string verb, bool keep_staging)
     throw FileError({dir_.string(), 0, ""}, "the output folder is a file", "", "a folder (or a path to create)");
   fs::create_directories(dir_, ec);
   if (ec) throw FileError({dir_.string(), 0, ""}, "cannot create the output folder: " + ec.message());
+  const fs::path lock = dir_ / (".tricot-" + verb_ + ".lock");
+  lock_ = ::open(lock.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (lock_ < 0) throw FileError({lock.string(), 0, ""}, std::string("cannot create the folder's lock: ") + std::strerror(errno));
+  if (::flock(lock_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(lock_);
+    throw FileError({dir_.string(), 0, ""}, "another tricot " + verb_ + " is writing this folder now", "",
+                    "wait for it to end, or another output folder");
+  }
   if (fs::exists(journal_of(dir_, verb_), ec)) roll_forward(dir_, verb_);  // a killed publication
   if (!keep_staging) fs::remove_all(staging_, ec);
+}
+
+OutputDir::~OutputDir() {
+  if (lock_ >= 0) ::close(lock_);  // releases the flock
 }
 
 void OutputDir::publish(const std::vector<std::string>& scope) {

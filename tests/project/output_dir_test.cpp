@@ -43,6 +43,24 @@ TEST(OutputDir, ARunWritesInStagingAndPublishesIntoTheFolder) {
   EXPECT_EQ(OutputDir::published(dir, "simulate"), (std::vector<std::string>{"a/step_0001.vtu", "steps.csv"}));
 }
 
+// Two runs of one verb into one folder at once would write and publish the same staging folder (a
+// Slurm test ran two identifications of one project together, and one lost its checkpoint): the second
+// is refused while the first runs, and runs once it has ended; another verb is not held back.
+TEST(OutputDir, ASecondRunIntoTheSameFolderIsRefusedWhileTheFirstRuns) {
+  const fs::path dir = fresh("lock");
+  {
+    OutputDir first(dir, "identify");
+    try {
+      OutputDir second(dir, "identify");
+      ADD_FAILURE() << "a second run was let in";
+    } catch (const FileError& e) {
+      EXPECT_NE(std::string(e.what()).find("another tricot identify is writing this folder now"), std::string::npos) << e.what();
+    }
+    EXPECT_NO_THROW(OutputDir(dir, "simulate"));
+  }
+  EXPECT_NO_THROW(OutputDir(dir, "identify"));
+}
+
 TEST(OutputDir, ARerunRemovesTheEarlierRunsFilesItDoesNotWriteAgain) {
   const fs::path dir = fresh("stale");
   {

@@ -138,6 +138,8 @@ cp "$tricot" "$site/build/tricot"
 cp "$src/examples/knit-campaign/campaign.slurm" "$site/examples/knit-campaign/"
 cp "$here"/experiment.toml "$here"/project-110.toml "$here"/project-150.toml "$here"/project-cut.toml \
   "$site/examples/knit-campaign/"
+# The strict run's own copy: two runs at once into one output folder are refused (the folder's lock).
+cp "$here"/project-cut.toml "$site/examples/knit-campaign/project-cut-strict.toml"
 chown -R "$job_user" "$site"
 
 # README.md's lines: the first sh block of "Running campaigns on a cluster".
@@ -221,7 +223,7 @@ cut=examples/knit-campaign/project-cut.toml
   > /dev/null &
 cut_pid=$!
 ( cd "$site" && as_user env STRICT_CONVERGENCE=1 sbatch --wait --ntasks=1 --array=0 --output=strict-%A_%a.log \
-  examples/knit-campaign/campaign.slurm $cut ) > /dev/null &
+  examples/knit-campaign/campaign.slurm "${cut%.toml}-strict.toml" ) > /dev/null &
 strict_pid=$!
 rc_cut=0 rc_strict=0
 wait $cut_pid || rc_cut=$?

@@ -19,7 +19,13 @@ class OutputDir {
   /// unless `keep_staging` (identify --resume continues from the checkpoint kept there); writing a
   /// file in staging() creates it (io::write_atomic creates folders). Throws
   /// FileError when DIR is a file or cannot be created.
+  /// A second run of the same verb into DIR while this one runs is refused (FileError naming DIR):
+  /// the two would write and publish the same staging folder. The lock (flock on
+  /// DIR/.tricot-<verb>.lock) is the kernel's, so a killed run leaves none behind.
   OutputDir(std::filesystem::path dir, std::string verb, bool keep_staging = false);
+  ~OutputDir();
+  OutputDir(const OutputDir&) = delete;
+  OutputDir& operator=(const OutputDir&) = delete;
 
   const std::filesystem::path& dir() const { return dir_; }          ///< DIR, where the files end up
   const std::filesystem::path& staging() const { return staging_; }  ///< where this run writes them
@@ -41,6 +47,7 @@ class OutputDir {
  private:
   std::filesystem::path dir_, staging_;
   std::string verb_;
+  int lock_ = -1;  ///< file descriptor holding the folder's lock
 };
 
 }  // namespace tricot::project
