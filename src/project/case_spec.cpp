@@ -522,6 +522,8 @@ LawSpec law_table(const io::Node& law) {
 LawSpec LawSpec::from_config(const io::Node& law) {
   LawSpec l = law_table(law);
   for (const io::Node& r : law.array("region")) {
+    if (!r.given("type"))  // the default law would take the region silently
+      r.fail("type", "a region's law needs its type", "none", "mooney_rivlin, neo_hookean, corotational, …");
     l.region.push_back(law_table(r));
     l.region.back().name = r.string("name");
   }

@@ -207,6 +207,13 @@ TEST(CustomSpecimen, TwoMaterialsInSeriesGiveTheClosedFormAndAnUnknownRegionIsNa
     const double expected = 20 * 0.5 * (lo + hi);
     EXPECT_NEAR(force[k], expected, kHomogeneous * expected);
   }
+  std::string untyped = two_materials("stiff");  // a region table without its type
+  untyped.replace(untyped.find("type = \"neo_hookean\"\n\n[law.region.neo_hookean]"), 20, "");
+  const fs::path no_type = write_case("two_materials_no_type", untyped);
+  std::ofstream(no_type.parent_path() / "rect.geo") << kTwoMaterials;
+  const auto t = run_tricot("simulate " + no_type.string() + " -o " + (no_type.parent_path() / "out").string());
+  EXPECT_EQ(t.exit_code, 2);
+  EXPECT_NE(t.err.find("law.region[0].type: a region's law needs its type"), std::string::npos) << t.err;
   const fs::path bad = write_case("two_materials_typo", two_materials("stif"));
   std::ofstream(bad.parent_path() / "rect.geo") << kTwoMaterials;
   const auto b = run_tricot("simulate " + bad.string() + " -o " + (bad.parent_path() / "out").string());
