@@ -23,12 +23,12 @@ Uncertainty uncertainty(const Eigen::MatrixXd& S, const Eigen::VectorXd& r, cons
   Eigen::VectorXd D(n);  // relative units: δJ_k = D_k · δz_k
   for (Eigen::Index k = 0; k < n; ++k) D(k) = J(k) != 0 ? std::abs(J(k)) : scale(k);
   const Eigen::MatrixXd S_rel = S * D.asDiagonal();
-  // Σ and V are those of R in S_rel = Q R; U is needed only for the sandwich (σ given). The SVD of the
-  // n × n R also avoids JacobiSVD's preconditioner on the tall S_rel, which crashed (a write to address
-  // 0) for the 19 215 × 14 Jacobian of the campaign with the stability barrier (issue 12).
-  const bool need_U = variance.size() == N && N > 0;
+  // Σ and V are those of R in S_rel = Q R (U is never needed: the sandwich below is written with V).
+  // The SVD of the n × n R avoids JacobiSVD's preconditioner on the tall S_rel, which crashed (a write
+  // to address 0) for the 19 215 × 14 Jacobian of the campaign with the stability barrier (issue 12)
+  // and for the 31 310 × 6 of the cruciform with per-point σ.
   Eigen::MatrixXd R(0, n);
-  if (!need_U && N > n) {
+  if (N > n) {
     // R by QR of blocks of at most kBlock rows, each stacked under the last R (a tall-skinny QR): no
     // Householder vector longer than kBlock + n, below Eigen's stack-allocation limit of 16 384
     // doubles; the crash was in the heap branch of a longer one.
@@ -41,8 +41,7 @@ Uncertainty uncertainty(const Eigen::MatrixXd& S, const Eigen::VectorXd& r, cons
       R = Eigen::HouseholderQR<Eigen::MatrixXd>(stacked).matrixQR().topRows(keep).triangularView<Eigen::Upper>();
     }
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(!need_U && N > n ? R : S_rel,
-                                              need_U ? Eigen::ComputeThinU | Eigen::ComputeThinV : Eigen::ComputeThinV);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(N > n ? R : S_rel, Eigen::ComputeThinV);
   u.singular_values = svd.singularValues();
   const double smax = n > 0 ? u.singular_values(0) : 0, smin = n > 0 ? u.singular_values(n - 1) : 0;
   u.full_rank = smin > kRankTolerance * smax && smax > 0;
@@ -61,11 +60,12 @@ Uncertainty uncertainty(const Eigen::MatrixXd& S, const Eigen::VectorXd& r, cons
     inv(k) = u.singular_values(k) > kRankTolerance * smax && smax > 0 ? 1 / u.singular_values(k) : 0;
   Eigen::MatrixXd cov_rel, shape;  // shape: cov_rel up to a factor, for the correlation when σ̂² = 0
   if (variance.size() == N && N > 0) {
-    // Sandwich: (SᵀS)⁻¹ Sᵀ diag(var) S (SᵀS)⁻¹ = V Σ⁻¹ Uᵀ diag(var) U Σ⁻¹ Vᵀ.
+    // Sandwich: (SᵀS)⁺ Sᵀ diag(var) S (SᵀS)⁺, with (SᵀS)⁺ = V Σ⁻² Vᵀ (= V Σ⁻¹ Uᵀ diag(var) U Σ⁻¹ Vᵀ).
     u.from_sigma = true;
     u.sigma2 = 1;
-    const Eigen::MatrixXd W = V * inv.asDiagonal() * svd.matrixU().transpose();  // n × N
-    cov_rel = W * variance.asDiagonal() * W.transpose();
+    const Eigen::MatrixXd P = V * inv.cwiseAbs2().asDiagonal() * V.transpose();
+    const Eigen::MatrixXd meat = S_rel.transpose() * variance.asDiagonal() * S_rel;  // n × n
+    cov_rel = P * meat * P;
     shape = cov_rel;
   } else {
     u.sigma2 = N > n ? r.squaredNorm() / static_cast<double>(N - n) : std::numeric_limits<double>::quiet_NaN();

@@ -53,14 +53,20 @@ io::SectionSpec experiment_section() {
        key("force_sigma", d.force_sigma,
            "Write the logs' largest spread at rest to project.toml as sigma_edge_force (displacement control);\n"
            "false: leave it out, so that the force group is scaled by its RMS like the others."),
+       key("sigma_edge_force", d.sigma_edge_force,
+           "Written to project.toml's [experiment] when > 0: the load cell's σ, N (its specification), in place\n"
+           "of the logs' spread at rest (force_sigma). A full model's tracks have no frames at rest: give it here.",
+           0, 1e9),
        key("sigma_edge_displacement", d.sigma_edge_displacement,
            "Written to project.toml's [experiment] when > 0: the grip's σ, mm (half the cross-head's), so that\n"
            "every group has a measurement σ and the covariance is a real one (docs/theory.md §8).",
            0, 1e6),
        key("model", d.model,
            "The FE model of each test: quarter (the quarter specimen with two symmetry axes; a one-sided pull's\n"
-           "rigid motion is removed with its clamps' mean displacement) or full (the whole specimen, each clamp\n"
-           "driven by its measured motion: not available yet).",
+           "rigid motion is removed with its clamps' mean displacement) or full (the whole specimen: point\n"
+           "tracks only, every point where it is in the mesh frame, nothing removed; each [[test]]'s `model`\n"
+           "lines give its kind = \"custom\" and [[test.boundary]] tables, its loads are the steps' frame\n"
+           "numbers; docs/tutorial-own-specimen.md).",
            -1e300, 1e300, {"quarter", "full"}),
        key("project_template", d.project_template.string(),
            "A TOML file with the project's [mesh], [law], [[parameter]], [data], [identify] (no [[test]], no\n"
@@ -79,6 +85,7 @@ ExperimentSpec ExperimentSpec::from_config(const io::Node& n) {
   e.plot = n.boolean("plot");
   e.force_sigma = n.boolean("force_sigma");
   e.sigma_edge_displacement = n.real("sigma_edge_displacement");
+  e.sigma_edge_force = n.real("sigma_edge_force");
   e.model = n.string("model");
   const fs::path t = n.string("project_template");
   e.project_template = t.empty() || t.is_absolute() ? t : fs::path(n.file()).parent_path() / t;
@@ -92,12 +99,11 @@ void ExperimentSpec::validate() const {
   check_key(origin, table, "control", control);
   check_key(origin, table, "grip", grip);
   check_key(origin, table, "sigma_edge_displacement", sigma_edge_displacement);
+  check_key(origin, table, "sigma_edge_force", sigma_edge_force);
   check_key(origin, table, "model", model);
-  if (model == "full")
-    origin.fail("model",
-                "the full-specimen model (named boundaries, each clamp driven by its measured motion) is not in tricot's "
-                "FE engine yet; model = \"quarter\" removes a one-sided pull's rigid motion with the clamps' mean",
-                "\"full\"", "\"quarter\"");
+  if (full() && force_control())
+    origin.fail("control", "a full model's boundaries carry the motion (its loads are the steps' frames): force control is the quarter's",
+                "\"force\"", "\"displacement\"");
 }
 
 io::SectionSpec lab_schema() {
@@ -313,11 +319,14 @@ lab::LoadLog load_log(const io::Node& t) {
   return log;
 }
 
-void write_forces(const fs::path& file, const std::vector<lab::ForceStep>& steps, bool force_control) {
+// forces.csv; `loads` (one per step) is the FE load column: the grip, the force, or a full model's labels.
+void write_forces(const fs::path& file, const std::vector<lab::ForceStep>& steps, const std::vector<double>& loads) {
   std::string s = "step,time,load,edge_displacement,edge_force,force_per_width\n";
-  for (const auto& f : steps)
-    s += fmt::format("{},{},{},{},{},{}\n", f.step, num(f.time_s), num(force_control ? f.force_N : f.grip_mm), num(f.grip_mm),
-                     num(f.force_N), num(f.force_per_width));
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const lab::ForceStep& f = steps[k];
+    s += fmt::format("{},{},{},{},{},{}\n", f.step, num(f.time_s), num(loads[k]), num(f.grip_mm), num(f.force_N),
+                     num(f.force_per_width));
+  }
   io::write_atomic(file, s);
 }
 
@@ -437,7 +446,9 @@ std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, cons
   s += fmt::format("[experiment]\ndir = \".\"\nfield_kind = \"{}\"\n", e.field_kind);
   double noise = 0;
   for (const auto& t : tests) noise = std::max(noise, t.force_noise_N);
-  if (!e.force_control() && e.force_sigma && noise > 0)
+  if (e.sigma_edge_force > 0)
+    s += "sigma_edge_force = " + num(e.sigma_edge_force) + "   # N: the load cell's (lab file)\n";
+  else if (!e.force_control() && e.force_sigma && noise > 0)
     s += "sigma_edge_force = " + num(noise) + "   # N: the logs' largest spread at rest (sync.json force_noise_N)\n";
   if (e.sigma_edge_displacement > 0) s += "sigma_edge_displacement = " + num(e.sigma_edge_displacement) + "\n";
   return s;
@@ -472,6 +483,11 @@ std::optional<std::string> toml_line_value(const std::string& lines, std::string
 }  // namespace
 
 std::string project_test_table(const io::Node& t, const LabTestResult& r, const ExperimentSpec& e) {
+  if (e.full()) {  // the model lines last: they may hold [[test.boundary]] tables
+    std::string lines = t.string("model");
+    if (!lines.empty() && lines.back() != '\n') lines += '\n';
+    return fmt::format("[[test]]   # the whole specimen\nname = \"{}\"\n# loads: forces.csv (the steps' frames)\n{}\n", r.name, lines);
+  }
   // `direction` sets the material's orientation (issue 29): wale = material_angle 0, course = 90 (and a
   // rig's `pull`). Model lines that set them too must agree, or a course test would silently be fitted
   // as a wale one.
@@ -628,20 +644,23 @@ double frame_force_noise(const std::vector<lab::ForceStep>& steps, const std::ve
 LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const ExperimentSpec& e, const fs::path& tdir,
                               nlohmann::ordered_json& sync_json) {
   const std::string name = t.string("name");
-  const TracksTest tt = tracks_test(t, physical, e.model == "quarter");
-  write_forces(tdir / kForcesFile, tt.steps, e.force_control());
+  const TracksTest tt = tracks_test(t, physical, e.full());
+  LabTestResult r;
+  // The FE loads: a full model's are its steps' frame numbers (labels: its boundaries carry the motion).
+  for (std::size_t k = 0; k < tt.steps.size(); ++k)
+    r.loads.push_back(e.full() ? double(tt.step_frames[k]) : e.force_control() ? tt.steps[k].force_N : tt.steps[k].grip_mm);
+  write_forces(tdir / kForcesFile, tt.steps, r.loads);
   write_field(tdir / kFieldFile, tt.field);
   std::vector<double> all;
   for (const auto& f : tt.steps) all.push_back(f.force_N);
-  LabTestResult r;
   r.name = name;
   r.sync.method = lab::SyncMethod::given;
   r.steps = static_cast<int>(tt.steps.size());
   r.points = static_cast<int>(tt.field.point_ids.size());
   r.outside = tt.field.outside, r.incomplete = tt.field.incomplete;
-  for (const auto& f : tt.steps) r.loads.push_back(e.force_control() ? f.force_N : f.grip_mm);
-  r.force_noise_N = frame_force_noise(tt.steps, all);
-  r.width_mm = tt.geometry.width_mm, r.free_length_mm = tt.geometry.free_length_mm;
+  // A full model without clamps knows no frame at rest (its grip is its boundaries'): no estimate.
+  r.force_noise_N = e.full() && t.strings("clamps").empty() ? 0.0 : frame_force_noise(tt.steps, all);
+  if (!e.full()) r.width_mm = tt.geometry.width_mm, r.free_length_mm = tt.geometry.free_length_mm;
   sync_json[name] = {{"method", "frame_number"},
                      {"clock_offset_s", 0.0},
                      {"force_noise_N", r.force_noise_N},
@@ -684,6 +703,9 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     fs::create_directories(tdir);
     lab::SpecimenGeometry geometry{t.real("width_mm"), t.real("free_length_mm"), t.real("tolerance_mm")};
 
+    if (e.full() && t.string("tracks").empty())
+      t.fail("tracks", "model = \"full\" takes point tracks (e.g. `tricot dic`'s specimen.csv, tracks_unit = \"mm\")", "\"\"",
+             "tracks = FILE");
     if (!t.string("tracks").empty()) {  // point tracks from another tool, the force per frame
       result.tests.push_back(tracks_lab_test(t, root.section("physical"), e, tdir, sync_json));
       log.print(fmt::format("{}: {}", name, sync_json[name]["report"].get<std::string>()));
@@ -783,7 +805,9 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     std::vector<lab::ForceStep> steps;
     for (lab::ForceStep f : lab::force_steps(images, sync, grip, geometry.width_mm))
       if (f.step >= int(first_pull)) f.step -= int(first_pull) - 1, steps.push_back(f);
-    write_forces(tdir / kForcesFile, steps, e.force_control());
+    std::vector<double> loads;
+    for (const auto& f : steps) loads.push_back(e.force_control() ? f.force_N : f.grip_mm);
+    write_forces(tdir / kForcesFile, steps, loads);
 
     lab::QuarterField field = kind == lab::FieldKind::cumulative ? cumulative : lab::fold_sequence(seq, frame, geometry, kind);
     if (first_pull > 1) {  // the setting and hold images are not steps (cumulative: from image 0 still)
@@ -796,8 +820,7 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     write_field(tdir / kFieldFile, field);
     write_sync_data(tdir, load, sync);
 
-    LabTestResult r{name, sync, static_cast<int>(steps.size()), static_cast<int>(field.point_ids.size()), field.outside, field.incomplete, {}, noise};
-    for (const auto& f : steps) r.loads.push_back(e.force_control() ? f.force_N : f.grip_mm);
+    LabTestResult r{name, sync, static_cast<int>(steps.size()), static_cast<int>(field.point_ids.size()), field.outside, field.incomplete, loads, noise};
     sync_json[name] = {{"clock_offset_s", sync.clock_offset_s},
                        {"method", lab::to_string(sync.method)},
                        {"tare_N", sync.tare_N},

@@ -86,7 +86,24 @@ PointTracks read_long(const io::Node& test, const fs::path& file) {
   r.unit = check_units(t, {t.column(xc), t.column(yc)}, test, "x_column");
   const auto frame = t.numbers(fc);
   const auto point = t.text(pc);
-  const auto x = t.numbers(xc), y = t.numbers(yc);
+  // An empty position cell is a point the tool lost in that frame (`tricot dic`'s specimen.csv writes so).
+  const auto positions = [&](const std::string& column) {
+    const auto cells = t.text(column);
+    std::vector<double> v(cells.size(), NAN);
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      if (cells[i].empty()) continue;
+      std::size_t used = 0;
+      try {
+        v[i] = std::stod(cells[i], &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != cells[i].size() || !std::isfinite(v[i]))
+        throw InputError({t.file, t.lines[i], column}, "not a number", "\"" + cells[i] + "\"", "a position, or empty for a lost point");
+    }
+    return v;
+  };
+  const auto x = positions(xc), y = positions(yc);
   std::map<long, std::size_t> frame_index;
   std::map<std::string, std::size_t> point_index;
   std::vector<std::map<std::size_t, Vec2>> rows;
@@ -271,7 +288,7 @@ FrameForces read_frame_forces(const io::Node& test) {
   return f;
 }
 
-TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool remove_rigid_motion) {
+TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full) {
   if (test.string("frame_forces").empty())
     test.fail("frame_forces", "a test of point tracks needs its per-frame force", "\"\"", "a CSV with a frame and a force column");
   const PointTracks tracks = read_point_tracks(test);
@@ -308,6 +325,9 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool remo
   frame.mm_per_px = out.mm_per_px;
   frame.angle_deg = physical.real("angle_deg");
   frame.y_up = physical.boolean("y_up");
+  // A full specimen's tracks in mm are points of the mesh frame as they stand.
+  const bool mesh_frame = full && tracks.unit == "mm";
+  if (mesh_frame) frame.angle_deg = 0, frame.y_up = false;
 
   // The clamps: the pull's two ends.
   const io::Strings& clamps = test.strings("clamps");
@@ -326,7 +346,9 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool remo
   }
   const std::vector<Vec2>& x0 = tracks.x.front();
   const Vec2 centre = !clamps.empty() ? Vec2(0.5 * (x0[ca] + x0[cb])) : Vec2::Zero();
-  if (clamps.empty()) {
+  if (mesh_frame) {
+    frame.centre_px = Vec2::Zero();
+  } else if (clamps.empty()) {
     const io::Reals& c = physical.reals("centre_px");
     if (c.size() != 2)
       physical.fail("centre_px", "point tracks without clamps need the specimen centre (or give the test's clamps)",
@@ -368,7 +390,7 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool remo
   out.geometry.tolerance_mm = test.real("tolerance_mm");
 
   // Rigid motion: the clamps' mean displacement, px (or mm), per frame.
-  out.rigid_motion_removed = remove_rigid_motion && !clamps.empty();
+  out.rigid_motion_removed = !full && !clamps.empty();
   std::vector<Vec2> rigid(tracks.frames.size(), Vec2::Zero());
   if (out.rigid_motion_removed)
     for (std::size_t k = 0; k < rigid.size(); ++k) rigid[k] = 0.5 * (tracks.x[k][ca] + tracks.x[k][cb]) - centre;
@@ -407,16 +429,18 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool remo
       continue;
     }
     const Vec2 P = frame.point(tracks.x[0][i]);
-    const Vec2 X = P.cwiseAbs();
-    if (X(0) > out.geometry.half_width() + out.geometry.tolerance_mm ||
-        X(1) > out.geometry.half_length() + out.geometry.tolerance_mm) {
+    // The quarter model folds every point into X, Y ≥ 0 and keeps those inside the rectangle; the full
+    // one takes them where they are (identify refuses a point off its mesh, naming it).
+    const Vec2 X = full ? P : Vec2(P.cwiseAbs());
+    if (!full && (X(0) > out.geometry.half_width() + out.geometry.tolerance_mm ||
+                  X(1) > out.geometry.half_length() + out.geometry.tolerance_mm)) {
       ++q.outside;
       continue;
     }
     q.point_ids.push_back(static_cast<int>(i));
     q.X.push_back(X);
     P0.push_back(P);
-    sign.push_back(Vec2(P(0) < 0 ? -1 : 1, P(1) < 0 ? -1 : 1));
+    sign.push_back(full ? Vec2(1, 1) : Vec2(P(0) < 0 ? -1 : 1, P(1) < 0 ? -1 : 1));
   }
   const auto steps = static_cast<Eigen::Index>(step_index.size());
   const auto n = static_cast<Eigen::Index>(q.point_ids.size());
@@ -430,8 +454,11 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool remo
       q.u(s, a) = u(0), q.v(s, a) = u(1), q.sigma_u(s, a) = sigma_mm, q.sigma_v(s, a) = sigma_mm;
     }
   }
-  q.report = fmt::format("{} of {} points kept; {} outside the {:g} × {:g} mm specimen, {} not tracked in every step", n,
-                         field_points.size(), q.outside, out.geometry.width_mm, out.geometry.free_length_mm, q.incomplete);
+  q.report = full ? fmt::format("{} of {} points kept in the mesh frame; {} not tracked in every step", n, field_points.size(),
+                                q.incomplete)
+                   : fmt::format("{} of {} points kept; {} outside the {:g} × {:g} mm specimen, {} not tracked in every step",
+                                 n, field_points.size(), q.outside, out.geometry.width_mm, out.geometry.free_length_mm,
+                                 q.incomplete);
 
   // The steps' loads and forces.
   const double tare = test.given("tare_N") ? test.real("tare_N") : 0.0;
@@ -447,7 +474,7 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool remo
     out.steps.push_back(f);
     out.step_frames.push_back(tracks.frames[k]);
   }
-  if (clamps.empty()) {  // no clamps: the grip from the field (as a DIC test's)
+  if (clamps.empty() && !full) {  // no clamps: the grip from the field (as a DIC test's)
     const auto grip = lab::grip_from_field(q, out.geometry);
     for (std::size_t s = 0; s < out.steps.size(); ++s) out.steps[s].grip_mm = grip[s];
   }

@@ -33,10 +33,13 @@ io::SectionSpec synth_images_section() {
   io::SectionSpec s{"images",
                     "Camera images of the deformed full specimen (the paper's set-up: the camera on its pantograph\n"
                     "aims at the specimen centre, which stays at the image centre; the fabric's roughness is the\n"
-                    "speckle). DIR/<test>/images/frame_0000.png is the unloaded reference, frame_NNNN.png shows\n"
+                    "speckle). A built-in test's quarter is mirrored into the full specimen; a test of named\n"
+                    "boundaries (kind = \"custom\") is its whole mesh, the mesh's origin at the image centre.\n"
+                    "DIR/<test>/images/frame_0000.png is the unloaded reference, frame_NNNN.png shows\n"
                     "step NNNN · every_n_steps; camera.json gives the pixel size, centre pixel and axes (X right,\n"
-                    "Y up, the keys of `tricot dic`'s [physical]) and each frame's step. The speckle pattern and\n"
-                    "the noise are seeded from [synth] seed.",
+                    "Y up, the keys of `tricot dic`'s [physical]) and each frame's step; frames.csv the test\n"
+                    "machine's log per frame (frame, step, load, edge_displacement, edge_force: the force gauge).\n"
+                    "The speckle pattern and the noise are seeded from [synth] seed.",
                     false, {}, {}};
   const SynthImagesSpec d;
   s.keys = {
@@ -123,10 +126,12 @@ synth::SpecimenImageOptions SynthImagesSpec::options(std::uint64_t seed) const {
 }
 
 int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fem::SimulationResult& sim,
-                 std::uint64_t seed, const fs::path& test_dir, const Log& log) {
+                 std::uint64_t seed, const fs::path& test_dir, const Log& log, const std::vector<double>& gauge_force) {
   synth::SpecimenImageOptions o = s.options(seed);
   o.speckle.wale_angle_deg = -model.material_angle;  // the wales along the material's axis 1; pixel y is down
-  const synth::SpecimenRenderer renderer(model.mesh, o);
+  // A test of named conditions is a model of the whole specimen (any mesh); a built-in one, of its quarter.
+  const synth::Extent extent = model.has_conditions() ? synth::Extent::whole : synth::Extent::quarter;
+  const synth::SpecimenRenderer renderer(model.mesh, o, extent);
   // The timeline: frame 0 unloaded; a rig's setting increments and the held setting; the pull.
   struct Shot {
     const char* phase;
@@ -146,6 +151,8 @@ int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fe
   const fs::path dir = test_dir / kImagesFolder;
 
   json list = json::array();
+  io::Table gauge;  // frames.csv: what the test machine logs per frame
+  gauge.columns = {"frame", "step", "load", "edge_displacement", "edge_force"};
   const Reporter reporter = log.reporter();
   // Frame j's PNG is encoded and written while frame j + 1 renders (the encoding is serial: about a
   // sixth of a frame's CPU at 1 MP, bench/synth_benchmark's BM_EncodePng).
@@ -166,6 +173,9 @@ int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fe
                         {"load", shot.step > 0 ? k->load : 0.0},
                         {"edge_displacement", k ? k->edge_displacement : 0.0},
                         {"edge_force", k ? k->edge_force : 0.0}});
+    const bool read = shot.step > 0 && std::size_t(shot.step) <= gauge_force.size();
+    gauge.rows.push_back({double(j), double(shot.step), shot.step > 0 ? k->load : 0.0, k ? k->edge_displacement : 0.0,
+                          read ? gauge_force[std::size_t(shot.step - 1)] : k ? k->edge_force : 0.0});
     reporter.report({"images " + model.name, std::size_t(j + 1), std::size_t(frames), frame_name(j)});
   }
   if (writing.valid()) writing.get();
@@ -177,8 +187,11 @@ int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fe
       {"centre_px", {c.centre_px()(0), c.centre_px()(1)}},
       {"angle_deg", 0.0},
       {"y_up", true},
-      {"axes", "X = mm_per_px * (x - centre_px[0]) to the right, Y = -mm_per_px * (y - centre_px[1]) up, mm, "
-               "from the full specimen's centre; the FE quarter is X >= 0, Y >= 0"},
+      {"axes", extent == synth::Extent::quarter
+                   ? "X = mm_per_px * (x - centre_px[0]) to the right, Y = -mm_per_px * (y - centre_px[1]) up, mm, "
+                     "from the full specimen's centre; the FE quarter is X >= 0, Y >= 0"
+                   : "X = mm_per_px * (x - centre_px[0]) to the right, Y = -mm_per_px * (y - centre_px[1]) up, mm: "
+                     "the mesh's own frame, its origin at centre_px"},
       {"width", c.width},
       {"height", c.height},
       {"bits", o.bits},
@@ -189,6 +202,7 @@ int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fe
       {"frames", list},
   };
   io::write_atomic(dir / kCameraFile, camera.dump(2) + "\n");
+  io::write_atomic(dir / "frames.csv", io::to_csv(gauge));
   return frames;
 }
 

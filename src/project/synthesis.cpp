@@ -221,7 +221,7 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
                                       : std::string("no field");
     if (dropped > 0) field += fmt::format(" ({} left the specimen and were left out)", dropped);
     if (with_images) {  // the speckle of test i is seeded with seed + i, like its noise
-      const int frames = write_images(images, model, sim, truth.seed + i, staged / model.name, log);
+      const int frames = write_images(images, model, sim, truth.seed + i, staged / model.name, log, d.edge_force);
       field += fmt::format("; {} images in {}", frames, (dir / model.name / kImagesFolder / "").string());
       if (s.section("lab").boolean("enabled")) write_lab_record(s.section("lab"), sim, staged / model.name, truth.seed + i, log);
     }

@@ -171,29 +171,31 @@ namespace {
 struct PixelBox {
   Vec2 top_left, bottom_right;
 };
-PixelBox specimen_box(const fem::Mesh& quarter, const SpecimenImageOptions& o) {
+PixelBox specimen_box(const fem::Mesh& mesh, Extent extent, const SpecimenImageOptions& o) {
   o.validate();
-  const double W = quarter.X.row(0).maxCoeff(), H = quarter.X.row(1).maxCoeff();
-  return {o.camera.to_pixel(Vec2(-W, H)), o.camera.to_pixel(Vec2(W, -H))};
+  const Vec2 hi = mesh.X.rowwise().maxCoeff();
+  const Vec2 lo = extent == Extent::quarter ? Vec2(-hi) : Vec2(mesh.X.rowwise().minCoeff());
+  return {o.camera.to_pixel(Vec2(lo(0), hi(1))), o.camera.to_pixel(Vec2(hi(0), lo(1)))};
 }
 // The pattern's table covers the reference specimen within twice the camera's view about its centre:
 // what a frame shows unless the specimen shrinks to less than half its size across the view. A
 // material point off the table is the pattern's own intensity (slower, the same image).
-PatternTable::Box table_box(const fem::Mesh& quarter, const SpecimenImageOptions& o) {
-  const PixelBox b = specimen_box(quarter, o);
+PatternTable::Box table_box(const fem::Mesh& mesh, Extent extent, const SpecimenImageOptions& o) {
+  const PixelBox b = specimen_box(mesh, extent, o);
   const Camera& c = o.camera;
   const Vec2 lo = b.top_left.cwiseMax(c.centre_px() - Vec2(c.width, c.height));
   const Vec2 hi = b.bottom_right.cwiseMin(c.centre_px() + Vec2(c.width, c.height));
   return {lo, hi.cwiseMax(lo)};
 }
-SpecklePattern make_pattern(const fem::Mesh& quarter, const SpecimenImageOptions& o) {
-  const PixelBox b = specimen_box(quarter, o);
+SpecklePattern make_pattern(const fem::Mesh& mesh, Extent extent, const SpecimenImageOptions& o) {
+  const PixelBox b = specimen_box(mesh, extent, o);
   return SpecklePattern(o.speckle, b.top_left(0), b.top_left(1), b.bottom_right(0), b.bottom_right(1));
 }
 
-// The serendipity monomials m(ξ) = (1, ξ₁, ξ₂, ξ₁², ξ₁ξ₂, ξ₂², ξ₁²ξ₂, ξ₁ξ₂²): Q4's and Q8's shape
-// functions are combinations of them, N(ξ) = B m(ξ), so an element's map Σ N_a(ξ) x_a is C m(ξ) with
-// C = [x_a] B, 2 × 8 numbers per element evaluated without a shape-function call.
+// The serendipity monomials m(ξ) = (1, ξ₁, ξ₂, ξ₁², ξ₁ξ₂, ξ₂², ξ₁²ξ₂, ξ₁ξ₂²): the shape functions of
+// every element type (Q4, Q8 and, with their first three or six, T3, T6) are combinations of them,
+// N(ξ) = B m(ξ), so an element's map Σ N_a(ξ) x_a is C m(ξ) with C = [x_a] B, 2 × 8 numbers per element
+// evaluated without a shape-function call.
 using Monomials = Eigen::Matrix<double, 8, 1>;
 Monomials monomials(const Vec2& xi) {
   const double s = xi(0), t = xi(1);
@@ -229,13 +231,22 @@ constexpr double kAnchorSpacing = 2.0;
 // Elements' bounding boxes are widened by this (px), far above the round-off of their bounds.
 constexpr double kBoxMargin = 1e-6;
 
-// One element of the quarter mirrored into one quadrant of the full specimen, in image px: its current
-// position x(ξ) = Σ_k cx_k m_k(ξ) (and y), its material point in reference-image px (the pattern's
-// coordinates) P(ξ) = Σ_k P_k m_k(ξ), and the bounds of x over the element. Scalar code: the inner
-// loop of the renderer, one call per sub-sample.
+// One element of the specimen (of the quarter, mirrored into one quadrant of the full specimen), in
+// image px: its current position x(ξ) = Σ_k cx_k m_k(ξ) (and y), its material point in reference-image
+// px (the pattern's coordinates) P(ξ) = Σ_k P_k m_k(ξ), and the bounds of x over the element. Scalar
+// code: the inner loop of the renderer, one call per sub-sample.
 struct Patch {
   std::array<double, 8> cx, cy, Px, Py;
   Vec2 lo, hi;
+  bool triangle = false;  ///< ξ on the triangle ξ₁, ξ₂ ≥ 0, ξ₁ + ξ₂ ≤ 1, else on [−1, 1]²
+
+  // ξ lies on the element, to kXiTolerance.
+  bool holds(double s, double t) const {
+    if (triangle) return s >= -kXiTolerance && t >= -kXiTolerance && s + t <= 1 + kXiTolerance;
+    return std::max(std::abs(s), std::abs(t)) <= 1 + kXiTolerance;
+  }
+  // Where Newton starts without a neighbour's ξ: the element's centre.
+  double centre() const { return triangle ? 1.0 / 3 : 0.0; }
 
   static double dot(const std::array<double, 8>& c, double s, double t, double ss, double st, double tt) {
     return c[0] + c[1] * s + c[2] * t + c[3] * ss + c[4] * st + c[5] * tt + c[6] * ss * t + c[7] * s * tt;
@@ -279,14 +290,17 @@ struct Patch {
   }
 };
 
-// The full specimen's elements in image px: the quarter's 4 mirror images.
-std::vector<Patch> patches(const fem::Mesh& mesh, const Eigen::VectorXd& u, const Camera& cam) {
+// The full specimen's elements in image px: the mesh's own, or the quarter's 4 mirror images.
+std::vector<Patch> patches(const fem::Mesh& mesh, Extent extent, const Eigen::VectorXd& u, const Camera& cam) {
   const Eigen::Matrix<double, 8, 8> B = shape_in_monomials(mesh.type);
-  const int n = fem::nodes_per_element(mesh.type);
-  const bool q8 = mesh.type == fem::ElementType::Q8;
+  const int n = fem::nodes_per_element(mesh.type), corners = fem::corners(mesh.type);
+  const bool quadratic = n > corners;
+  const bool triangle = corners == 3;
+  std::vector<Vec2> signs{Vec2(1, 1)};
+  if (extent == Extent::quarter) signs = {Vec2(1, 1), Vec2(-1, 1), Vec2(1, -1), Vec2(-1, -1)};
   std::vector<Patch> out;
-  out.reserve(4 * std::size_t(mesh.elements()));
-  for (const Vec2& sign : {Vec2(1, 1), Vec2(-1, 1), Vec2(1, -1), Vec2(-1, -1)})
+  out.reserve(signs.size() * std::size_t(mesh.elements()));
+  for (const Vec2& sign : signs)
     for (int e = 0; e < mesh.elements(); ++e) {
       const auto& c = mesh.connectivity[e];
       Eigen::Matrix<double, 2, 8> x = Eigen::Matrix<double, 2, 8>::Zero(), P = x;
@@ -298,14 +312,16 @@ std::vector<Patch> patches(const fem::Mesh& mesh, const Eigen::VectorXd& u, cons
       }
       const Eigen::Matrix<double, 2, 8> Cx = x * B, CP = P * B;
       Patch p;
+      p.triangle = triangle;
       for (int k = 0; k < 8; ++k) p.cx[k] = Cx(0, k), p.cy[k] = Cx(1, k), p.Px[k] = CP(0, k), p.Py[k] = CP(1, k);
       p.lo = x.leftCols(n).rowwise().minCoeff();
       p.hi = x.leftCols(n).rowwise().maxCoeff();
-      if (q8)  // a Q8 side is a parabola through its end and mid-side nodes: it passes them by ≤ |x_a − 2x_m + x_b|/8
-        for (int k = 0; k < 4; ++k) {
-          const Vec2 bulge = (x.col(k) - 2 * x.col(4 + k) + x.col((k + 1) % 4)).cwiseAbs() / 8;
-          p.lo = p.lo.cwiseMin(x.col(k).cwiseMin(x.col((k + 1) % 4)).cwiseMin(x.col(4 + k)) - bulge);
-          p.hi = p.hi.cwiseMax(x.col(k).cwiseMax(x.col((k + 1) % 4)).cwiseMax(x.col(4 + k)) + bulge);
+      if (quadratic)  // a quadratic side is a parabola through its end and mid-side nodes: it passes them by ≤ |x_a − 2x_m + x_b|/8
+        for (int k = 0; k < corners; ++k) {
+          const int a = k, b = (k + 1) % corners, m = corners + k;
+          const Vec2 bulge = (x.col(a) - 2 * x.col(m) + x.col(b)).cwiseAbs() / 8;
+          p.lo = p.lo.cwiseMin(x.col(a).cwiseMin(x.col(b)).cwiseMin(x.col(m)) - bulge);
+          p.hi = p.hi.cwiseMax(x.col(a).cwiseMax(x.col(b)).cwiseMax(x.col(m)) + bulge);
         }
       // A sub-sample on a side shared by two elements must fall in both boxes despite round-off.
       p.lo.array() -= kBoxMargin;
@@ -317,11 +333,12 @@ std::vector<Patch> patches(const fem::Mesh& mesh, const Eigen::VectorXd& u, cons
 
 }  // namespace
 
-SpecimenRenderer::SpecimenRenderer(const fem::Mesh& quarter, const SpecimenImageOptions& options)
-    : mesh_(&quarter),
+SpecimenRenderer::SpecimenRenderer(const fem::Mesh& mesh, const SpecimenImageOptions& options, Extent extent)
+    : mesh_(&mesh),
+      extent_(extent),
       options_(options),
-      pattern_(make_pattern(quarter, options)),
-      table_(pattern_, table_box(quarter, options)) {}
+      pattern_(make_pattern(mesh, extent, options)),
+      table_(pattern_, table_box(mesh, extent, options)) {}
 
 image::Image SpecimenRenderer::render(const Eigen::VectorXd& u, std::uint64_t noise_seed) const {
   assert(u.size() == 0 || u.size() == mesh_->dofs());
@@ -331,11 +348,11 @@ image::Image SpecimenRenderer::render(const Eigen::VectorXd& u, std::uint64_t no
   const float background = static_cast<float>(options_.background);
   image::Image img(cam.width, cam.height, 0.0f, 1.0);
   const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
-  const std::vector<Patch> elements = patches(*mesh_, u, cam);
+  const std::vector<Patch> elements = patches(*mesh_, extent_, u, cam);
 
   // Sub-sample (i, j) lies at x = (i + ½)/s − ½, y = (j + ½)/s − ½ px: pixel (⌊i/s⌋, ⌊j/s⌋)'s sub-sample
   // centres, as synth::render. Each element draws the sub-samples of its bounding box that it holds
-  // (ξ ∈ [−1, 1]², to kXiTolerance), walking each row with Newton from the previous sub-sample's ξ
+  // (Patch::holds, to kXiTolerance), walking each row with Newton from the previous sub-sample's ξ
   // moved by the last inverse Jacobian; sub-samples no element holds show the flat background. A
   // sub-sample on a side two elements share gets the same material point from either.
   const int row_samples = cam.width * s;
@@ -354,13 +371,13 @@ image::Image SpecimenRenderer::render(const Eigen::VectorXd& u, std::uint64_t no
     std::array<double, 4> J_inv_row{};
     const auto solve = [&p](double x, double y, double& xi_s, double& xi_t, std::array<double, 4>& J_inv) {
       if (p.invert(x, y, xi_s, xi_t, J_inv)) return true;
-      xi_s = xi_t = 0;
+      xi_s = xi_t = p.centre();
       if (p.invert(x, y, xi_s, xi_t, J_inv)) return true;
       xi_s = xi_t = 0, J_inv = {};
       return false;
     };
     const auto shade = [&](float* out, int i, double xi_s, double xi_t) {
-      if (std::max(std::abs(xi_s), std::abs(xi_t)) <= 1 + kXiTolerance)
+      if (p.holds(xi_s, xi_t))
         out[i] = static_cast<float>(table_.intensity(p.material(xi_s, xi_t)));
     };
     for (int j = j0; j <= j1; ++j) {

@@ -302,11 +302,66 @@ TEST(LabTracks, AClampMarkerThatDoesNotMoveIsAnErrorAtClamps) {
   EXPECT_NE(m.find("test[0].clamps: clamp marker 'still' does not move against the other"), std::string::npos) << m;
 }
 
-TEST(LabTracks, TheFullSpecimenModelIsAClearErrorUntilTheFEEngineHasIt) {
+// model = "full": the whole specimen. Tracks in mm are points of the mesh frame as they stand: no
+// folding, no rigid motion removed (the one-sided pull's drift stays in u), every point kept; an empty
+// cell is a point lost in that frame. The loads are the steps' frame numbers, and the test's model
+// lines (with their [[test.boundary]] tables) come last in project.toml.
+TEST(LabTracks, TheFullModelKeepsEveryPointWhereItIsInTheMeshFrame) {
+  const fs::path dir = test::scratch_dir("lab_tracks_full");
+  std::string t = "frame,id,X,Y,status\n";
+  for (int f = 0; f < 5; ++f)
+    for (const Pin& p : kPins) {
+      const Vec2 X = kScale * Vec2(p.x - 500, 500 - p.y), x = kScale * Vec2(position(p, kStrain[f])(0) - 500, 500 - position(p, kStrain[f])(1));
+      if (f == 3 && std::string(p.name) == "left") {
+        t += fmt::format("{},{},,,lost\n", f + 10, p.name);
+        continue;
+      }
+      (void)X;
+      t += fmt::format("{},{},{:.9f},{:.9f},ok\n", f + 10, p.name, x(0), x(1));
+    }
+  write(dir / "tracks.csv", t);
+  write(dir / "force.csv", frame_forces());
   std::string lab = kLabTracks;
   lab.replace(lab.find("plot = false"), 12, "plot = false\nmodel = \"full\"");
-  const std::string m = lab_error(long_tracks(), frame_forces(), lab);
-  EXPECT_NE(m.find("lab.toml:3: experiment.model: the full-specimen model"), std::string::npos) << m;
+  lab.replace(lab.find("x_column"), lab.find("frame_forces") - lab.find("x_column"),
+              "tracks_unit = \"mm\"\npoint_column = \"id\"\nx_column = \"X\"\ny_column = \"Y\"\n");
+  lab += "model = \"\"\"\nkind = \"custom\"\n[[test.boundary]]\nname = \"top\"\nfix = [\"x\", \"y\"]\n\"\"\"\n";
+  (void)run_lab_experiment(read_lab(dir, lab), dir / "out", Log{});
+  const io::LogTable forces = io::read_log(dir / "out" / "pull" / "forces.csv");
+  const auto load = forces.numbers("load"), F = forces.numbers("edge_force");
+  ASSERT_EQ(load.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(load[k], 11 + k);  // the frames: labels of the steps
+    EXPECT_NEAR(F[k], 100 * kStrain[k + 1], kTight);
+  }
+  const io::LogTable field = io::read_log(dir / "out" / "pull" / "field.csv");
+  const auto step = field.numbers("step"), X = field.numbers("x"), Y = field.numbers("y");
+  const auto u = field.numbers("u"), v = field.numbers("v");
+  ASSERT_EQ(field.rows(), 4u * 2u);  // right and top_pin; left is lost in frame 13, the clamps are not field points
+  for (std::size_t i = 0; i < field.rows(); ++i) {
+    // Stretch about the top clamp at (0, 30) mm: u = (−ν e X, e (Y − 30)), not folded, drift kept.
+    const double e = kStrain[int(step[i])];
+    EXPECT_NEAR(u[i], -kNu * e * X[i], kTight) << "row " << i;
+    EXPECT_NEAR(v[i], e * (Y[i] - 30), kTight) << "row " << i;
+  }
+  EXPECT_LT(*std::min_element(Y.begin(), Y.end()), 0);  // top_pin above, right below the centre: not folded
+  const std::string project = io::read_text(dir / "out" / "project.toml");
+  EXPECT_NE(project.find("name = \"pull\"\n# loads: forces.csv (the steps' frames)\nkind = \"custom\"\n[[test.boundary]]"),
+            std::string::npos)
+      << project;
+  EXPECT_EQ(project.find("material_angle"), std::string::npos) << project;
+}
+
+TEST(LabTracks, TheFullModelTakesTracksOnlyAndDisplacementControl) {
+  std::string lab = kLabTracks;
+  lab.replace(lab.find("plot = false"), 12, "plot = false\nmodel = \"full\"\ncontrol = \"force\"");
+  std::string m = lab_error(long_tracks(), frame_forces(), lab);
+  EXPECT_NE(m.find("lab.toml:4: experiment.control: a full model's boundaries carry the motion"), std::string::npos) << m;
+  lab = kLabTracks;
+  lab.replace(lab.find("plot = false"), 12, "plot = false\nmodel = \"full\"");
+  lab.replace(lab.find("tracks = \"tracks.csv\""), 21, "images = \"frames\"");
+  m = lab_error(long_tracks(), frame_forces(), lab);
+  EXPECT_NE(m.find("test[0].tracks: model = \"full\" takes point tracks"), std::string::npos) << m;
 }
 
 }  // namespace

@@ -4,12 +4,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <random>
 
+#include <Eigen/LU>
+
+#include "testing/paths.hpp"
 #include "tricot/core/error.hpp"
+#include "tricot/fem/gmsh.hpp"
 
 using namespace tricot;
 using namespace tricot::synth;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -305,5 +311,75 @@ TEST(SpecimenRenderer, QuantisesToTheBitDepthAndAddsNoiseOfTheGivenSigma) {
     for (std::size_t i = 0; i < img.pixels.size(); ++i) s2 += std::pow(noisy.pixels[i] - img.pixels[i], 2);
     // 25 600 samples: the sample σ is within 3 % of 3 (plus 1/12 level² of variance per rounding).
     EXPECT_NEAR(std::sqrt(s2 / double(img.pixels.size())), std::sqrt(9 + 2.0 / 12), 0.09);
+  }
+}
+
+namespace {
+
+// A whole 40 × 20 mm plate centred on the origin with a 4 mm hole off its axes (a one-sided pull's
+// specimen: no symmetry for the camera to mirror).
+const char* kPlateWithHole = R"(
+SetFactory("OpenCASCADE");
+Rectangle(1) = {-20, -10, 0, 40, 20};
+Disk(2) = {6, 2, 0, 4, 4};
+BooleanDifference(3) = { Surface{1}; Delete; }{ Surface{2}; Delete; };
+Physical Surface("plate") = {3};
+)";
+
+// Signed distance (mm) from a material point to the plate's outline: > 0 inside the material.
+double inside_plate(const Vec2& X) {
+  const double box = std::min(20 - std::abs(X(0)), 10 - std::abs(X(1)));
+  return std::min(box, (X - Vec2(6, 2)).norm() - 4);
+}
+
+}  // namespace
+
+TEST(SpecimenRenderer, AWholeMeshOfEveryTypeWithAHoleShowsTheSpeckleThroughTheInverseMotion) {
+  // Extent::whole: the mesh is the specimen, nothing is mirrored. An affine motion x = F X + t (a
+  // stretch, a shear and the drift of a one-sided pull) is exact in every element type, so each pixel
+  // shows the pattern at X = F⁻¹(x − t); the hole and the surroundings show the background.
+  const fs::path dir = test::scratch_dir("specimen_whole");
+  { std::ofstream(dir / "plate.geo") << kPlateWithHole; }
+  Mat2 F;
+  F << 1.15, 0.05, 0.0, 0.92;
+  const Vec2 t(1.5, -0.8);
+  const Mat2 F_inv = F.inverse();
+  for (const auto& [order, quads] : {std::pair{1, false}, {2, false}, {1, true}, {2, true}}) {
+    fem::GeometryMeshOptions g;
+    g.size = 1.5, g.order = order, g.quads = quads;
+    const fem::Mesh mesh = fem::mesh_geometry((dir / "plate.geo").string(), g);
+    const Eigen::VectorXd u = nodal(mesh, [&](const Vec2& X) { return Vec2(F * X + t - X); });
+    const SpecimenImageOptions o = float_images(560, 260);  // 56 × 26 mm: background all round the plate
+    const SpecimenRenderer r(mesh, o, Extent::whole);
+    const image::Image img = r.render(u);
+    const Camera& c = o.camera;
+    const image::Image expected = render(r.pattern(), c.width, c.height, [&](const Vec2& x_px) {
+      return c.to_pixel(F_inv * (c.to_specimen(x_px) - t));
+    });
+    // A pixel's square maps back within this of its centre's material point; straight element sides
+    // leave the hole's outline up to s²/(8 r) = 0.07 mm off the circle.
+    const double reach = 0.5 * std::sqrt(2.0) * c.mm_per_px * F_inv.norm() + 0.08;
+    int inside = 0, outside = 0;
+    double s2 = 0;
+    for (int y = 0; y < c.height; ++y)
+      for (int x = 0; x < c.width; ++x) {
+        const double d = inside_plate(F_inv * (c.to_specimen(Vec2(x, y)) - t));
+        if (d > reach) {
+          ++inside;
+          ASSERT_NEAR(img.at(x, y), expected.at(x, y), kTableTol) << x << ", " << y << " " << fem::to_string(mesh.type);
+          s2 += std::pow(img.at(x, y) - expected.at(x, y), 2);
+        } else if (d < -reach) {
+          ++outside;
+          ASSERT_EQ(img.at(x, y), static_cast<float>(o.background)) << x << ", " << y << " " << fem::to_string(mesh.type);
+        }
+      }
+    // The deformed plate covers 46 × 18.4 mm less the hole's 0.53 · 50 mm²: about 81 000 px; the
+    // background about 56 000 px (of 145 600), the hole about 2 600.
+    EXPECT_GT(inside, 75000) << fem::to_string(mesh.type);
+    EXPECT_GT(outside, 55000) << fem::to_string(mesh.type);
+    EXPECT_LT(std::sqrt(s2 / inside), kTableRms) << fem::to_string(mesh.type);
+    // The hole's centre is background.
+    const Vec2 hole = c.to_pixel(F * Vec2(6, 2) + t);
+    EXPECT_EQ(img.at(int(std::lround(hole(0))), int(std::lround(hole(1)))), static_cast<float>(o.background));
   }
 }

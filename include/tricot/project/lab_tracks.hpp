@@ -64,7 +64,7 @@ struct TracksTest {
   std::vector<lab::ForceStep> steps;    ///< steps 1.. (frames after the reference, every frame_stride-th)
   std::vector<long> step_frames;        ///< the frame number of each step
   long reference_frame = 0;             ///< the unloaded reference (the tracks' first frame)
-  lab::QuarterField field;              ///< the field points folded into the quarter model
+  lab::QuarterField field;              ///< the field points (folded into the quarter for the quarter model)
   lab::SpecimenGeometry geometry;       ///< width as given, free length from the clamps when they are given
   double mm_per_px = 1;                 ///< the test's scale (1 for tracks in mm)
   bool rigid_motion_removed = false;    ///< the clamps' mean displacement subtracted
@@ -72,11 +72,14 @@ struct TracksTest {
 };
 
 /// Reads a [[test]] of point tracks and its per-frame force and makes its steps and field. `physical`
-/// is the lab file's [physical] (scale, centre, axes), which the test's own mm_per_px overrides;
-/// `remove_rigid_motion` subtracts the clamps' mean displacement (with clamps given).
+/// is the lab file's [physical] (scale, centre, axes), which the test's own mm_per_px overrides.
+/// `full` = false: the quarter model, the points folded into X, Y ≥ 0, those beyond the specimen's
+/// rectangle left out, and the clamps' mean displacement subtracted (with clamps given); true: the
+/// whole specimen, every point where it is (tracks in mm are points of the mesh frame as they stand,
+/// tracks in px go through [physical]) and nothing subtracted.
 /// Throws InputError naming FILE:LINE: KEY for: a force file whose frames are not the tracks' (the
 /// first frame in one and not the other), a clamp that is not a tracked point, clamps whose distance
 /// does not change (a clamp marker that does not move), a scale missing for tracks in px.
-TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool remove_rigid_motion);
+TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full);
 
 }  // namespace tricot::project

@@ -62,12 +62,15 @@ struct SynthImagesSpec {
   synth::SpecimenImageOptions options(std::uint64_t seed) const;
 };
 
-/// Renders frame 0 (unloaded) and every `every_n_steps`-th step of `sim` and writes them, and
-/// camera.json, atomically to `test_dir`/images (older frames beyond the new count are removed).
-/// Noise of frame j is drawn from `seed` and j. Returns the number of frames written. `images` is
-/// validated (SynthImagesSpec::validate()).
+/// Renders frame 0 (unloaded) and every `every_n_steps`-th step of `sim` and writes them, camera.json
+/// and frames.csv, atomically to `test_dir`/images (older frames beyond the new count are removed).
+/// A test of named conditions is rendered as the whole specimen, a built-in one as its mirrored
+/// quarter. Noise of frame j is drawn from `seed` and j. `gauge_force` (one per step, or empty for
+/// the model's) is the force gauge's reading that frames.csv logs: the measured, noisy force. Returns
+/// the number of frames written. `images` is validated (SynthImagesSpec::validate()).
 int write_images(const SynthImagesSpec& images, const fem::TestModel& model, const fem::SimulationResult& sim,
-                 std::uint64_t seed, const std::filesystem::path& test_dir, const Log& log);
+                 std::uint64_t seed, const std::filesystem::path& test_dir, const Log& log,
+                 const std::vector<double>& gauge_force = {});
 
 /// What camera.json holds.
 struct CameraFile {

@@ -1,6 +1,7 @@
 // Synthetic camera images of a deformed specimen (docs/design.md, paper §3.1.3): the camera on its
 // pantograph aims at the specimen centre, which stays at the image centre; the fabric's roughness is
-// the speckle. The FE model is the quarter X ≥ 0, Y ≥ 0 with symmetry, so the full specimen's
+// the speckle. The FE model is either the whole specimen (any mesh: the camera sees the mesh frame's
+// origin at the image centre) or the quarter X ≥ 0, Y ≥ 0 with symmetry, whose full specimen's
 // displacement is the quarter's mirrored: u(−X, Y) = (−u_X, u_Y)(X, Y), u(X, −Y) = (u_X, −u_Y)(X, Y).
 //
 // A pixel at current position x sees the material point X with X + u(X) = x: x is mirrored into the
@@ -44,6 +45,12 @@ struct Camera {
   Vec2 to_pixel(const Vec2& X) const {
     return {centre_px()(0) + X(0) / mm_per_px, centre_px()(1) - X(1) / mm_per_px};
   }
+};
+
+/// What the FE mesh is of the specimen the camera sees.
+enum class Extent {
+  quarter,  ///< the quarter X, Y ≥ 0 of a specimen symmetric about both axes (the built-in tests)
+  whole,    ///< the whole specimen (any mesh: a test with named boundary conditions)
 };
 
 /// The full specimen [−W, W] × [−H, H] seen through its quarter model (W, H: the quarter mesh's size)
@@ -103,15 +110,16 @@ struct SpecimenImageOptions {
 /// so a material point keeps its gray level in every frame) and each call renders one deformed state.
 class SpecimenRenderer {
  public:
-  /// Validates `options` (InputError). `quarter` must outlive the renderer.
-  SpecimenRenderer(const fem::Mesh& quarter, const SpecimenImageOptions& options);
+  /// Validates `options` (InputError). `mesh` (any element type) must outlive the renderer; `extent`
+  /// says whether it is the quarter of the specimen (mirrored into the four quadrants) or all of it.
+  SpecimenRenderer(const fem::Mesh& mesh, const SpecimenImageOptions& options, Extent extent = Extent::quarter);
 
-  /// The image of the specimen deformed by the quarter's nodal displacements `u` (2·nodes; empty =
+  /// The image of the specimen deformed by the mesh's nodal displacements `u` (2·nodes; empty =
   /// the unloaded reference). Each pixel is the mean over subsamples² points of its square of the
   /// speckle at their material points (the flat background where a point is off the specimen), plus
   /// noise drawn from `noise_seed` (independent of the thread count), then quantised to `bits`.
-  /// The material points are found element by element: each deformed element (of the quarter's four
-  /// mirror images) draws the sub-samples of its bounding box that it holds, by Newton on its
+  /// The material points are found element by element: each deformed element (of the mesh, or of the
+  /// quarter's four mirror images) draws the sub-samples of its bounding box that it holds, by Newton on its
   /// isoparametric map from the previous sub-sample's ξ; the speckle comes from table(). The same
   /// image as FullSpecimen::material_point and pattern().intensity per sub-sample, to the table's
   /// error (specimen_test's OldRenderer tests).
@@ -125,6 +133,7 @@ class SpecimenRenderer {
 
  private:
   const fem::Mesh* mesh_;
+  Extent extent_;
   SpecimenImageOptions options_;
   SpecklePattern pattern_;
   PatternTable table_;
