@@ -44,7 +44,8 @@ std::vector<fem::Location> locate_points(const fem::TestModel& model, const Test
                          " points are outside the specimen mesh; the first is id " +
                          std::to_string(d.point_ids[first]) + " at (" + format_number(d.points(0, first)) + ", " +
                          format_number(d.points(1, first)) + ") mm",
-                     "", "points within the quarter model's mesh (x >= 0, y >= 0 from the axes of symmetry)");
+                     "", model.has_conditions() ? "points within the test's mesh, in its frame (mm)"
+                                                : "points within the quarter model's mesh (x >= 0, y >= 0 from the axes of symmetry)");
   return at;
 }
 

@@ -111,6 +111,11 @@ io::SectionSpec mesh_section() {
           "A Gmsh geometry (.geo), relative to this file's folder, meshed at run time with `size` and\n"
           "`element`; kind = \"custom\" tests only."),
       key("size", 0.0, "Largest element size of a meshed `geometry`, mm; 0 = the sizes the .geo sets.", 0, 1e5),
+      key("whole", false,
+          "kind = \"custom\" tests on the generator's mesh: the whole width × height rectangle centred on\n"
+          "the origin (nx × ny elements, edges named as the quarter's), instead of the quarter [0, width/2] ×\n"
+          "[0, height/2]. A full specimen whose clamps are driven by their measured motion (tricot experiment's\n"
+          "model = \"full\")."),
   };
   return s;
 }
@@ -441,6 +446,7 @@ Spec mesh_from_config(const io::Node& n) {
 MeshSpec MeshSpec::from_config(const io::Node& n) {
   MeshSpec m = mesh_from_config<MeshSpec>(n);
   m.file = n.string("file"), m.geometry = n.string("geometry"), m.size = n.real("size");
+  m.whole = n.boolean("whole");
   m.folder = n.file().empty() ? std::string() : fs::path(n.file()).parent_path().string();
   return m;
 }
@@ -870,7 +876,17 @@ fem::TestModel TestSpec::custom_model(const MeshSpec& case_mesh) const {
   fem::TestModel t;
   t.name = name;
   t.material_angle = material_angle;
-  t.mesh = case_mesh.from_gmsh() ? case_mesh.gmsh_mesh() : fem::make_quarter_mesh(mesh.options(case_mesh));
+  if (case_mesh.from_gmsh()) {
+    t.mesh = case_mesh.gmsh_mesh();
+  } else if (case_mesh.whole) {  // the full rectangle, centred: the quarter generator at twice the size, moved
+    fem::MeshOptions o = mesh.options(case_mesh);
+    o.width *= 2, o.height *= 2;
+    t.mesh = fem::make_quarter_mesh(o);
+    t.mesh.X.row(0).array() -= o.width / 2;
+    t.mesh.X.row(1).array() -= o.height / 2;
+  } else {
+    t.mesh = fem::make_quarter_mesh(mesh.options(case_mesh));
+  }
   if (loads.empty()) {  // step labels 1 … steps
     t.loads.resize(static_cast<std::size_t>(steps));
     for (int k = 0; k < steps; ++k) t.loads[static_cast<std::size_t>(k)] = k + 1;

@@ -486,7 +486,13 @@ std::string project_test_table(const io::Node& t, const LabTestResult& r, const 
   if (e.full()) {  // the model lines last: they may hold [[test.boundary]] tables
     std::string lines = t.string("model");
     if (!lines.empty() && lines.back() != '\n') lines += '\n';
-    return fmt::format("[[test]]   # the whole specimen\nname = \"{}\"\n# loads: forces.csv (the steps' frames)\n{}\n", r.name, lines);
+    // With clamps: the specimen between them, for a generated mesh ([mesh] whole = true).
+    const std::string mesh = r.free_length_mm > 0 ? fmt::format("[test.mesh]   # the test's own specimen: width, and the clamps' "
+                                                                "distance\nwidth = {}\nheight = {}\n",
+                                                                num(r.width_mm), num(r.free_length_mm))
+                                                  : "";
+    return fmt::format("[[test]]   # the whole specimen\nname = \"{}\"\n# loads: forces.csv (the steps' frames)\n{}{}\n", r.name,
+                       lines, mesh);
   }
   // `direction` sets the material's orientation (issue 29): wale = material_angle 0, course = 90 (and a
   // rig's `pull`). Model lines that set them too must agree, or a course test would silently be fitted
@@ -651,6 +657,17 @@ LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const
     r.loads.push_back(e.full() ? double(tt.step_frames[k]) : e.force_control() ? tt.steps[k].force_N : tt.steps[k].grip_mm);
   write_forces(tdir / kForcesFile, tt.steps, r.loads);
   write_field(tdir / kFieldFile, tt.field);
+  if (!tt.clamp_motion.empty()) {  // the full model's clamps: series for [[test.boundary]] (series = "<test>/clamps.csv")
+    std::string c = "step";
+    for (const auto& m : tt.clamp_motion) c += fmt::format(",{0}_ux,{0}_uy", m.marker);
+    c += "\n";
+    for (std::size_t k = 0; k < tt.steps.size(); ++k) {
+      c += std::to_string(k + 1);
+      for (const auto& m : tt.clamp_motion) c += "," + num(m.u[k](0)) + "," + num(m.u[k](1));
+      c += "\n";
+    }
+    io::write_atomic(tdir / "clamps.csv", c);
+  }
   std::vector<double> all;
   for (const auto& f : tt.steps) all.push_back(f.force_N);
   r.name = name;
@@ -660,7 +677,7 @@ LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const
   r.outside = tt.field.outside, r.incomplete = tt.field.incomplete;
   // A full model without clamps knows no frame at rest (its grip is its boundaries'): no estimate.
   r.force_noise_N = e.full() && t.strings("clamps").empty() ? 0.0 : frame_force_noise(tt.steps, all);
-  if (!e.full()) r.width_mm = tt.geometry.width_mm, r.free_length_mm = tt.geometry.free_length_mm;
+  if (!e.full() || tt.centred_on_clamps) r.width_mm = tt.geometry.width_mm, r.free_length_mm = tt.geometry.free_length_mm;
   sync_json[name] = {{"method", "frame_number"},
                      {"clock_offset_s", 0.0},
                      {"force_noise_N", r.force_noise_N},

@@ -389,6 +389,9 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
   out.geometry.free_length_mm = !clamps.empty() && !test.given("free_length_mm") ? distance[0] : test.real("free_length_mm");
   out.geometry.tolerance_mm = test.real("tolerance_mm");
 
+  // A full model's frame is the clamps' midpoint unless the tracks are in the mesh frame already.
+  out.centred_on_clamps = full && !clamps.empty() && !mesh_frame;
+
   // Rigid motion: the clamps' mean displacement, px (or mm), per frame.
   out.rigid_motion_removed = !full && !clamps.empty();
   std::vector<Vec2> rigid(tracks.frames.size(), Vec2::Zero());
@@ -431,9 +434,12 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
     const Vec2 P = frame.point(tracks.x[0][i]);
     // The quarter model folds every point into X, Y ≥ 0 and keeps those inside the rectangle; the full
     // one takes them where they are (identify refuses a point off its mesh, naming it).
+    // A full model between clamps is the width × free length rectangle about their midpoint: the
+    // points beyond it are left out as the quarter's are.
     const Vec2 X = full ? P : Vec2(P.cwiseAbs());
-    if (!full && (X(0) > out.geometry.half_width() + out.geometry.tolerance_mm ||
-                  X(1) > out.geometry.half_length() + out.geometry.tolerance_mm)) {
+    const bool rectangle = !full || out.centred_on_clamps;
+    if (rectangle && (std::abs(X(0)) > out.geometry.half_width() + out.geometry.tolerance_mm ||
+                      std::abs(X(1)) > out.geometry.half_length() + out.geometry.tolerance_mm)) {
       ++q.outside;
       continue;
     }
@@ -454,8 +460,9 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
       q.u(s, a) = u(0), q.v(s, a) = u(1), q.sigma_u(s, a) = sigma_mm, q.sigma_v(s, a) = sigma_mm;
     }
   }
-  q.report = full ? fmt::format("{} of {} points kept in the mesh frame; {} not tracked in every step", n, field_points.size(),
-                                q.incomplete)
+  q.report = full && !out.centred_on_clamps
+                 ? fmt::format("{} of {} points kept in the mesh frame; {} not tracked in every step", n, field_points.size(),
+                               q.incomplete)
                    : fmt::format("{} of {} points kept; {} outside the {:g} × {:g} mm specimen, {} not tracked in every step",
                                  n, field_points.size(), q.outside, out.geometry.width_mm, out.geometry.free_length_mm,
                                  q.incomplete);
@@ -474,6 +481,13 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
     out.steps.push_back(f);
     out.step_frames.push_back(tracks.frames[k]);
   }
+  // The full model's clamps move as their markers: each one's displacement per step, mm.
+  if (full && !clamps.empty())
+    for (std::size_t c : {ca, cb}) {
+      TracksTest::ClampMotion m{tracks.points[c], {}};
+      for (std::size_t k : step_index) m.u.push_back(frame.vector(tracks.x[k][c] - x0[c]));
+      out.clamp_motion.push_back(std::move(m));
+    }
   if (clamps.empty() && !full) {  // no clamps: the grip from the field (as a DIC test's)
     const auto grip = lab::grip_from_field(q, out.geometry);
     for (std::size_t s = 0; s < out.steps.size(); ++s) out.steps[s].grip_mm = grip[s];

@@ -23,20 +23,27 @@ namespace fs = std::filesystem;
 // bound below is that figure with a margin, not the issue's 3 % target, which is not reached.
 constexpr double kWorstForceRmsOfPeak = 0.07;
 
-TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
-  const fs::path data = test::shared_data() / "knit-uniaxial";
-  if (!fs::exists(data / "acrylic-garter-X" / "video1" / "tracks.csv")) GTEST_SKIP() << "no " << data;
-  const fs::path root = test::scratch_dir("knit_uniaxial_real");
+bool have_the_data() { return fs::exists(test::shared_data() / "knit-uniaxial" / "acrylic-garter-X" / "video1" / "tracks.csv"); }
+
+// The example's lab file `lab` (with `templ`) in a scratch tree laid out as the repository, then
+// `tricot experiment` and `tricot identify` into ROOT/out; returns ROOT.
+fs::path run_example(const std::string& name, const char* lab, const char* templ) {
+  const fs::path root = test::scratch_dir(name);
   const fs::path example = root / "repo" / "examples" / "knit-uniaxial-real";
   fs::create_directories(example);
   fs::create_directories(root / "shared");
   fs::create_directory_symlink(fs::absolute(test::shared_data()), root / "shared" / "data");
-  for (const char* f : {"acrylic-garter.toml", "project-template.toml"})
-    fs::copy_file(test::source_dir() / "examples" / "knit-uniaxial-real" / f, example / f);
-  const auto e = test::run_tricot("experiment " + (example / "acrylic-garter.toml").string() + " -o " + (root / "experiment").string() + " -q");
-  ASSERT_EQ(e.exit_code, 0) << e.err;
+  for (const char* f : {lab, templ}) fs::copy_file(test::source_dir() / "examples" / "knit-uniaxial-real" / f, example / f);
+  const auto e = test::run_tricot("experiment " + (example / lab).string() + " -o " + (root / "experiment").string() + " -q");
+  EXPECT_EQ(e.exit_code, 0) << e.err;
   const auto r = test::run_tricot("identify " + (root / "experiment" / "project.toml").string() + " -o " + (root / "out").string() + " -q");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return root;
+}
+
+TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
+  if (!have_the_data()) GTEST_SKIP() << "no " << test::shared_data() / "knit-uniaxial";
+  const fs::path root = run_example("knit_uniaxial_real", "acrylic-garter.toml", "project-template.toml");
   const nlohmann::json j = nlohmann::json::parse(io::read_text(root / "out" / "result.json"));
   EXPECT_TRUE(j["converged"].get<bool>()) << j["termination"];
   EXPECT_TRUE(fs::exists(root / "out" / "report.html"));
@@ -60,6 +67,26 @@ TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
       ++tests;
     }
   EXPECT_EQ(tests, 10);
+}
+
+// The same repeats as whole specimens (acrylic-garter-full.toml: model = "full", each clamp driven by
+// its marker's measured motion, nothing removed or folded). With one homogeneous material both models
+// stretch the fabric uniformly between the clamps, so they leave the same residual on the tracked
+// points (measured: full / quarter 0.99–1.00 per repeat, 2.2–3.7 mm): the floor is the fabric's own
+// uneven stretch (its two halves 58 % and 44 %), which no single-material model follows. Issue 29's
+// "at most half the quarter's" is not reached.
+TEST(KnitUniaxialReal, TheWholeSpecimenDrivenByItsClampsLeavesTheQuartersResidual) {
+  if (!have_the_data()) GTEST_SKIP() << "no " << test::shared_data() / "knit-uniaxial";
+  const fs::path quarter = run_example("knit_uniaxial_quarter", "acrylic-garter.toml", "project-template.toml");
+  const fs::path full = run_example("knit_uniaxial_full", "acrylic-garter-full.toml", "project-template-full.toml");
+  const nlohmann::json q = nlohmann::json::parse(io::read_text(quarter / "out" / "result.json"));
+  const nlohmann::json f = nlohmann::json::parse(io::read_text(full / "out" / "result.json"));
+  ASSERT_TRUE(f["converged"].get<bool>()) << f["termination"];
+  for (const auto& [name, fit] : q["fit"].items()) {
+    const double rq = fit["points_rms_mm"].get<double>(), rf = f["fit"][name]["points_rms_mm"].get<double>();
+    EXPECT_NEAR(rf / rq, 1.0, 0.03) << name << ": quarter " << rq << " mm, full " << rf << " mm";
+    EXPECT_NEAR(f["fit"][name]["force_rms_N"].get<double>(), fit["force_rms_N"].get<double>(), 0.02 * fit["force_rms_N"].get<double>()) << name;
+  }
 }
 
 }  // namespace

@@ -250,5 +250,40 @@ TEST(CaseSpec, WrinklingWrapsTheLawInATensionFieldMembrane) {
   EXPECT_EQ(message_of([&] { code.law(); }), "law.residual_stiffness: out of range (got 0.5, expected [0, 0.5))");
 }
 
+
+// [mesh] whole = true: a custom test on the generator gets the whole width × height rectangle centred
+// on the origin (the frame of a full specimen between its clamps), its edges named as the quarter's.
+TEST(CaseSpec, AWholeGeneratedMeshIsTheRectangleCentredOnTheOrigin) {
+  const char* text = R"([mesh]
+whole = true
+width = 20
+height = 60
+nx = 2
+ny = 4
+[[test]]
+name = "pull"
+kind = "custom"
+loads = [1]
+[test.mesh]
+width = 30
+[[test.boundary]]
+name = "bottom"
+fix = ["x", "y"]
+[[test.boundary]]
+name = "top"
+ux = [0]
+uy = [3]
+)";
+  const CaseSpec spec = CaseSpec::from_config(io::parse_config(case_schema(), text, "case.toml"));
+  const fem::TestModel t = spec.models().at(0);
+  EXPECT_DOUBLE_EQ(t.mesh.X.row(0).minCoeff(), -15);  // [test.mesh] width replaces [mesh]'s
+  EXPECT_DOUBLE_EQ(t.mesh.X.row(0).maxCoeff(), 15);
+  EXPECT_DOUBLE_EQ(t.mesh.X.row(1).minCoeff(), -30);
+  EXPECT_DOUBLE_EQ(t.mesh.X.row(1).maxCoeff(), 30);
+  EXPECT_EQ(t.mesh.elements(), 2 * 4);  // nx × ny over the whole rectangle
+  for (int n : t.mesh.boundary("top")) EXPECT_DOUBLE_EQ(t.mesh.X(1, n), 30);
+  for (int n : t.mesh.boundary("bottom")) EXPECT_DOUBLE_EQ(t.mesh.X(1, n), -30);
+}
+
 }  // namespace
 }  // namespace tricot::project

@@ -350,6 +350,41 @@ TEST(LabTracks, TheFullModelKeepsEveryPointWhereItIsInTheMeshFrame) {
             std::string::npos)
       << project;
   EXPECT_EQ(project.find("material_angle"), std::string::npos) << project;
+  EXPECT_EQ(project.find("[test.mesh]"), std::string::npos) << project;  // the tracks' own frame: no rectangle
+  // Each clamp marker's displacement per step, for the grips' series: the top one still, the bottom
+  // one pulled down by the stretch of the 60 mm between them.
+  const io::LogTable clamps = io::read_log(dir / "out" / "pull" / "clamps.csv");
+  const auto top = clamps.numbers("top_clamp_uy"), bottom = clamps.numbers("bottom_clamp_uy"), bx = clamps.numbers("bottom_clamp_ux");
+  ASSERT_EQ(bottom.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(top[k], 0, kTight);
+    EXPECT_NEAR(bottom[k], -60 * kStrain[k + 1], kTight) << k;
+    EXPECT_NEAR(bx[k], 0, kTight);
+  }
+}
+
+// model = "full" with tracks in px: the frame is the clamps' midpoint, the specimen the width × free
+// length rectangle about it ([test.mesh] for a generated whole mesh), a pin beyond it left out.
+TEST(LabTracks, TheFullModelOfPixelTracksIsTheRectangleBetweenTheClamps) {
+  const fs::path dir = test::scratch_dir("lab_tracks_full_px");
+  write(dir / "tracks.csv", long_tracks());
+  write(dir / "force.csv", frame_forces());
+  std::string lab = kLabTracks;
+  lab.replace(lab.find("plot = false"), 12, "plot = false\nmodel = \"full\"");
+  lab.replace(lab.find("width_mm = 20.0"), 15, "width_mm = 10.0");  // the pin at x = 560 px (6 mm) lies beyond
+  (void)run_lab_experiment(read_lab(dir, lab), dir / "out", Log{});
+  const io::LogTable field = io::read_log(dir / "out" / "pull" / "field.csv");
+  const auto step = field.numbers("step"), X = field.numbers("x"), Y = field.numbers("y"), u = field.numbers("u"), v = field.numbers("v");
+  ASSERT_EQ(field.rows(), 4u * 2u);  // left and top_pin; right is 6 mm off the axis of a 10 mm wide strip
+  for (std::size_t i = 0; i < field.rows(); ++i) {
+    const double e = kStrain[int(step[i])];  // about the top clamp, 30 mm above the clamps' midpoint
+    EXPECT_NEAR(u[i], -kNu * e * X[i], kTight) << "row " << i;
+    EXPECT_NEAR(v[i], e * (Y[i] - 30), kTight) << "row " << i;
+  }
+  const std::string project = io::read_text(dir / "out" / "project.toml");
+  EXPECT_NE(project.find("[test.mesh]   # the test's own specimen: width, and the clamps' distance\nwidth = 10\nheight = 60\n"),
+            std::string::npos)
+      << project;
 }
 
 TEST(LabTracks, TheFullModelTakesTracksOnlyAndDisplacementControl) {

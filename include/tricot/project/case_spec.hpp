@@ -70,6 +70,7 @@ struct MeshSpec {
   std::string file;      ///< a Gmsh .msh file (relative to the config file's folder), or ""
   std::string geometry;  ///< a Gmsh .geo file meshed at run time with `size` and `element`, or ""
   double size = 0;       ///< largest element size of a meshed geometry, mm; 0 = the .geo's sizes
+  bool whole = false;    ///< custom tests on the generator: the whole rectangle centred on the origin
   std::string folder;    ///< the config file's folder, for relative paths
   Origin origin{"mesh"};
 

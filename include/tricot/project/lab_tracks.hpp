@@ -68,6 +68,16 @@ struct TracksTest {
   lab::SpecimenGeometry geometry;       ///< width as given, free length from the clamps when they are given
   double mm_per_px = 1;                 ///< the test's scale (1 for tracks in mm)
   bool rigid_motion_removed = false;    ///< the clamps' mean displacement subtracted
+  /// A full model whose frame is the clamps' midpoint (px tracks with clamps): the specimen is the
+  /// width × free-length rectangle about it, and the points beyond it are left out.
+  bool centred_on_clamps = false;
+  /// The full model's clamps (with `clamps` given): each marker's displacement per step, mm, in the
+  /// mesh frame, for the grips' conditions (DIR/<test>/clamps.csv).
+  struct ClampMotion {
+    std::string marker;
+    std::vector<Vec2> u;
+  };
+  std::vector<ClampMotion> clamp_motion;
   std::string report;                   ///< one line: frames, steps, points kept
 };
 
@@ -76,7 +86,8 @@ struct TracksTest {
 /// `full` = false: the quarter model, the points folded into X, Y ≥ 0, those beyond the specimen's
 /// rectangle left out, and the clamps' mean displacement subtracted (with clamps given); true: the
 /// whole specimen, every point where it is (tracks in mm are points of the mesh frame as they stand,
-/// tracks in px go through [physical]) and nothing subtracted.
+/// tracks in px go through [physical], centred on the clamps' midpoint when they are given) and
+/// nothing subtracted; with clamps, each marker's displacement per step (clamp_motion).
 /// Throws InputError naming FILE:LINE: KEY for: a force file whose frames are not the tracks' (the
 /// first frame in one and not the other), a clamp that is not a tracked point, clamps whose distance
 /// does not change (a clamp marker that does not move), a scale missing for tracks in px.
