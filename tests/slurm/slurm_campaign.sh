@@ -136,7 +136,7 @@ site=$tmp/site
 mkdir -p "$site/build" "$site/examples/knit-campaign"
 cp "$tricot" "$site/build/tricot"
 cp "$src/examples/knit-campaign/campaign.slurm" "$site/examples/knit-campaign/"
-cp "$here"/experiment.toml "$here"/project-110.toml "$here"/project-150.toml "$here"/project-cut.toml \
+cp "$here"/experiment.toml "$here"/project-110.toml "$here"/project-150.toml "$here"/project-cut.toml "$here"/project-bind.toml \
   "$site/examples/knit-campaign/"
 # The strict run's own copy: two runs at once into one output folder are refused (the folder's lock).
 cp "$here"/project-cut.toml "$site/examples/knit-campaign/project-cut-strict.toml"
@@ -201,6 +201,25 @@ for launcher, p in (("mpirun", "project-110"), ("mpirun", "project-150"), ("srun
     print(f"slurm_campaign: {p} ({launcher}): f = {r['objective']!r}, {r['parameters']}, {r['iterations']} iterations, "
           f"{r['ranks']} ranks x {r['threads']} threads against {one['ranks']} x {one['threads']}: "
           f"{'bit-identical' if same else 'within 1e-12'}")
+sys.exit(0 if ok else 1)
+PY
+
+# Rank binding: one rank × 2 CPUs inside Slurm (mpirun --map-by slot:PE=2 --bind-to core) against plain
+# runs of 2 and 1 threads. A rank bound to one core would run its two threads on it, as slowly as one.
+bind=examples/knit-campaign/project-bind.toml
+( cd "$site" && as_user env OUT=out/bind sbatch --wait --ntasks=1 --cpus-per-task=2 --array=0 --output=bind-%A_%a.log \
+  examples/knit-campaign/campaign.slurm $bind ) > /dev/null || { echo "the binding job failed:"; cat "$site"/bind-*.log; exit 1; }
+for t in 2 1; do
+  env -u SLURM_CONF OMP_NUM_THREADS=$t "$tricot" identify "$site/$bind" -o "$tmp/bind$t" -q --no-plots > /dev/null
+done
+"$python" - "$site/out/bind/project-bind/result.json" "$tmp/bind2/result.json" "$tmp/bind1/result.json" << 'PY'
+import json, sys
+slurm, two, one = (json.load(open(f)) for f in sys.argv[1:4])
+print(f"slurm_campaign: binding: 1 rank x {slurm['threads']} threads in Slurm {slurm['wall_seconds']:.2f} s; "
+      f"plain {two['threads']} threads {two['wall_seconds']:.2f} s, {one['threads']} thread {one['wall_seconds']:.2f} s")
+ok = (slurm["ranks"], slurm["threads"]) == (1, 2) and slurm["iterations"] == two["iterations"]
+# Both cores: within the 2-thread run's time, well under the 1-thread run's (a rank bound to one core).
+ok = ok and slurm["wall_seconds"] < 0.75 * one["wall_seconds"] and slurm["wall_seconds"] < 1.25 * two["wall_seconds"]
 sys.exit(0 if ok else 1)
 PY
 
