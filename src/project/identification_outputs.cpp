@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include <omp.h>
+
 #include "json.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/core/format.hpp"
@@ -63,6 +65,7 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
   j["start"] = named(r.names, r.start);
   j["ranks"] = o.ranks;      // MPI processes that simulated the tests
   j["threads"] = o.threads;  // OpenMP threads per process for the tests
+  j["cpus"] = omp_get_num_procs();  // CPUs this process may run on: its affinity (an MPI rank's binding)
   if (o.levels) {  // [identify] coarse_mesh: what each level did; the keys above are the last level's
     json levels = json::array();
     for (std::size_t l = 0; l < o.levels->levels.size(); ++l) {

@@ -204,8 +204,9 @@ for launcher, p in (("mpirun", "project-110"), ("mpirun", "project-150"), ("srun
 sys.exit(0 if ok else 1)
 PY
 
-# Rank binding: one rank × 2 CPUs inside Slurm (mpirun --map-by slot:PE=2 --bind-to core) against plain
-# runs of 2 and 1 threads. A rank bound to one core would run its two threads on it, as slowly as one.
+# Rank binding: one rank × 2 CPUs inside Slurm (mpirun --map-by slot:PE=2 --bind-to core) may run on
+# both (result.json's cpus: its affinity; bound to one core it would run its two threads on it). The
+# times beside plain runs of 2 and 1 threads are printed, not asserted: this test shares the machine.
 bind=examples/knit-campaign/project-bind.toml
 ( cd "$site" && as_user env OUT=out/bind sbatch --wait --ntasks=1 --cpus-per-task=2 --array=0 --output=bind-%A_%a.log \
   examples/knit-campaign/campaign.slurm $bind ) > /dev/null || { echo "the binding job failed:"; cat "$site"/bind-*.log; exit 1; }
@@ -215,11 +216,11 @@ done
 "$python" - "$site/out/bind/project-bind/result.json" "$tmp/bind2/result.json" "$tmp/bind1/result.json" << 'PY'
 import json, sys
 slurm, two, one = (json.load(open(f)) for f in sys.argv[1:4])
-print(f"slurm_campaign: binding: 1 rank x {slurm['threads']} threads in Slurm {slurm['wall_seconds']:.2f} s; "
+print(f"slurm_campaign: binding: 1 rank x {slurm['threads']} threads on {slurm['cpus']} CPUs in Slurm {slurm['wall_seconds']:.2f} s; "
       f"plain {two['threads']} threads {two['wall_seconds']:.2f} s, {one['threads']} thread {one['wall_seconds']:.2f} s")
-ok = (slurm["ranks"], slurm["threads"]) == (1, 2) and slurm["iterations"] == two["iterations"]
-# Both cores: within the 2-thread run's time, well under the 1-thread run's (a rank bound to one core).
-ok = ok and slurm["wall_seconds"] < 0.75 * one["wall_seconds"] and slurm["wall_seconds"] < 1.25 * two["wall_seconds"]
+ok = (slurm["ranks"], slurm["threads"], slurm["cpus"]) == (1, 2, 2) and slurm["iterations"] == two["iterations"]
+if not ok:
+    print(f"binding: ranks {slurm['ranks']}, threads {slurm['threads']}, cpus {slurm['cpus']}, expected 1, 2, 2")
 sys.exit(0 if ok else 1)
 PY
 
