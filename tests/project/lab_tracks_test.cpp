@@ -256,7 +256,8 @@ TEST(LabTracks, EachTestHasItsOwnCameraScale) {
 
 // Bad input: one line naming the file, the line and the key.
 std::string lab_error(const std::string& tracks, const std::string& forces, const std::string& lab = kLabTracks) {
-  const fs::path dir = test::scratch_dir("lab_tracks_5");
+  // A folder per test: ctest runs the tests of this file as parallel processes.
+  const fs::path dir = test::scratch_dir(std::string("lab_tracks_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
   write(dir / "tracks.csv", tracks);
   write(dir / "force.csv", forces);
   return error_of([&] { (void)run_lab_experiment(read_lab(dir, lab), dir / "out", Log{}); });
