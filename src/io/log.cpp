@@ -266,6 +266,16 @@ std::vector<double> LogTable::numbers(std::string_view name) const {
   return values_[c];
 }
 
+std::vector<double> LogTable::numbers_or_empty(std::string_view name) const {
+  const std::size_t c = column(name);
+  if (!text_[c].empty())
+    for (std::size_t r = 0; r < rows(); ++r)
+      if (!std::isfinite(values_[c][r]) && !text_[c][r].empty())
+        throw InputError({file, lines[r], columns[c]}, "not a finite number", "\"" + text_[c][r] + "\"",
+                         "a finite number, or an empty cell for a missing value");
+  return values_[c];
+}
+
 std::vector<double> LogTable::times(std::string_view name) const {
   std::vector<double> t = numbers(name);
   const std::size_t c = column(name);

@@ -203,17 +203,7 @@ namespace {
 
 // A column of a `tricot dic` table that may be absent or hold empty cells (a lost point): NaN there.
 std::vector<double> optional_numbers(const io::LogTable& t, const char* column) {
-  std::vector<double> v(t.rows(), NAN);
-  if (!t.has_column(column)) return v;
-  const auto cells = t.text(column);
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    try {
-      v[i] = cells[i].empty() ? NAN : std::stod(cells[i]);
-    } catch (const std::exception&) {
-      v[i] = NAN;
-    }
-  }
-  return v;
+  return t.has_column(column) ? t.numbers_or_empty(column) : std::vector<double>(t.rows(), NAN);
 }
 
 std::string num(double v) { return fmt::format("{:.9g}", v); }
@@ -319,7 +309,17 @@ lab::LoadLog load_log(const io::Node& t) {
   return log;
 }
 
-// forces.csv; `loads` (one per step) is the FE load column: the grip, the force, or a full model's labels.
+// The FE load of each step: the force or the quarter's grip displacement; a full model's are its
+// steps' frames (labels: its boundaries carry the motion).
+std::vector<double> fe_loads(const std::vector<lab::ForceStep>& steps, const ExperimentSpec& e,
+                             const std::vector<long>& frames = {}) {
+  std::vector<double> loads;
+  for (std::size_t k = 0; k < steps.size(); ++k)
+    loads.push_back(e.full() ? double(frames.at(k)) : e.force_control() ? steps[k].force_N : steps[k].grip_mm);
+  return loads;
+}
+
+// forces.csv; `loads` (one per step) is the FE load column (fe_loads).
 void write_forces(const fs::path& file, const std::vector<lab::ForceStep>& steps, const std::vector<double>& loads) {
   std::string s = "step,time,load,edge_displacement,edge_force,force_per_width\n";
   for (std::size_t k = 0; k < steps.size(); ++k) {
@@ -652,9 +652,7 @@ LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const
   const std::string name = t.string("name");
   const TracksTest tt = tracks_test(t, physical, e.full());
   LabTestResult r;
-  // The FE loads: a full model's are its steps' frame numbers (labels: its boundaries carry the motion).
-  for (std::size_t k = 0; k < tt.steps.size(); ++k)
-    r.loads.push_back(e.full() ? double(tt.step_frames[k]) : e.force_control() ? tt.steps[k].force_N : tt.steps[k].grip_mm);
+  r.loads = fe_loads(tt.steps, e, tt.step_frames);
   write_forces(tdir / kForcesFile, tt.steps, r.loads);
   write_field(tdir / kFieldFile, tt.field);
   if (!tt.clamp_motion.empty()) {  // the full model's clamps: series for [[test.boundary]] (series = "<test>/clamps.csv")
@@ -822,8 +820,7 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     std::vector<lab::ForceStep> steps;
     for (lab::ForceStep f : lab::force_steps(images, sync, grip, geometry.width_mm))
       if (f.step >= int(first_pull)) f.step -= int(first_pull) - 1, steps.push_back(f);
-    std::vector<double> loads;
-    for (const auto& f : steps) loads.push_back(e.force_control() ? f.force_N : f.grip_mm);
+    const std::vector<double> loads = fe_loads(steps, e);
     write_forces(tdir / kForcesFile, steps, loads);
 
     lab::QuarterField field = kind == lab::FieldKind::cumulative ? cumulative : lab::fold_sequence(seq, frame, geometry, kind);

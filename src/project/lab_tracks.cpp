@@ -87,23 +87,7 @@ PointTracks read_long(const io::Node& test, const fs::path& file) {
   const auto frame = t.numbers(fc);
   const auto point = t.text(pc);
   // An empty position cell is a point the tool lost in that frame (`tricot dic`'s specimen.csv writes so).
-  const auto positions = [&](const std::string& column) {
-    const auto cells = t.text(column);
-    std::vector<double> v(cells.size(), NAN);
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      if (cells[i].empty()) continue;
-      std::size_t used = 0;
-      try {
-        v[i] = std::stod(cells[i], &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != cells[i].size() || !std::isfinite(v[i]))
-        throw InputError({t.file, t.lines[i], column}, "not a number", "\"" + cells[i] + "\"", "a position, or empty for a lost point");
-    }
-    return v;
-  };
-  const auto x = positions(xc), y = positions(yc);
+  const auto x = t.numbers_or_empty(xc), y = t.numbers_or_empty(yc);
   std::map<long, std::size_t> frame_index;
   std::map<std::string, std::size_t> point_index;
   std::vector<std::map<std::size_t, Vec2>> rows;
@@ -185,20 +169,14 @@ PointTracks read_wide(const io::Node& test, const fs::path& file) {
   for (std::size_t p = 0; p < r.points.size(); ++p) {
     const auto [cx, cy] = cols[r.points[p]];
     for (const std::size_t c : {cx, cy}) {
-      const auto cells = t.text(t.columns[c]);
+      const auto values = t.numbers_or_empty(t.columns[c]);  // text in a cell: its own error
       for (std::size_t i = 0; i < t.rows(); ++i) {
-        double v = NAN;
-        try {
-          std::size_t used = 0;
-          v = cells[i].empty() ? NAN : std::stod(cells[i], &used);
-        } catch (const std::exception&) {
-        }
-        if (!std::isfinite(v))
+        if (!std::isfinite(values[i]))
           throw InputError({t.file, t.lines[i], t.columns[c]},
                            fmt::format("frame {} has no position of point '{}' (a point missing from a frame)", r.frames[i],
                                        r.points[p]),
-                           "\"" + cells[i] + "\"", "a number in every frame");
-        r.x[i][p](c == cx ? 0 : 1) = v;
+                           "\"\"", "a number in every frame");
+        r.x[i][p](c == cx ? 0 : 1) = values[i];
       }
     }
   }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <fstream>
 
 #include "testing/paths.hpp"
@@ -89,6 +91,20 @@ TEST(Log, TextOrNanCellNamesFileLineAndColumn) {
   EXPECT_EQ(error_of([&] { u.numbers("force"); }),
             "log.csv:4: force: not a finite number (got \"NaN\", expected a finite number)");
   EXPECT_NO_THROW(u.numbers("time"));
+}
+
+TEST(Log, AnEmptyCellIsAMissingValueWhereAskedAndTextStillAnError) {
+  // A DIC tool's tracks: the point lost in the second frame has empty cells; decimal comma as written.
+  const LogTable t = parse_log("frame;x [mm];y [mm]\n0;1,5;2,25\n1;;\n2;1,75;2,5\n", "tracks.csv");
+  const auto x = t.numbers_or_empty("x");
+  ASSERT_EQ(x.size(), 3u);
+  EXPECT_EQ(x[0], 1.5);
+  EXPECT_TRUE(std::isnan(x[1]));
+  EXPECT_EQ(x[2], 1.75);
+  EXPECT_EQ(error_of([&] { t.numbers("x"); }), "tracks.csv:3: x [mm]: empty cell (got \"\", expected a finite number)");
+  const LogTable u = parse_log("frame,x\n0,1\n1,lost\n", "tracks.csv");
+  EXPECT_EQ(error_of([&] { u.numbers_or_empty("x"); }),
+            "tracks.csv:3: x: not a finite number (got \"lost\", expected a finite number, or an empty cell for a missing value)");
 }
 
 TEST(Log, TimeGoingBackwardsNamesTheLine) {

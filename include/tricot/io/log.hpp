@@ -47,6 +47,9 @@ class LogTable {
   /// The numbers of a column. Throws InputError FILE:LINE: COLUMN at the first cell that is not a
   /// finite number (text, empty, NaN, inf).
   std::vector<double> numbers(std::string_view name) const;
+  /// numbers() where an empty cell is a missing value, NaN (a point a DIC tool lost in that frame);
+  /// InputError FILE:LINE: COLUMN at a cell that holds text, NaN or inf.
+  std::vector<double> numbers_or_empty(std::string_view name) const;
   /// numbers(), which must also increase strictly down the column (a time): the error names the
   /// first line where it goes backwards or repeats.
   std::vector<double> times(std::string_view name) const;
