@@ -113,6 +113,7 @@ class Simulation {
   /// grip (the other half of the specimen), TestModel::force_scale for a model of any mesh.
   double force_scale() const { return test_.has_conditions() ? test_.force_scale : 2.0; }
   std::string describe_element_failure() const;
+  std::string describe_largest_residual(const Eigen::VectorXd& R) const;
   std::string ellipticity_note(int element) const;
 
   const TestModel& test_;
@@ -228,6 +229,22 @@ bool Simulation::factorize(Failure& fail) {
   if (factor_current_) return true;
   fail.why = "the tangent is singular";
   return false;
+}
+
+// Where a stalled Newton's residual sits: the node whose free dofs carry the largest part of it.
+std::string Simulation::describe_largest_residual(const Eigen::VectorXd& R) const {
+  const int nodes = test_.mesh.nodes();
+  int worst = -1;
+  double largest = -1;
+  for (int n = 0; n < nodes; ++n) {
+    double s = 0;
+    for (int i = 0; i < 2; ++i)
+      if (const int q = dofs_.eq[std::size_t(2 * n + i)]; q >= 0) s += R(q) * R(q);
+    if (s > largest) largest = s, worst = n;
+  }
+  if (worst < 0) return "no free node";
+  return "largest " + fmt("%.3g", std::sqrt(largest)) + " N at node " + std::to_string(worst) + ", X = (" +
+         fmt("%.4g", test_.mesh.X(0, worst)) + ", " + fmt("%.4g", test_.mesh.X(1, worst)) + ") mm";
 }
 
 std::string Simulation::describe_element_failure() const {
@@ -397,7 +414,8 @@ bool Simulation::iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Fa
         fail.why = "no admissible Newton update: " + describe_element_failure() + " in every line-search trial";
         fail.element = assembled_.element;
       } else {
-        fail.why = "the line search found no decrease of the residual (|R| = " + fmt("%.3g", r) + ")";
+        fail.why = "the line search found no decrease of the residual (|R| = " + fmt("%.3g", r) + ", " +
+                   describe_largest_residual(R) + ")";
       }
       return false;
     }

@@ -379,5 +379,43 @@ TEST(SimulateBadInput, MooneyRivlinValuesMustMatchTheTerms) {
       << r.err;
 }
 
+// A stalled Newton names where its residual sits. The reference knit with wrinkling in the §4 rig
+// (docs/validation.md §9): setting the 40 % transverse dimension, the line search stops at the rig's
+// corner, the free side between the guide's end and the clips (X = 55 mm, Y = 53.1 mm of the quarter).
+TEST(Simulate, AStalledNewtonNamesTheNodeWhereItsResidualSits) {
+  const auto file = write_case("stalled", R"(
+[mesh]
+element = "Q8"
+nx = 24
+ny = 20
+grading = 0.5
+grading_x = 0.5
+[law]
+type = "reference_fabric"
+wrinkling = true
+[rig]
+guide_gap = 0.15
+guide_taper = 0.15
+tie_stiffness = 2.0
+clip_tie_stiffness = 2.0
+clip_taper = 0.15
+clips_follow_guide = true
+setting_steps = 4
+[[test]]
+name = "s110-wale-040"
+kind = "rig"
+side = 110.0
+pull = "wale"
+transverse_strain = 0.4
+pull_strain = 0.65
+steps = 21
+)");
+  const auto r = run_tricot("simulate " + file.string() + " -o " + (file.parent_path() / "out").string() + " -q --no-vtu");
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("the line search found no decrease of the residual"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("N at node 1479, X = (55, 53.1) mm)"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace tricot
