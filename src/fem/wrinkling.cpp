@@ -61,10 +61,14 @@ double max_abs(const M& m) {
   return r;
 }
 
-/// The largest wrinkle strain: waves that take up 10 times the sheet's projected length. Beyond it a
-/// law whose force decays with stretch (P = R τ̂ U⁻¹ of a log-strain law) has |g| → 0 at β → ∞, a
-/// root at infinity that Newton would walk to.
-constexpr double kBetaMax = 10;
+/// The largest wrinkle stretch 1 + β, as a multiple of the one that makes the wavy sheet as long as
+/// at rest across its most compressed direction (1/√b_min, b_min the least eigenvalue of B = F Fᵀ;
+/// at least 1): waves that take up 10 times that. Beyond it a law whose force decays with stretch
+/// (P = R τ̂ U⁻¹ of a log-strain law) has |g| → 0 at β → ∞, a root at infinity that Newton would
+/// walk to. Relative, not absolute: a fixed cap (β < 10) cut off the roots of a sheet squeezed to
+/// less than 1/11 of its length across (a slack corner of the rig), whose state then flipped between
+/// wrinkled at the cap and slack, a jump in P that stalled the FE's Newton.
+constexpr double kWaveFactor = 10;
 
 /// The C¹ ramp r(β) of width w and its slope: 0 for β ≤ −w, (β + w)²/(4w) between, β for β ≥ w
 /// (max(β, 0) when w = 0).
@@ -155,6 +159,10 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
     LawOutput at_Ft;
     int iterations = 0;
   };
+  Eigen::SelfAdjointEigenSolver<Mat2> eig_B(F * F.transpose());
+  const Vec2 nB = eig_B.eigenvectors().col(0);
+  const double b_min = eig_B.eigenvalues()(0);
+  const double beta_max = kWaveFactor * std::max(1.0, 1 / std::sqrt(b_min)) - 1;
   auto newton = [&](Vec2 z) {
     Run run;
     Wrinkle w = wrinkle(F, z(0), z(1));
@@ -182,13 +190,13 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
       const Eigen::FullPivLU<Mat2> lu(residual_z(F, w, at));
       if (!lu.isInvertible()) break;
       const Vec2 dz = -lu.solve(g);
-      // Backtracking on |g|: keep β in (−1/2, kBetaMax) and take the first step that lowers |g| (the
+      // Backtracking on |g|: keep β in (−1/2, beta_max) and take the first step that lowers |g| (the
       // full step near the root: quadratic convergence).
       double a = 1;
       bool accepted = false;
       for (int b = 0; b < 30 && !accepted; ++b, a *= 0.5) {
         const Vec2 zt = z + a * dz;
-        if (!(zt(0) > -0.5 && zt(0) < kBetaMax)) continue;
+        if (!(zt(0) > -0.5 && zt(0) < beta_max)) continue;
         const Wrinkle wt = wrinkle(F, zt(0), zt(1));
         LawOutput trial;
         inner_->evaluate({wt.Ft, in.Q, in.region}, with_tangent, trial);
@@ -214,9 +222,6 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
   auto is_field = [&](const Run& r) {
     return r.converged && smooth_ramp(r.z(0), width)(0) > 0 && (width > 0 || r.z(0) >= -1e-10) && tension_of(r) > 0;
   };
-  Eigen::SelfAdjointEigenSolver<Mat2> eig_B(F * F.transpose());
-  const Vec2 nB = eig_B.eigenvectors().col(0);
-  const double b_min = eig_B.eigenvalues()(0);
   const Vec2 starts[3] = {Vec2(beta_start, theta_S),
                           Vec2(b_min < 1 ? 1 / std::sqrt(b_min) - 1 : std::max(beta_start, 0.0), std::atan2(nB(1), nB(0))),
                           Vec2(std::max(beta_start, 0.0), theta_S + std::numbers::pi / 2)};
