@@ -37,6 +37,7 @@
 #include "tricot/fem/solver.hpp"
 #include "tricot/ident/identifiability.hpp"
 #include "tricot/ident/identify.hpp"
+#include "tricot/fem/wrinkling.hpp"
 #include "tricot/ident/objective.hpp"
 #include "tricot/ident/stability_barrier.hpp"
 #include "tricot/ident/surface_error.hpp"
@@ -59,8 +60,13 @@ struct CampaignSpec {
 const CampaignSpec k110{110, 21, 0.65, 1.0, {0, 0.2, 0.4, 0.55, 0.7}, {0, 0.15, 0.3, 0.45, 0.6}};
 const CampaignSpec k150{150, 28, 0.35, 0.45, {0, 0.15, 0.3, 0.45}, {0, 0.12, 0.24, 0.35}};
 
+/// TRICOT_CAMPAIGN_WRINKLING: the truth and the identified surface as tension-field membranes, the
+/// clips holding their whole width, as examples/knit-campaign (docs/theory/fabric.md §8).
+bool wrinkling() { return std::getenv("TRICOT_CAMPAIGN_WRINKLING") != nullptr; }
+
 fem::RigOptions rig(const CampaignSpec& s, fem::PullDirection pull, double transverse, int nx, int ny) {
   fem::RigOptions o;
+  if (wrinkling()) o.clip_taper = 0;
   o.side = s.side, o.pull = pull, o.transverse_strain = transverse, o.steps = s.steps;
   o.pull_strain = pull == fem::PullDirection::wale ? s.wale_pull : s.course_pull;
   o.name = std::string(to_string(pull)) + "-" + std::to_string(static_cast<int>(std::lround(100 * transverse)));
@@ -93,7 +99,7 @@ CampaignTest synthesise(const CampaignSpec& s, fem::PullDirection pull, double t
   }());
   CampaignTest t{pull, transverse, fem::make_rig_test(rig(s, pull, transverse, 12, 10)), {}, {}, {}};
   const fem::TestModel fine = fem::make_rig_test(rig(s, pull, transverse, 24, 20));
-  const fem::SimulationResult r = fem::simulate(fine, truth);
+  const fem::SimulationResult r = wrinkling() ? fem::simulate(fine, fem::WrinklingLaw(truth)) : fem::simulate(fine, truth);
   if (!r.usable()) throw std::runtime_error(r.message);
   // The example's field points (examples/knit-campaign/experiment.toml, [synth] inset = 9, spacing =
   // 18): the material points that tricot demo's DIC tracks, every 18 mm from 9 mm up to 9 mm short of
@@ -346,7 +352,8 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   Run run;
   ident::ObjectiveOptions oo;
   oo.sensitivities_after = true;  // as a project with bounds (identification_spec.cpp)
-  run.objective = std::make_unique<ident::Objective>(models, data, law, p, oo);
+  run.objective = wrinkling() ? std::make_unique<ident::Objective>(models, data, fem::WrinklingLaw(law), p, oo)
+                              : std::make_unique<ident::Objective>(models, data, law, p, oo);
   ident::IdentifyOptions o;
   o.initial_trust_region_radius = 100, o.line_search_trials = 4;  // examples/knit-campaign/project-110.toml's [identify]
   o.active_set = true;  // as project-110.toml (docs/validation.md §5)

@@ -1,9 +1,12 @@
 // The material-stability barrier (include/tricot/ident/stability_barrier.hpp).
 #include "tricot/ident/stability_barrier.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <utility>
 #include <string>
 
 #include "tricot/core/error.hpp"
@@ -31,6 +34,8 @@ void StabilityBarrierOptions::validate() const {
   check(det_margin > 0 && std::isfinite(det_margin), "det_margin", det_margin, "> 0");
   check(slope_margin > 0 && std::isfinite(slope_margin), "slope_margin", slope_margin, "> 0");
   check(weight >= 0 && std::isfinite(weight), "weight", weight, ">= 0");
+  check(acoustic_margin >= 0 && std::isfinite(acoustic_margin), "acoustic_margin", acoustic_margin, ">= 0");
+  check(taut_stress > 0 && std::isfinite(taut_stress), "taut_stress", taut_stress, "> 0");
 }
 
 StabilizedObjective::StabilizedObjective(const Objective& objective, StabilityBarrierOptions options)
@@ -67,11 +72,104 @@ StabilizedObjective::StabilizedObjective(const Objective& objective, StabilityBa
       basis_[g][static_cast<std::size_t>(i)] = A;
     }
   }
+  if (options_.acoustic_margin > 0) {
+    // The plane-stress law at F = diag(λC, λW) in its material axes, with each coefficient alone.
+    tangent_.assign(grid_.size(), std::vector<Mat4>(static_cast<std::size_t>(base_.size()) + 1));
+    stress_.assign(grid_.size(), std::vector<Mat2>(static_cast<std::size_t>(base_.size()) + 1));
+    fem::LawOutput out;
+    for (Eigen::Index i = -1; i < base_.size(); ++i) {
+      unit.set_coefficients(i < 0 ? Eigen::VectorXd(Eigen::VectorXd::Zero(base_.size())) : Eigen::VectorXd(Eigen::VectorXd::Unit(base_.size(), i)));
+      const std::size_t k = static_cast<std::size_t>(i + 1);
+      for (std::size_t g = 0; g < grid_.size(); ++g) {
+        const Mat2 F = Vec2(std::sqrt(1 + 2 * grid_[g](0)), std::sqrt(1 + 2 * grid_[g](1))).asDiagonal();
+        unit.evaluate({F, Mat2::Identity()}, {true, false}, out);
+        tangent_[g][k] = i < 0 ? out.A : Mat4(out.A - tangent_[g][0]);
+        stress_[g][k] = i < 0 ? Mat2(out.P * F.transpose()) : Mat2(out.P * F.transpose() - stress_[g][0]);
+      }
+    }
+  }
+}
+
+namespace {
+
+/// λ_min of sym M and its unit eigenvector.
+std::pair<double, Vec2> lowest(const Mat2& M) {
+  const Eigen::SelfAdjointEigenSolver<Mat2> eig(0.5 * (M + M.transpose()));
+  return {eig.eigenvalues()(0), eig.eigenvectors().col(0)};
+}
+
+/// The acoustic tensor Q_ik = A_ijkl N_j N_l (A's rows 2i + j, columns 2k + l).
+Mat2 acoustic(const Mat4& A, const Vec2& N) {
+  Mat2 Q = Mat2::Zero();
+  for (int i = 0; i < 2; ++i)
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int l = 0; l < 2; ++l) Q(i, k) += A(2 * i + j, 2 * k + l) * N(j) * N(l);
+  return Q;
+}
+
+/// min over 36 directions (every 5°) of λ_min(sym Q(N)): an upper bound of a_min, cheap.
+double sampled_ellipticity(const Mat4& A) {
+  double best = INFINITY;
+  for (int a = 0; a < 36; ++a) {
+    const double t = a * std::numbers::pi / 36;
+    const Mat2 Q = acoustic(A, Vec2(std::cos(t), std::sin(t)));
+    const double m = 0.5 * (Q(0, 0) + Q(1, 1)), d = 0.5 * (Q(0, 0) - Q(1, 1)), s = 0.5 * (Q(0, 1) + Q(1, 0));
+    best = std::min(best, m - std::hypot(d, s));
+  }
+  return best;
+}
+
+}  // namespace
+
+void StabilizedObjective::add_ellipticity(const Eigen::VectorXd& c, Eigen::VectorXd& r, Eigen::MatrixXd* jacobian) const {
+  const double w = options_.weight, ma = options_.acoustic_margin, s0 = options_.taut_stress;
+  const Eigen::Index first = 3 * static_cast<Eigen::Index>(grid_.size());
+  for (std::size_t g = 0; g < grid_.size(); ++g) {
+    Mat4 A = tangent_[g][0];
+    Mat2 S = stress_[g][0];
+    for (Eigen::Index i = 0; i < c.size(); ++i) {
+      A += c(i) * tangent_[g][static_cast<std::size_t>(i + 1)];
+      S += c(i) * stress_[g][static_cast<std::size_t>(i + 1)];
+    }
+    const auto [sigma, v_s] = lowest(S);
+    // The gate: smoothstep 3x² − 2x³ of x = clamp(σ_min/σ₀, 0, 1), C¹ at both ends (a grid point may
+    // sit exactly at σ_min = 0, where a law's force vanishes).
+    const double x = std::clamp(sigma / s0, 0.0, 1.0);
+    const double gate = x * x * (3 - 2 * x);
+    if (!(gate > 0)) continue;
+    // Refined only where the samples come within 2 m_a (5° samples of a λ_min made of harmonics of 2t
+    // and 4t miss its minimum by far less than m_a): most of the grid is far from it.
+    if (sampled_ellipticity(A) >= 2 * ma) continue;
+    const fem::Ellipticity e = fem::strong_ellipticity(A);
+    const double shortfall = ma - e.min_eigenvalue;
+    if (!(shortfall > 0)) continue;
+    const Eigen::Index row = first + static_cast<Eigen::Index>(g);
+    r(row) = w * gate * shortfall / ma;
+    if (!jacobian) continue;
+    // ∂a_min/∂c_i = vᵀ sym Q_i(N*) v at the minimising N* and λ_min's eigenvector v (envelope); ∂σ_min/∂c_i
+    // likewise with S_i.
+    const double t = e.angle_deg * std::numbers::pi / 180;
+    const Vec2 N(std::cos(t), std::sin(t));
+    const Vec2 v_a = lowest(acoustic(A, N)).second;
+    const double gate_slope = 6 * x * (1 - x) / s0;
+    for (std::size_t k = 0; k < coefficient_.size(); ++k) {
+      const std::size_t i = static_cast<std::size_t>(coefficient_[k]) + 1;
+      const double da = v_a.dot(acoustic(tangent_[g][i], N) * v_a);
+      const double ds = v_s.dot(stress_[g][i] * v_s);
+      (*jacobian)(row, static_cast<Eigen::Index>(k)) = w * (gate_slope * ds * shortfall - gate * da) / ma;
+    }
+  }
+}
+
+Eigen::VectorXd StabilizedObjective::law_coefficients(const Eigen::VectorXd& J) const {
+  Eigen::VectorXd c = base_;
+  for (std::size_t k = 0; k < coefficient_.size(); ++k) c(coefficient_[k]) = J(static_cast<Eigen::Index>(k));
+  return c;
 }
 
 std::vector<Mat2> StabilizedObjective::force_jacobians(const Eigen::VectorXd& J) const {
-  Eigen::VectorXd c = base_;
-  for (std::size_t k = 0; k < coefficient_.size(); ++k) c(coefficient_[k]) = J(static_cast<Eigen::Index>(k));
+  const Eigen::VectorXd c = law_coefficients(J);
   std::vector<Mat2> out(grid_.size(), Mat2::Zero());
   for (std::size_t g = 0; g < grid_.size(); ++g)
     for (Eigen::Index i = 0; i < c.size(); ++i) out[g] += c(i) * basis_[g][static_cast<std::size_t>(i)];
@@ -102,6 +200,7 @@ Eigen::VectorXd StabilizedObjective::barrier(const Eigen::VectorXd& J, Eigen::Ma
       }
     }
   }
+  if (options_.acoustic_margin > 0) add_ellipticity(law_coefficients(J), r, jacobian);
   return r;
 }
 

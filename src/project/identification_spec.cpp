@@ -383,14 +383,24 @@ SectionSpec stability_section() {
   SectionSpec s{"stability",
                 "A material-stability barrier for a response surface (docs/theory/fabric.md §3.2): rows that\n"
                 "penalise det ∂(F_C, F_W)/∂(εC, εW) < det_margin and own slopes < slope_margin over the strains the\n"
-                "rig's fields reach, so LM's trial laws stay away from the instability where the FE inverts.",
+                "rig's fields reach, and a taut law's loss of strong ellipticity (acoustic_margin), so LM's trial laws\n"
+                "stay away from the instability where the FE inverts.",
                 false, {}, {}};
   s.keys = {key("enabled", true,
                 "Append the barrier to the objective. On by default for a response surface (issue 29: real data\n"
                 "need it); another law takes it only when asked, which is an error."),
             key("det_margin", o.det_margin, "(N/mm)², > 0.", 0, 1e6),
             key("slope_margin", o.slope_margin, "N/mm, > 0.", 0, 1e6),
-            key("weight", o.weight, "w ≥ 0 of each barrier row.", 0, 1e6)};
+            key("weight", o.weight, "w ≥ 0 of each barrier row.", 0, 1e6),
+            key("acoustic_margin", o.acoustic_margin,
+                "N/mm, ≥ 0: also penalise, where the law is taut, a smallest acoustic eigenvalue below it (strong\n"
+                "ellipticity of the plane-stress law, which the strain-space rows miss; docs/theory/fabric.md §3.2).\n"
+                "0 = off.",
+                0, 1e6),
+            key("taut_stress", o.taut_stress,
+                "N/mm, > 0: the ellipticity rows weigh a point fully once its smaller principal stress reaches it,\n"
+                "not at all at zero or below (a wrinkled or slack point).",
+                0, 1e6)};
   return s;
 }
 
@@ -626,6 +636,8 @@ IdentificationSpec read_identification_spec(const io::Node& root) {
     b.det_margin = root.section("stability").real("det_margin");
     b.slope_margin = root.section("stability").real("slope_margin");
     b.weight = root.section("stability").real("weight");
+    b.acoustic_margin = root.section("stability").real("acoustic_margin");
+    b.taut_stress = root.section("stability").real("taut_stress");
     s.stability = b;
   }
   if (const Node& d = root.section("design"); d.given("transverse_strains")) {

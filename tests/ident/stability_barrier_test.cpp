@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 #include "testing/fd_check.hpp"
@@ -73,6 +74,7 @@ TEST(StabilityBarrier, IsZeroForAStableLawAndGrowsAsTheDeterminantFallsBelowItsM
 TEST(StabilityBarrier, JacobianMatchesFiniteDifferences) {
   Fixture f(0.1);
   StabilityBarrierOptions o;  // the default grid, compression included
+  o.acoustic_margin = 0;      // the strain-space rows (the ellipticity rows: the next test)
   const StabilizedObjective s(*f.objective, o);
   Eigen::VectorXd J(4);
   J << 0.2, 0.18, 0.03, 0.15;  // unstable over much of the grid
@@ -83,17 +85,31 @@ TEST(StabilityBarrier, JacobianMatchesFiniteDifferences) {
   EXPECT_TRUE(tricot::test::JacobianMatches(barrier, J, Jb, kFd, 1e-7));
 }
 
+TEST(StabilityBarrier, EllipticityRowsJacobianMatchesFiniteDifferences) {
+  Fixture f(0.1);
+  const StabilizedObjective s(*f.objective, StabilityBarrierOptions{});  // the default grid and margins
+  const Eigen::Index first = 3 * static_cast<Eigen::Index>(s.grid().size());
+  ASSERT_EQ(s.barrier_rows(), first + static_cast<Eigen::Index>(s.grid().size()));
+  Eigen::VectorXd J(4);
+  J << 0.2, 0.18, 0.0301, 0.15;  // a strong coupling: taut points lose ellipticity; no point at zero force
+  Eigen::MatrixXd Jb;
+  const Eigen::VectorXd r = s.barrier(J, &Jb);
+  ASSERT_GT(r.tail(s.grid().size()).norm(), 0.0);
+  auto rows = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return s.barrier(x).tail(s.grid().size()); };
+  EXPECT_TRUE(tricot::test::JacobianMatches(rows, J, Jb.bottomRows(s.grid().size()), kFd, 1e-7));
+}
+
 TEST(StabilityBarrier, AppendsItsRowsToTheObjectivesEvaluation) {
   Fixture f(0.1);
   const StabilizedObjective s(*f.objective, small_grid());
-  EXPECT_EQ(s.residuals(), f.objective->residuals() + 27);
+  EXPECT_EQ(s.residuals(), f.objective->residuals() + 36);  // 9 points × (3 + 1 ellipticity row)
   Eigen::VectorXd J(4);
   J << 0.26, 0.2, 0.06, 0.1;
   const Evaluation a = f.objective->evaluate(J, true), b = s.evaluate(J, true);
   ASSERT_TRUE(a.ok && b.ok) << a.message << b.message;
   ASSERT_EQ(b.r.size(), s.residuals());
   EXPECT_EQ((b.r.head(a.r.size()) - a.r).norm(), 0.0);
-  EXPECT_EQ((b.r.tail(27) - s.barrier(J)).norm(), 0.0);
+  EXPECT_EQ((b.r.tail(36) - s.barrier(J)).norm(), 0.0);
   ASSERT_EQ(b.jacobian.rows(), s.residuals());
   EXPECT_EQ((b.jacobian.topRows(a.r.size()) - a.jacobian).norm(), 0.0);
   // Problem::lower_bound: the barrier's part of f, which needs no FE; the rest of f is ≥ 0.
@@ -111,7 +127,7 @@ TEST(StabilityBarrier, DefaultMarginsLeaveTheReferenceKnitUnpenalised) {
   }());
   const StabilityBarrierOptions o;
   constexpr double h = 1e-6;
-  double det_min = 1e300, slope_min = 1e300;
+  double det_min = 1e300, slope_min = 1e300, acoustic_min = 1e300;
   for (double eC = o.eC_min; eC <= o.eC_max + 1e-9; eC += o.step)
     for (double eW = o.eW_min; eW <= o.eW_max + 1e-9; eW += o.step) {
       Mat2 A;
@@ -119,9 +135,18 @@ TEST(StabilityBarrier, DefaultMarginsLeaveTheReferenceKnitUnpenalised) {
       A.col(1) = (knit.forces(eC, eW + h) - knit.forces(eC, eW - h)) / (2 * h);
       det_min = std::min(det_min, A.determinant());
       slope_min = std::min({slope_min, A(0, 0), A(1, 1)});
+      // Strong ellipticity where taut (both principal values of P Fᵀ above σ₀, the gate's full weight).
+      const Mat2 F = Vec2(std::sqrt(1 + 2 * eC), std::sqrt(1 + 2 * eW)).asDiagonal();
+      fem::LawOutput out;
+      knit.evaluate({F, Mat2::Identity()}, {true, false}, out);
+      const Mat2 S = out.P * F.transpose();
+      if (Eigen::SelfAdjointEigenSolver<Mat2>(0.5 * (S + S.transpose())).eigenvalues()(0) > 0)
+        acoustic_min = std::min(acoustic_min, fem::strong_ellipticity(out.A).min_eigenvalue);
     }
   EXPECT_GT(det_min, o.det_margin);
   EXPECT_GT(slope_min, o.slope_margin);
+  EXPECT_GT(acoustic_min, o.acoustic_margin);
+  ::testing::Test::RecordProperty("reference_acoustic_min", std::to_string(acoustic_min));
   ::testing::Test::RecordProperty("reference_det_min", std::to_string(det_min));
   ::testing::Test::RecordProperty("reference_slope_min", std::to_string(slope_min));
 }

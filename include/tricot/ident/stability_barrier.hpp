@@ -30,6 +30,21 @@ struct StabilityBarrierOptions {
   /// m_s [N/mm], > 0: below it an own-direction slope is penalised (the knit's smallest: k_W = 0.06).
   double slope_margin = 1e-2;
   double weight = 1;  ///< w ≥ 0; 0 = no barrier (rows of zeros)
+  /// m_a [N/mm] ≥ 0: below it the law's strong ellipticity is penalised where the point is taut (one
+  /// more row per grid point, after the 3 per point above): a_min, the smallest acoustic eigenvalue
+  /// min_N λ_min(sym Q(N)) of the plane-stress law at F = diag(√(1 + 2εC), √(1 + 2εW)) in the material
+  /// axes, Q_ik(N) = A_ijkl N_j N_l. The strain-space test above misses it: the corotational frame's
+  /// rotation terms make a law that passes it lose ellipticity where its two forces differ much (the
+  /// campaign's paper24 at εC −0.3, εW 1.4, the rig's guide end: an element inverts there). The
+  /// reference knit's smallest a_min over the default grid's taut points is 0.012 N/mm, so 5e-3
+  /// leaves it unpenalised. 0 = no such rows.
+  double acoustic_margin = 5e-3;
+  /// σ₀ [N/mm] > 0: the ellipticity row is weighted by a C¹ step from 0 at σ_min ≤ 0 to 1 at σ_min ≥ σ₀
+  /// (3x² − 2x³, x = σ_min/σ₀), σ_min the smaller
+  /// principal value of sym(P Fᵀ) there: only a taut point has stiffness across every direction to
+  /// keep (a compressed one loses ellipticity by its compression, which the tension-field membrane
+  /// relaxes, docs/theory/fabric.md §8).
+  double taut_stress = 1e-3;
 
   /// Throws InputError naming `stability.<field>`.
   void validate() const;
@@ -53,7 +68,8 @@ class StabilizedObjective final : public Problem {
   bool has_lower_bound() const override { return options_.weight > 0; }
   bool keeps_simulations() const override { return objective_.keeps_simulations(); }
 
-  int barrier_rows() const { return 3 * static_cast<int>(grid_.size()); }
+  /// 3 rows per grid point, then one ellipticity row per point when acoustic_margin > 0.
+  int barrier_rows() const { return (options_.acoustic_margin > 0 ? 4 : 3) * static_cast<int>(grid_.size()); }
   /// The barrier's residuals at J, and ∂r/∂J when `jacobian` is given.
   Eigen::VectorXd barrier(const Eigen::VectorXd& J, Eigen::MatrixXd* jacobian = nullptr) const;
   /// A(ε_g) of the law at J on every grid point (column-major 2×2 per point).
@@ -66,6 +82,15 @@ class StabilizedObjective final : public Problem {
   StabilityBarrierOptions options_;
   std::vector<Vec2> grid_;                 // (εC, εW)
   std::vector<std::vector<Mat2>> basis_;   // basis_[g][i]: A_i at grid point g (law coefficient i)
+  // The plane-stress law at grid point g, linear in the coefficients: ∂P/∂F = tangent_[g][0] +
+  // Σ_i c_i tangent_[g][i + 1] and P Fᵀ = stress_[g][0] + Σ_i c_i stress_[g][i + 1] ([0]: the fixed
+  // shear stiffness alone, the coefficients at 0). Empty when acoustic_margin = 0.
+  std::vector<std::vector<Mat4>> tangent_;
+  std::vector<std::vector<Mat2>> stress_;
+  /// The response surface's coefficients at the parameters J (those not identified at their value).
+  Eigen::VectorXd law_coefficients(const Eigen::VectorXd& J) const;
+  /// The ellipticity rows' residuals (and their Jacobian rows) at the law's coefficients c.
+  void add_ellipticity(const Eigen::VectorXd& c, Eigen::VectorXd& r, Eigen::MatrixXd* jacobian) const;
   Eigen::VectorXd base_;                   // the law's coefficients (those not identified stay)
   std::vector<int> coefficient_;           // law coefficient index of each parameter
 };
