@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -108,14 +109,28 @@ Mat2 acoustic(const Mat4& A, const Vec2& N) {
   return Q;
 }
 
-/// min over 36 directions (every 5°) of λ_min(sym Q(N)): an upper bound of a_min, cheap.
+/// min over 36 directions (every 5°) of λ_min(sym Q(N)): an upper bound of a_min, cheap (the barrier is
+/// evaluated at every bisection of LM's step cut, theory/fabric.md §3.2).
 double sampled_ellipticity(const Mat4& A) {
+  struct Direction {
+    double cc, cs, ss;  // N_x², N_x N_y, N_y²
+  };
+  static const std::array<Direction, 36> directions = [] {
+    std::array<Direction, 36> d{};
+    for (int a = 0; a < 36; ++a) {
+      const double t = a * std::numbers::pi / 36, c = std::cos(t), s = std::sin(t);
+      d[static_cast<std::size_t>(a)] = {c * c, c * s, s * s};
+    }
+    return d;
+  }();
+  // Q_ik = A(2i, 2k) N_x² + (A(2i, 2k + 1) + A(2i + 1, 2k)) N_x N_y + A(2i + 1, 2k + 1) N_y².
   double best = INFINITY;
-  for (int a = 0; a < 36; ++a) {
-    const double t = a * std::numbers::pi / 36;
-    const Mat2 Q = acoustic(A, Vec2(std::cos(t), std::sin(t)));
-    const double m = 0.5 * (Q(0, 0) + Q(1, 1)), d = 0.5 * (Q(0, 0) - Q(1, 1)), s = 0.5 * (Q(0, 1) + Q(1, 0));
-    best = std::min(best, m - std::hypot(d, s));
+  for (const Direction& n : directions) {
+    auto q = [&](int i, int k) {
+      return A(2 * i, 2 * k) * n.cc + (A(2 * i, 2 * k + 1) + A(2 * i + 1, 2 * k)) * n.cs + A(2 * i + 1, 2 * k + 1) * n.ss;
+    };
+    const double q00 = q(0, 0), q11 = q(1, 1), q01 = 0.5 * (q(0, 1) + q(1, 0));
+    best = std::min(best, 0.5 * (q00 + q11) - std::hypot(0.5 * (q00 - q11), q01));
   }
   return best;
 }
