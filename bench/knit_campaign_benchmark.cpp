@@ -363,7 +363,10 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   if (std::getenv("TRICOT_CAMPAIGN_NO_BARRIER")) {
     run.result = ident::identify(*run.objective, o);
   } else {
-    run.stabilized = std::make_unique<ident::StabilizedObjective>(*run.objective);
+    // TRICOT_CAMPAIGN_NO_ELLIPTICITY: the barrier without its strong-ellipticity rows.
+    ident::StabilityBarrierOptions bo;
+    if (std::getenv("TRICOT_CAMPAIGN_NO_ELLIPTICITY")) bo.acoustic_margin = 0;
+    run.stabilized = std::make_unique<ident::StabilizedObjective>(*run.objective, bo);
     run.result = ident::identify(*run.stabilized, o);
   }
   run.start_errors = fit_errors;
