@@ -83,7 +83,19 @@ std::optional<TestSurfacePoints> test_surface_points(const fem::TestModel& model
     const double eC = course_along_x ? E(0, 0) : E(1, 1), eW = course_along_x ? E(1, 1) : E(0, 0);
     out.points.push_back({eC, eW, data.edge_force[k] / width});
   }
+  const bool course_pulled = out.force == SurfaceForce::course;
+  for (SurfacePoint& p : out.points) p.held = course_pulled ? out.points.front().eW : out.points.front().eC;
   return out;
+}
+
+int held_levels(const std::vector<SurfacePoint>& points, double tolerance) {
+  std::vector<double> h;
+  for (const SurfacePoint& p : points)
+    if (std::isfinite(p.held)) h.push_back(p.held);
+  std::sort(h.begin(), h.end());
+  int levels = h.empty() ? 0 : 1;
+  for (std::size_t i = 1; i < h.size(); ++i) levels += h[i] - h[i - 1] > tolerance;
+  return levels;
 }
 
 Restriction restrict_to_domain(const std::vector<fem::TestModel>& models, const Experiment& experiment,

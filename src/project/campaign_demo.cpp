@@ -360,7 +360,8 @@ enabled = {}
                                       : "initial_trust_region_radius = 100  # as examples/knit-campaign/project-110.toml\n"
                                         "line_search_trials = 4\n",
                               o.small ? "practical_course = [0.0, 1.2]   # two tests: the whole range they span\n"
-                                        "practical_wale = [0.0, 0.7]"
+                                        "practical_wale = [0.0, 0.7]\n"
+                                        "min_held_levels = 1              # one test per surface: a path, not the surface"
                                       : "practical_course = [0.6, 1.0]\npractical_wale = [0.2, 0.4]",
                               o.small ? "false" : "true");
   const std::pair<const char*, double> parameters[] = {

@@ -162,7 +162,7 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   json result = result_json(outcome, *objective, req.resume);
   const bool eq9 = !P.eq9_points[0].empty() || !P.eq9_points[1].empty();
   const std::unique_ptr<fem::Law> identified = objective->law_at(outcome.result.parameters);
-  if (eq9) result["eq9"] = eq9_json(P.eq9_points, *identified, P.eq9_practical);
+  if (eq9) result["eq9"] = eq9_json(P.eq9_points, *identified, P.eq9_practical, P.eq9_min_held_levels);
   if (!P.restriction.empty()) {  // [data] domain_course, domain_wale: what each test kept
     json tests = json::object();
     for (const ident::RestrictedTest& t : P.restriction)

@@ -63,6 +63,10 @@ bool add_eq9(Document& d, const fs::path& result_json) {
   }
   Section& s = d.section(kEq9);
   s.table(std::move(t));
+  for (const char* f : {"course", "wale"})
+    if (e.contains(f) && e[f].is_object() && e[f].value("computed", true) == false)
+      s.callout(std::string("The ") + f + " surface's eq. 9 is not computed: " + e[f].value("reason", std::string()) +
+                ". Tests at several transverse strains probe the surface (docs/theory.md §9).");
   if (e.contains("practical") && e["practical"].is_object()) {
     NumericTable p{"Practical strain domain", "strain", {"min", "max"}, {}, {}, 3, {}};
     for (const auto& [k, v] : e["practical"].items())

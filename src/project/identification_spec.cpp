@@ -363,6 +363,12 @@ SectionSpec eq9_section() {
           -1, 100),
       key("nearest", std::int64_t{6}, "Field points nearest the centre that the centre strain is fitted on (affine), ≥ 3.",
           3, 1000000),
+      key("min_held_levels", std::int64_t{Eq9Spec{}.min_held_levels},
+          "Transverse levels a surface's points must probe it at for eq. 9 to be computed, ≥ 1: the tests'\n"
+          "centre strains across the pull at their first step, 0.05 apart. One level is one path through\n"
+          "(εC, εW) (uniaxial tests and their repeats): eq. 9 would be a curve's error, so result.json and\n"
+          "the report say \"not computed\" with the counts. 1 computes it anyway.",
+          1, 1000000),
   };
   return s;
 }
@@ -607,6 +613,7 @@ Eq9Spec Eq9Spec::from_config(const io::Node& n) {
   if (n.given("practical_course")) e.practical_course = n.reals("practical_course");
   if (n.given("practical_wale")) e.practical_wale = n.reals("practical_wale");
   e.nearest = static_cast<int>(n.integer("nearest"));
+  e.min_held_levels = static_cast<int>(n.integer("min_held_levels"));
   e.origin = Origin(n);
   return e;
 }
@@ -679,6 +686,7 @@ Project build_project(const IdentificationSpec& given, const fs::path& base) {
   P.options = m.options;
   P.eq9_practical = m.practical;
   P.eq9_nearest = spec.eq9.nearest;
+  P.eq9_min_held_levels = spec.eq9.min_held_levels;
 
   // The experiment.
   const ProjectExperimentSpec& ex = spec.experiment;

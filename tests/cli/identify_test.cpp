@@ -387,7 +387,8 @@ TEST_F(Identify, HelpTeachesTheProjectFormat) {
 TEST_F(Identify, ResultJsonHasTheEq9ErrorOfEachSurface) {
   constexpr double kEq9 = 1e-3;  // LM stops on δ short of the optimum; the centre fit is exact
   ASSERT_EQ(identify("eq9", small_project("../exp", std::string(kStopOnDelta) +
-                                                        "[eq9]\npractical_course = [-1.0, 0.0]\npractical_wale = [0.2, 0.4]\n"))
+                                                        "[eq9]\npractical_course = [-1.0, 0.0]\npractical_wale = [0.2, 0.4]\n"
+                                                        "min_held_levels = 1\n"))
                 .exit_code,
             0);
   const json j = result("eq9");
@@ -403,6 +404,24 @@ TEST_F(Identify, ResultJsonHasTheEq9ErrorOfEachSurface) {
   ASSERT_EQ(t.rows.size(), 10u);
   EXPECT_NEAR(t.rows.back()[3] / t.rows.back()[2], 1.0, kEq9);
   EXPECT_FALSE(fs::exists(root_ / "eq9" / "out" / "eq9_course.csv"));
+}
+
+// One uniaxial test probes each surface along one path: eq. 9 is not computed by default, and
+// result.json and the report say why, with the counts (issue 29: a real knit's pins gave a "whole"
+// error of 2161 and a plot up to εW = 35, with no warning).
+TEST_F(Identify, Eq9IsNotComputedFromASinglePathThroughTheStrainPlane) {
+  ASSERT_EQ(identify("eq9_one_path", small_project("../exp", kStopOnDelta)).exit_code, 0);
+  const json j = result("eq9_one_path");
+  ASSERT_TRUE(j.contains("eq9"));
+  const json& w = j["eq9"]["wale"];
+  EXPECT_FALSE(w["computed"].get<bool>());
+  EXPECT_TRUE(w["whole"].is_null());
+  EXPECT_TRUE(w["practical"].is_null());
+  EXPECT_EQ(w["points_whole"].get<int>(), 10);
+  EXPECT_EQ(w["held_levels"].get<int>(), 1);
+  EXPECT_NE(w["reason"].get<std::string>().find("10 points from 1 transverse level"), std::string::npos) << w;
+  const std::string html = io::read_text(root_ / "eq9_one_path" / "out" / "report.html");
+  EXPECT_NE(html.find("The wale surface&#39;s eq. 9 is not computed"), std::string::npos);
 }
 
 // Noise-free data on the model's own mesh pin every coefficient (relative standard errors ~1e-8, cf.

@@ -67,6 +67,14 @@ TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
       ++tests;
     }
   EXPECT_EQ(tests, 10);
+  // Five repeats per direction, all free-sided: one path through (εC, εW) per surface, so eq. 9 is
+  // "not computed", with the counts (issue 29, obstacle 7).
+  for (const char* surface : {"course", "wale"}) {
+    const auto& e = j["eq9"][surface];
+    EXPECT_FALSE(e["computed"].get<bool>()) << surface;
+    EXPECT_EQ(e["held_levels"].get<int>(), 1) << surface;
+    EXPECT_GT(e["points_whole"].get<int>(), 50) << surface;
+  }
 }
 
 // The same repeats as whole specimens (acrylic-garter-full.toml: model = "full", each clamp driven by

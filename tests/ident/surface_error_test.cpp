@@ -57,6 +57,26 @@ TEST(Eq9Error, LeavesOutPointsWithoutForceAndRejectsAPracticalDomainOutsideTheDa
 
 // A homogeneous measured field u = G X gives the centre strain E = ½(FᵀF − I) exactly, mapped to
 // (εC, εW) by the pull: wale pulled (angle 0) has course along x, course pulled (90) along y.
+// Held levels: groups of the points' transverse strains whose sorted neighbours lie within 0.05.
+TEST(HeldLevels, CountTheTransverseStrainsTheTestsProbeTheSurfaceAt) {
+  auto at = [](std::initializer_list<double> held) {
+    std::vector<SurfacePoint> p;
+    for (double h : held) p.push_back({0.5, 0.3, 1.0, h});
+    return p;
+  };
+  EXPECT_EQ(held_levels({}), 0);
+  EXPECT_EQ(held_levels(at({std::nan("")})), 0);
+  // Five repeats of a uniaxial test (their free sides narrow alike): one level.
+  EXPECT_EQ(held_levels(at({0.0, 0.004, -0.01, 0.02, 0.011})), 1);
+  // The campaign's course pulls held at 0, 0.15, 0.3, 0.45, 0.6, each with 21 steps.
+  std::vector<SurfacePoint> campaign;
+  for (double h : {0.0, 0.15, 0.3, 0.45, 0.6})
+    for (int k = 0; k < 21; ++k) campaign.push_back({0.05 * k, h, 0.1 * k, h});
+  EXPECT_EQ(held_levels(campaign), 5);
+  EXPECT_EQ(held_levels(at({0.0, 0.04, 0.08, 0.3})), 2);  // a chain 0.04 apart is one level
+  EXPECT_EQ(held_levels(at({0.0, 0.3}), 0.5), 1);          // the tolerance
+}
+
 TEST(TestSurfacePoints, AreTheGripForcePerWidthAgainstTheCentreStrainOfTheMeasuredField) {
   constexpr double kFit = 1e-12;  // exact affine field: least squares reproduces it to round-off
   fem::TestModel model;
@@ -93,6 +113,9 @@ TEST(TestSurfacePoints, AreTheGripForcePerWidthAgainstTheCentreStrainOfTheMeasur
   EXPECT_EQ(course->force, SurfaceForce::course);
   EXPECT_NEAR(course->points[0].eC, E_of(G1)(1, 1), kFit);
   EXPECT_NEAR(course->points[0].eW, E_of(G1)(0, 0), kFit);
+  // Every point carries its test's transverse level: the strain across the pull at the first step.
+  for (const auto& p : wale->points) EXPECT_NEAR(p.held, E_of(G1)(0, 0), kFit);
+  for (const auto& p : course->points) EXPECT_NEAR(p.held, E_of(G1)(0, 0), kFit);
   model.material_angle = 45;  // neither surface
   EXPECT_FALSE(test_surface_points(model, data).has_value());
 }

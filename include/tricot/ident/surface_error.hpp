@@ -31,7 +31,16 @@ struct StrainDomain {
 struct SurfacePoint {
   double eC = 0, eW = 0;
   double force = 0;
+  /// The centre strain across the pull at its test's first step (εW of a course pull, εC of a wale
+  /// pull): the transverse level the test probes the surface at; NaN when unknown.
+  double held = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// How many transverse levels `points` probe their surface at: their `held` strains (NaN left out)
+/// grouped where consecutive sorted values lie within `tolerance` of each other. One level is a
+/// single path through the (εC, εW) plane (uniaxial tests, whatever their repeats): eq. 9 is then a
+/// curve's error, not the surface's (docs/theory.md §9 [choice]).
+int held_levels(const std::vector<SurfacePoint>& points, double tolerance = 0.05);
 
 struct Eq9Error {
   double whole = std::numeric_limits<double>::quiet_NaN();      ///< ē over every point

@@ -37,6 +37,7 @@ struct Project {
   ident::ObjectiveOptions objective_options;  ///< the objective's ([data] weights, solver, threads)
   ident::StrainDomain eq9_practical;  ///< [eq9] practical_course, practical_wale
   int eq9_nearest = 6;                ///< [eq9] nearest
+  int eq9_min_held_levels = 2;        ///< [eq9] min_held_levels
   /// Eq. 9's experimental points of every test of the experiment (a restricted run included).
   SurfacePoints eq9_points;
   /// [data] domain_course, domain_wale given: what the restriction kept of each test (the models

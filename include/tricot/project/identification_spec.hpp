@@ -109,6 +109,9 @@ struct Eq9Spec {
   /// result.json's "practical" is null), set: it must hold some of the data's points.
   std::optional<io::Reals> practical_course, practical_wale;
   int nearest = 6;  ///< ≥ 3
+  /// Eq. 9 of a surface is computed when its points probe it at this many transverse levels or more
+  /// (ident::held_levels), ≥ 1; below: "not computed" with the counts.
+  int min_held_levels = 2;
   Origin origin{"eq9"};
 
   static Eq9Spec from_config(const io::Node& table);
