@@ -8,6 +8,8 @@
 #include <numbers>
 
 #include "invalid_state.hpp"
+#include "tricot/fem/element.hpp"
+#include "tricot/fem/mesh.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/core/format.hpp"
 
@@ -326,6 +328,47 @@ void WrinklingLaw::evaluate(const LawInput& in, const LawRequest& req, LawOutput
       out.dP_dc[k] = (1 - eta) * (eff.dP_dc[k] + unflatten(Vec4(A_z * z_c))) + eta * out.dP_dc[k];
     }
   }
+}
+
+std::vector<ElementWrinkles> element_wrinkles(const Mesh& mesh, const Law& law, double material_angle_deg,
+                                              const Eigen::VectorXd& u) {
+  std::vector<ElementWrinkles> out(static_cast<std::size_t>(mesh.elements()));
+  const auto* wrinkling = dynamic_cast<const WrinklingLaw*>(&law);
+  if (!wrinkling) return out;
+  const Mat2 Q = material_axes(material_angle_deg);
+  for (int e = 0; e < mesh.elements(); ++e) {
+    const ElementGeometry geo = element_geometry(mesh, e);
+    const ElementVector ue = element_displacements(mesh, e, u);
+    double area = 0, wrinkled = 0, slack = 0, c2 = 0, s2 = 0;
+    for (int q = 0; q < geo.points; ++q) {
+      const double w = geo.dA0[q];
+      area += w;
+      const Mat2 F = deformation_gradient(geo, q, ue);
+      if (!(F.determinant() > 0)) continue;
+      const WrinkleState st = wrinkling->state({F, Q, geo.region});
+      if (st.state == MembraneState::wrinkled) {
+        wrinkled += w;
+        c2 += w * std::cos(2 * st.angle), s2 += w * std::sin(2 * st.angle);
+      } else if (st.state == MembraneState::slack) {
+        slack += w;
+      }
+    }
+    ElementWrinkles& r = out[static_cast<std::size_t>(e)];
+    r.wrinkled = wrinkled / area, r.slack = slack / area;
+    r.angle = wrinkled > 0 ? 0.5 * std::atan2(s2, c2) : 0.0;
+  }
+  return out;
+}
+
+Vec2 wrinkled_and_slack_area(const Mesh& mesh, const std::vector<ElementWrinkles>& wrinkles) {
+  double area = 0, wrinkled = 0, slack = 0;
+  for (int e = 0; e < mesh.elements() && e < static_cast<int>(wrinkles.size()); ++e) {
+    const ElementGeometry geo = element_geometry(mesh, e);
+    double a = 0;
+    for (int q = 0; q < geo.points; ++q) a += geo.dA0[q];
+    area += a, wrinkled += a * wrinkles[static_cast<std::size_t>(e)].wrinkled, slack += a * wrinkles[static_cast<std::size_t>(e)].slack;
+  }
+  return area > 0 ? Vec2(wrinkled / area, slack / area) : Vec2::Zero();
 }
 
 }  // namespace tricot::fem

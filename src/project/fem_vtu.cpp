@@ -38,9 +38,10 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
   // A tension-field law (docs/theory/fabric.md §8): the area fractions of the element that are
   // wrinkled and slack, and the wrinkles' mean direction (current configuration; the doubled-angle
   // mean, so that t and −t agree), zero where nothing wrinkles.
-  const auto* wrinkling = dynamic_cast<const fem::WrinklingLaw*>(&law);
+  const bool wrinkling = dynamic_cast<const fem::WrinklingLaw*>(&law) != nullptr;
   io::VtuField wrinkled{"wrinkled_fraction", 1, {}}, slack{"slack_fraction", 1, {}},
       direction{"wrinkle_direction", 3, {}};
+  const std::vector<fem::ElementWrinkles> wrinkles = fem::element_wrinkles(mesh, law, material_angle_deg, u);
   const Mat2 Q = fem::material_axes(material_angle_deg);
   fem::LawOutput out;
   const fem::LawRequest req{true, false};
@@ -49,7 +50,6 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
     const fem::ElementVector ue = fem::element_displacements(mesh, e, u);
     Mat2 s = Mat2::Zero(), E = Mat2::Zero();
     double E33 = 0, area = 0, lowest = std::numeric_limits<double>::infinity();
-    double wrinkled_area = 0, slack_area = 0, c2 = 0, s2 = 0;
     for (int q = 0; q < geo.points; ++q) {
       const Mat2 F = fem::deformation_gradient(geo, q, ue);
       fem::LawInput in;
@@ -68,15 +68,6 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
         lowest = std::numeric_limits<double>::quiet_NaN();
       }
       const double w = geo.dA0[q];
-      if (wrinkling && F.determinant() > 0) {
-        const fem::WrinkleState st = wrinkling->state(in);
-        if (st.state == fem::MembraneState::wrinkled) {
-          wrinkled_area += w;
-          c2 += w * std::cos(2 * st.angle), s2 += w * std::sin(2 * st.angle);
-        } else if (st.state == fem::MembraneState::slack) {
-          slack_area += w;
-        }
-      }
       s += w * sq;
       E += w * 0.5 * (F.transpose() * F - Mat2::Identity());
       E33 += w * 0.5 * (l3 * l3 - 1);
@@ -87,11 +78,11 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
     strain.values.insert(strain.values.end(), {E(0, 0), E(0, 1), 0, E(1, 0), E(1, 1), 0, 0, 0, E33});
     ellipticity.values.push_back(lowest);
     if (wrinkling) {
-      wrinkled.values.push_back(wrinkled_area / area);
-      slack.values.push_back(slack_area / area);
-      const double a = 0.5 * std::atan2(s2, c2);
-      const bool any = wrinkled_area > 0;
-      direction.values.insert(direction.values.end(), {any ? std::cos(a) : 0.0, any ? std::sin(a) : 0.0, 0.0});
+      const fem::ElementWrinkles& r = wrinkles[std::size_t(e)];
+      wrinkled.values.push_back(r.wrinkled);
+      slack.values.push_back(r.slack);
+      const bool any = r.wrinkled > 0;
+      direction.values.insert(direction.values.end(), {any ? std::cos(r.angle) : 0.0, any ? std::sin(r.angle) : 0.0, 0.0});
     }
   }
   g.point_data = {std::move(disp)};

@@ -186,6 +186,7 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
       j["force_rms_of_peak"] = std::isfinite(f.force_rms_N) && f.force_peak_N > 0 ? nlohmann::ordered_json(f.force_rms_N / f.force_peak_N)
                                                                                  : nlohmann::ordered_json();
       j["points_rms_mm"] = std::isfinite(f.points_rms_mm) ? nlohmann::ordered_json(f.points_rms_mm) : nlohmann::ordered_json();
+      if (std::isfinite(f.wrinkled_area)) j["wrinkled_area"] = f.wrinkled_area, j["slack_area"] = f.slack_area;
     }
     result["fit"] = fits;
   }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include <omp.h>
 
@@ -13,6 +14,7 @@
 #include "tricot/core/error.hpp"
 #include "tricot/core/format.hpp"
 #include "tricot/fem/locate.hpp"
+#include "tricot/fem/wrinkling.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/ident/identifiability.hpp"
 #include "tricot/ident/synthetic.hpp"
@@ -425,6 +427,51 @@ plot {2} using {3} with points pt 6 ps 1 title "measured", \
 }
 
 // The identified model against the measured field, per test with a cumulative field (issue 29):
+namespace {
+
+// DIR/wrinkles_<test>.csv and plots/wrinkles_<test>.png: the wrinkled zone at the last step (the
+// element states of fem::element_wrinkles at their reference centroids). Returns the area fractions.
+Vec2 write_wrinkles(const fs::path& dir, const fem::TestModel& m, const fem::Law& law, const Eigen::VectorXd& u,
+                    bool plots, const Log& log) {
+  const std::vector<fem::ElementWrinkles> w = fem::element_wrinkles(m.mesh, law, m.material_angle, u);
+  const Vec2 area = fem::wrinkled_and_slack_area(m.mesh, w);
+  io::Table tab;
+  tab.columns = {"element", "x", "y", "wrinkled", "slack", "angle_deg"};
+  for (int e = 0; e < m.mesh.elements(); ++e) {
+    Vec2 c = Vec2::Zero();
+    const int per = fem::nodes_per_element(m.mesh.type);
+    for (int k = 0; k < per; ++k) c += m.mesh.X.col(m.mesh.connectivity[std::size_t(e)][std::size_t(k)]);
+    c /= per;
+    const fem::ElementWrinkles& x = w[std::size_t(e)];
+    tab.rows.push_back({double(e), c(0), c(1), x.wrinkled, x.slack, x.angle * 180 / std::numbers::pi});
+  }
+  const fs::path csv = dir / ("wrinkles_" + m.name + ".csv");
+  io::write_atomic(csv, io::to_csv(tab));
+  if (!plots) return area;
+  std::string why;
+  if (!io::run_gnuplot(fmt::format(R"gp(set terminal pngcairo size 700,640 font ",11"
+set output {0}
+set datafile separator ","
+set size ratio -1
+set title "{1} at the last step: wrinkled {2:.1f} %, slack {3:.1f} % of the area" noenhanced
+set key below
+set xlabel "x (reference), mm"
+set ylabel "y, mm"
+set cbrange [0:1]
+set palette defined (0 "#f0f0f0", 1 "#1f77b4")
+set cblabel "wrinkled fraction"
+plot {4} using "x":"y":"wrinkled" with points pt 5 ps 1.6 lc palette title "element (colour: wrinkled fraction)", \
+  {4} using (column("slack") > 0.5 ? column("x") : 1/0):"y" with points pt 2 ps 1.6 lc rgb "#555555" title "slack element"
+)gp",
+                                   io::gnuplot_quote(dir / "plots" / ("wrinkles_" + m.name + ".png")), m.name,
+                                   100 * area(0), 100 * area(1), io::gnuplot_quote(csv)),
+                       &why))
+    log.print("  (no plot: " + why + ")");
+  return area;
+}
+
+}  // namespace
+
 // DIR/fit_field_<test>.csv (step, id, x, y, u, v, model_u, model_v) and plots/fit_field_<test>.png,
 // the residual map (model − measured) at the last step, which the report shows with the other plots.
 // Returns each test's RMS of |model − measured| over its points and steps, mm (NaN: no field).
@@ -432,12 +479,17 @@ std::vector<TestFit> write_fit_field(const fs::path& dir, const ident::Objective
                                      bool plots, const Log& log) {
   const std::vector<fem::SimulationResult> sims = objective.simulations(r.parameters);
   std::vector<TestFit> fits(objective.models().size());
+  const std::unique_ptr<fem::Law> law = objective.law_at(r.parameters);
   for (std::size_t t = 0; t < objective.models().size(); ++t) {
     const fem::TestModel& m = objective.models()[t];
     const ident::TestData& d = objective.experiment().tests[t];
     const fem::SimulationResult& sim = sims[t];
     fits[t].name = m.name;
     if (!sim.usable()) continue;
+    if (dynamic_cast<const fem::WrinklingLaw*>(law.get()) && !sim.steps.empty()) {
+      const Vec2 a = write_wrinkles(dir, m, *law, sim.steps.back().u, plots, log);
+      fits[t].wrinkled_area = a(0), fits[t].slack_area = a(1);
+    }
     if (!d.edge_force.empty()) {
       double f2 = 0, peak = 0;
       for (int k = 0; k < d.steps(); ++k)

@@ -55,7 +55,12 @@ struct TestFit {
   double points_rms_mm = std::nan("");  ///< over every point and step; NaN: no (cumulative) field
   double force_rms_N = std::nan("");    ///< NaN: no measured force
   double force_peak_N = std::nan("");
+  /// A tension-field law (docs/theory/fabric.md §8): the area fractions wrinkled and slack at the last
+  /// step; NaN otherwise.
+  double wrinkled_area = std::nan(""), slack_area = std::nan("");
 };
+/// Also, for a tension-field law, DIR/wrinkles_<test>.csv (per element at the last step: its reference
+/// centroid, wrinkled and slack area fractions, wrinkle direction) and plots/wrinkles_<test>.png.
 std::vector<TestFit> write_fit_field(const std::filesystem::path& dir, const ident::Objective& objective,
                                     const ident::IdentifyResult& r, bool plots, const Log& log);
 void write_fit(const std::filesystem::path& dir, const ident::Objective& objective, const ident::IdentifyResult& r,

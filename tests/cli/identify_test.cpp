@@ -17,6 +17,7 @@
 #include "testing/cli.hpp"
 #include "testing/paths.hpp"
 #include "tricot/io/files.hpp"
+#include "tricot/io/log.hpp"
 
 namespace tricot::project {
 namespace {
@@ -404,6 +405,31 @@ TEST_F(Identify, ResultJsonHasTheEq9ErrorOfEachSurface) {
   ASSERT_EQ(t.rows.size(), 10u);
   EXPECT_NEAR(t.rows.back()[3] / t.rows.back()[2], 1.0, kEq9);
   EXPECT_FALSE(fs::exists(root_ / "eq9" / "out" / "eq9_course.csv"));
+}
+
+// A tension-field law (theory/fabric.md §8): each test's wrinkled zone at the last step goes to
+// wrinkles_<test>.csv (one row per element of the 3 × 8 mesh, fractions in [0, 1]) and to
+// result.json's "fit"; a law without wrinkling writes neither. The free-sided strip carries no stress
+// across its pull, which is the taut/wrinkled switch itself: its points sit within the smoothed
+// switch (measured: 62.5 % of the area counted wrinkled).
+TEST_F(Identify, AWrinklingLawWritesEachTestsWrinkledZone) {
+  std::string project = small_project("../exp", kStopOnDelta);
+  const std::string type = "type = \"mooney_rivlin\"\n";
+  ASSERT_NE(project.find(type), std::string::npos);
+  project.replace(project.find(type), type.size(), type + "wrinkling = true\n");
+  ASSERT_EQ(identify("wrinkles", project).exit_code, 0);
+  ASSERT_EQ(identify("no_wrinkles", small_project("../exp", kStopOnDelta)).exit_code, 0);
+  const json j = result("wrinkles"), plain = result("no_wrinkles");
+  ASSERT_FALSE(j["fit"].empty());
+  for (const auto& [name, fit] : j["fit"].items()) {
+    ASSERT_TRUE(fit.contains("wrinkled_area")) << name;
+    const double wrinkled = fit["wrinkled_area"].get<double>(), slack = fit["slack_area"].get<double>();
+    EXPECT_TRUE(wrinkled >= 0 && slack >= 0 && wrinkled + slack <= 1 + 1e-12) << wrinkled << " " << slack;
+    const io::LogTable w = io::read_log(root_ / "wrinkles" / "out" / ("wrinkles_" + name + ".csv"));
+    EXPECT_EQ(w.numbers("element").size(), 24u) << name;  // 3 × 8 elements
+    for (double f : w.numbers("wrinkled")) EXPECT_TRUE(f >= 0 && f <= 1) << f;
+    EXPECT_FALSE(plain["fit"][name].contains("wrinkled_area"));
+  }
 }
 
 // One uniaxial test probes each surface along one path: eq. 9 is not computed by default, and

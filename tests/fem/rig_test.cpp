@@ -9,7 +9,6 @@
 #include "testing/newton.hpp"
 #include "testing/record.hpp"
 #include "tricot/core/error.hpp"
-#include "tricot/fem/element.hpp"
 #include "tricot/fem/reference_fabric.hpp"
 #include "tricot/fem/response_surface.hpp"
 #include "tricot/fem/solver.hpp"
@@ -163,15 +162,9 @@ TEST(Rig, AWrinklingKnitSetsAndPullsTheSlackCornerTestQuadratically) {
   record("steps_of_order_1_8", ordered);
   RecordProperty("newton_residuals", table.str());
   // Wrinkles: points whose inner law would carry a compressive principal stress.
-  int wrinkled = 0;
-  for (int e = 0; e < t.mesh.elements(); ++e) {
-    const ElementGeometry geo = element_geometry(t.mesh, e);
-    const ElementVector ue = element_displacements(t.mesh, e, r.steps.back().u);
-    for (int q = 0; q < geo.points; ++q)
-      wrinkled += law.state({deformation_gradient(geo, q, ue), material_axes(t.material_angle)}).state == MembraneState::wrinkled;
-  }
-  EXPECT_GT(wrinkled, 0);
-  record("wrinkled_points", wrinkled);
+  const Vec2 area = wrinkled_and_slack_area(t.mesh, element_wrinkles(t.mesh, law, t.material_angle, r.steps.back().u));
+  EXPECT_GT(area(0), 0);
+  record("wrinkled_area", area(0)), record("slack_area", area(1));
 }
 
 TEST(Rig, ATransverseSettingThatInvertsAnElementIsAStatusNamingTheTestAndTheSetting) {

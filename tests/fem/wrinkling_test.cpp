@@ -17,6 +17,7 @@
 #include "testing/states.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/fem/corotational.hpp"
+#include "tricot/fem/mesh.hpp"
 #include "tricot/fem/mooney_rivlin.hpp"
 #include "tricot/fem/neo_hookean.hpp"
 #include "tricot/fem/reference_fabric.hpp"
@@ -169,6 +170,35 @@ TEST(WrinklingLaw, ASheetSqueezedToAFewPercentAcrossStillCarriesTheUniaxialForce
     EXPECT_NEAR(st.beta, l2_free / l2 - 1, 1e-8 * (l2_free / l2)) << "λ2 = " << l2;
     EXPECT_NEAR(P_of(law, F, Mat2::Identity())(0, 0), force, 1e-8 * force) << "λ2 = " << l2;
   }
+}
+
+// The wrinkled zone of a mesh (VTU, identification outputs): a homogeneous field is wholly in one state.
+TEST(ElementWrinkles, AHomogeneousFieldIsWhollyWrinkledOrSlackWithItsDirection) {
+  MeshOptions mo;
+  mo.width = 10, mo.height = 20, mo.nx = 2, mo.ny = 3;
+  const Mesh mesh = make_quarter_mesh(mo);
+  auto field = [&](const Mat2& F) {
+    Eigen::VectorXd u(2 * mesh.nodes());
+    for (int n = 0; n < mesh.nodes(); ++n) u.segment<2>(2 * n) = (F - Mat2::Identity()) * mesh.X.col(n);
+    return u;
+  };
+  const WrinklingLaw law{NeoHookean(0.1, 0.2)};
+  // Pulled 1.3 along y, squeezed 0.8 across: wrinkles along y (the tension direction t, angle 90°).
+  const auto pulled = element_wrinkles(mesh, law, 0, field(Vec2(0.8, 1.3).asDiagonal()));
+  ASSERT_EQ(pulled.size(), std::size_t(mesh.elements()));
+  for (const ElementWrinkles& w : pulled) {
+    EXPECT_NEAR(w.wrinkled, 1.0, 1e-12);
+    EXPECT_EQ(w.slack, 0.0);
+    EXPECT_NEAR(std::abs(w.angle), std::numbers::pi / 2, kSolve);
+  }
+  EXPECT_NEAR(wrinkled_and_slack_area(mesh, pulled)(0), 1.0, 1e-12);
+  // Squeezed both ways: slack.
+  const Vec2 slack = wrinkled_and_slack_area(mesh, element_wrinkles(mesh, law, 0, field(Vec2(0.8, 0.85).asDiagonal())));
+  EXPECT_NEAR(slack(1), 1.0, 1e-12);
+  EXPECT_EQ(slack(0), 0.0);
+  // Stretched both ways: taut; and a law that does not wrinkle has no wrinkles.
+  EXPECT_EQ(wrinkled_and_slack_area(mesh, element_wrinkles(mesh, law, 0, field(Vec2(1.2, 1.3).asDiagonal()))).norm(), 0.0);
+  EXPECT_EQ(wrinkled_and_slack_area(mesh, element_wrinkles(mesh, NeoHookean(0.1, 0.2), 0, field(Vec2(0.8, 1.3).asDiagonal()))).norm(), 0.0);
 }
 
 TEST(WrinklingLaw, PureShearOfAnIsotropicLawGivesATensionFieldAt45Degrees) {

@@ -123,4 +123,19 @@ class WrinklingLaw : public Law {
 /// The law itself when it is not a WrinklingLaw, else its inner law.
 const Law& unwrapped(const Law& law);
 
+struct Mesh;
+
+/// The wrinkles of one element: the area fractions of its integration points that are wrinkled and
+/// slack, and the wrinkles' mean direction (radians from x, current configuration; the doubled-angle
+/// mean, so that t and −t agree; 0 where nothing wrinkles).
+struct ElementWrinkles {
+  double wrinkled = 0, slack = 0, angle = 0;
+};
+/// Per element of `mesh` under displacements `u`, material axes at `material_angle_deg`: its
+/// wrinkles under `law`, all zero when the law is no WrinklingLaw (or an element is inverted).
+std::vector<ElementWrinkles> element_wrinkles(const Mesh& mesh, const Law& law, double material_angle_deg,
+                                              const Eigen::VectorXd& u);
+/// The area fractions of the whole mesh that are wrinkled and slack.
+Vec2 wrinkled_and_slack_area(const Mesh& mesh, const std::vector<ElementWrinkles>& wrinkles);
+
 }  // namespace tricot::fem
