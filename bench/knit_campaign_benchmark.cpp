@@ -99,7 +99,8 @@ CampaignTest synthesise(const CampaignSpec& s, fem::PullDirection pull, double t
   }());
   CampaignTest t{pull, transverse, fem::make_rig_test(rig(s, pull, transverse, 12, 10)), {}, {}, {}};
   const fem::TestModel fine = fem::make_rig_test(rig(s, pull, transverse, 24, 20));
-  const fem::SimulationResult r = wrinkling() ? fem::simulate(fine, fem::WrinklingLaw(truth)) : fem::simulate(fine, truth);
+  const fem::SimulationResult r =
+      wrinkling() ? fem::simulate(fine, fem::WrinklingLaw(truth)) : fem::simulate(fine, truth);
   if (!r.usable()) throw std::runtime_error(r.message);
   // The example's field points (examples/knit-campaign/experiment.toml, [synth] inset = 9, spacing =
   // 18): the material points that tricot demo's DIC tracks, every 18 mm from 9 mm up to 9 mm short of

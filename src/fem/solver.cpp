@@ -380,7 +380,8 @@ bool Simulation::iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Fa
     if (r <= options_.tolerance * ref) break;
     if (it == max_iterations) {
       fail.why = "residual " + fmt("%.3g", r / ref) + " (relative) after " + std::to_string(it) +
-                 " Newton iterations, tolerance " + fmt("%.3g", options_.tolerance) + " (" + describe_largest_residual(R) + ")";
+                 " Newton iterations, tolerance " + fmt("%.3g", options_.tolerance) + " (" +
+                 describe_largest_residual(R) + ")";
       return false;
     }
     ++step.iterations;

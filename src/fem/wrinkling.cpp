@@ -366,7 +366,8 @@ Vec2 wrinkled_and_slack_area(const Mesh& mesh, const std::vector<ElementWrinkles
     const ElementGeometry geo = element_geometry(mesh, e);
     double a = 0;
     for (int q = 0; q < geo.points; ++q) a += geo.dA0[q];
-    area += a, wrinkled += a * wrinkles[static_cast<std::size_t>(e)].wrinkled, slack += a * wrinkles[static_cast<std::size_t>(e)].slack;
+    area += a, wrinkled += a * wrinkles[static_cast<std::size_t>(e)].wrinkled,
+        slack += a * wrinkles[static_cast<std::size_t>(e)].slack;
   }
   return area > 0 ? Vec2(wrinkled / area, slack / area) : Vec2::Zero();
 }

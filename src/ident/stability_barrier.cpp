@@ -79,7 +79,8 @@ StabilizedObjective::StabilizedObjective(const Objective& objective, StabilityBa
     stress_.assign(grid_.size(), std::vector<Mat2>(static_cast<std::size_t>(base_.size()) + 1));
     fem::LawOutput out;
     for (Eigen::Index i = -1; i < base_.size(); ++i) {
-      unit.set_coefficients(i < 0 ? Eigen::VectorXd(Eigen::VectorXd::Zero(base_.size())) : Eigen::VectorXd(Eigen::VectorXd::Unit(base_.size(), i)));
+      unit.set_coefficients(i < 0 ? Eigen::VectorXd(Eigen::VectorXd::Zero(base_.size()))
+                                  : Eigen::VectorXd(Eigen::VectorXd::Unit(base_.size(), i)));
       const std::size_t k = static_cast<std::size_t>(i + 1);
       for (std::size_t g = 0; g < grid_.size(); ++g) {
         const Mat2 F = Vec2(std::sqrt(1 + 2 * grid_[g](0)), std::sqrt(1 + 2 * grid_[g](1))).asDiagonal();
@@ -127,7 +128,8 @@ double sampled_ellipticity(const Mat4& A) {
   double best = INFINITY;
   for (const Direction& n : directions) {
     auto q = [&](int i, int k) {
-      return A(2 * i, 2 * k) * n.cc + (A(2 * i, 2 * k + 1) + A(2 * i + 1, 2 * k)) * n.cs + A(2 * i + 1, 2 * k + 1) * n.ss;
+      return A(2 * i, 2 * k) * n.cc + (A(2 * i, 2 * k + 1) + A(2 * i + 1, 2 * k)) * n.cs +
+             A(2 * i + 1, 2 * k + 1) * n.ss;
     };
     const double q00 = q(0, 0), q11 = q(1, 1), q01 = 0.5 * (q(0, 1) + q(1, 0));
     best = std::min(best, 0.5 * (q00 + q11) - std::hypot(0.5 * (q00 - q11), q01));
@@ -137,7 +139,8 @@ double sampled_ellipticity(const Mat4& A) {
 
 }  // namespace
 
-void StabilizedObjective::add_ellipticity(const Eigen::VectorXd& c, Eigen::VectorXd& r, Eigen::MatrixXd* jacobian) const {
+void StabilizedObjective::add_ellipticity(const Eigen::VectorXd& c, Eigen::VectorXd& r,
+                                          Eigen::MatrixXd* jacobian) const {
   const double w = options_.weight, ma = options_.acoustic_margin, s0 = options_.taut_stress;
   const Eigen::Index first = 3 * static_cast<Eigen::Index>(grid_.size());
   for (std::size_t g = 0; g < grid_.size(); ++g) {

@@ -319,7 +319,8 @@ model = "{4}"
 }
 
 std::string campaign_project_template(const CampaignDemoOptions& o) {
-  std::string s = fmt::format(R"(# The identification of tricot demo: `paper14` (docs/theory.md §5) from the field and the grip force of every
+  std::string s = fmt::format(
+      R"(# The identification of tricot demo: `paper14` (docs/theory.md §5) from the field and the grip force of every
 # test together, on the paper's 120 Q8 elements, as examples/knit-campaign/project-110.toml.
 
 [mesh]
@@ -356,14 +357,15 @@ pinned_relative_error = 0.1
 [stability]
 enabled = {}
 )",
-                              rig_table(o), o.small ? "max_iterations = 2\nstability_test = false\n"
-                                      : "initial_trust_region_radius = 100  # as examples/knit-campaign/project-110.toml\n"
-                                        "line_search_trials = 4\n",
-                              o.small ? "practical_course = [0.0, 1.2]   # two tests: the whole range they span\n"
-                                        "practical_wale = [0.0, 0.7]\n"
-                                        "min_held_levels = 1              # one test per surface: a path, not the surface"
-                                      : "practical_course = [0.6, 1.0]\npractical_wale = [0.2, 0.4]",
-                              o.small ? "false" : "true");
+      rig_table(o),
+      o.small ? "max_iterations = 2\nstability_test = false\n"
+              : "initial_trust_region_radius = 100  # as examples/knit-campaign/project-110.toml\n"
+                "line_search_trials = 4\n",
+      o.small ? "practical_course = [0.0, 1.2]   # two tests: the whole range they span\n"
+                "practical_wale = [0.0, 0.7]\n"
+                "min_held_levels = 1              # one test per surface: a path, not the surface"
+              : "practical_course = [0.6, 1.0]\npractical_wale = [0.2, 0.4]",
+      o.small ? "false" : "true");
   const std::pair<const char*, double> parameters[] = {
       {"a1", 0.39279},     {"a2", 0.001},       {"a3", 0.001},     {"a4", 0.001},      {"a5", 0.001},
       {"a6", 0.00115181},  {"b1", 0.00620026},  {"b2", 0.0147041}, {"c1", 0.226856},   {"c2", 0.0025306},

@@ -82,7 +82,8 @@ io::VtuGrid fem_vtu_grid(const fem::Mesh& mesh, const Eigen::VectorXd& u, const 
       wrinkled.values.push_back(r.wrinkled);
       slack.values.push_back(r.slack);
       const bool any = r.wrinkled > 0;
-      direction.values.insert(direction.values.end(), {any ? std::cos(r.angle) : 0.0, any ? std::sin(r.angle) : 0.0, 0.0});
+      direction.values.insert(direction.values.end(),
+                              {any ? std::cos(r.angle) : 0.0, any ? std::sin(r.angle) : 0.0, 0.0});
     }
   }
   g.point_data = {std::move(disp)};

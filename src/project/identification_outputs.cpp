@@ -133,7 +133,8 @@ double identified_force(const fem::Law& law, int i, double eC, double eW) {
 
 }  // namespace
 
-json eq9_json(const SurfacePoints& points, const fem::Law& law, const ident::StrainDomain& practical, int min_held_levels) {
+json eq9_json(const SurfacePoints& points, const fem::Law& law, const ident::StrainDomain& practical,
+              int min_held_levels) {
   auto force = [&](int i) { return [&law, i](double eC, double eW) { return identified_force(law, i, eC, eW); }; };
   json j;
   for (int f = 0; f < 2; ++f) {
@@ -144,8 +145,9 @@ json eq9_json(const SurfacePoints& points, const fem::Law& law, const ident::Str
     }
     const int levels = ident::held_levels(points[f]);
     if (levels < min_held_levels) {
-      const auto in_practical = std::count_if(points[f].begin(), points[f].end(),
-                                              [&](const ident::SurfacePoint& p) { return practical.contains(p.eC, p.eW); });
+      const auto in_practical = std::count_if(points[f].begin(), points[f].end(), [&](const ident::SurfacePoint& p) {
+        return practical.contains(p.eC, p.eW);
+      });
       j[name] = {{"computed", false},
                  {"whole", nullptr},
                  {"practical", nullptr},
@@ -168,9 +170,12 @@ json eq9_json(const SurfacePoints& points, const fem::Law& law, const ident::Str
       e = ident::eq9_error(points[f], force(f), all);
       e.practical = std::numeric_limits<double>::quiet_NaN(), e.points_practical = 0;
     }
-    j[name] = {{"computed", true},          {"whole", e.whole},
-               {"practical", e.practical}, {"points_whole", e.points_whole},
-               {"points_practical", e.points_practical}, {"held_levels", levels}};
+    j[name] = {{"computed", true},
+               {"whole", e.whole},
+               {"practical", e.practical},
+               {"points_whole", e.points_whole},
+               {"points_practical", e.points_practical},
+               {"held_levels", levels}};
   }
   j["practical"] = {{"course", {practical.eC_min, practical.eC_max}}, {"wale", {practical.eW_min, practical.eW_max}}};
   return j;

@@ -22,7 +22,8 @@ double chi2_per_dof(const ident::Objective& objective, const ident::IdentifyResu
 /// identified law against the experimental points; a force without points is null.
 /// result.json's "eq9": per surface its whole and practical error, or, where its points probe it at
 /// fewer than `min_held_levels` transverse levels, "computed": false with the counts.
-json eq9_json(const SurfacePoints& points, const fem::Law& law, const ident::StrainDomain& practical, int min_held_levels);
+json eq9_json(const SurfacePoints& points, const fem::Law& law, const ident::StrainDomain& practical,
+              int min_held_levels);
 /// DIR/eq9_<force>.csv (eC, eW, force_exp, force_id, relative_error, practical per point),
 /// DIR/eq9_surface_<force>.csv (the identified surface on a grid over the points' range) and, with
 /// `plots`, DIR/plots/eq9_<force>.png: the surface with the experimental points (paper Figs 11–14)

@@ -357,12 +357,12 @@ SectionSpec eq9_section() {
                 "centre strain of the measured field), over all points and over the practical domain.",
                 false, {}, {}};
   s.keys = {
-      key("practical_course", io::Reals{d.eC_min, d.eC_max}, "[min, max] Green–Lagrange εC of practical use (paper: 60–100 %).",
-          -1, 100),
-      key("practical_wale", io::Reals{d.eW_min, d.eW_max}, "[min, max] Green–Lagrange εW of practical use (paper: 20–40 %).",
-          -1, 100),
-      key("nearest", std::int64_t{6}, "Field points nearest the centre that the centre strain is fitted on (affine), ≥ 3.",
-          3, 1000000),
+      key("practical_course", io::Reals{d.eC_min, d.eC_max},
+          "[min, max] Green–Lagrange εC of practical use (paper: 60–100 %).", -1, 100),
+      key("practical_wale", io::Reals{d.eW_min, d.eW_max},
+          "[min, max] Green–Lagrange εW of practical use (paper: 20–40 %).", -1, 100),
+      key("nearest", std::int64_t{6},
+          "Field points nearest the centre that the centre strain is fitted on (affine), ≥ 3.", 3, 1000000),
       key("min_held_levels", std::int64_t{Eq9Spec{}.min_held_levels},
           "Transverse levels a surface's points must probe it at for eq. 9 to be computed, ≥ 1: the tests'\n"
           "centre strains across the pull at their first step, 0.05 apart. One level is one path through\n"
@@ -386,12 +386,15 @@ SectionSpec identifiability_section() {
 
 SectionSpec stability_section() {
   const ident::StabilityBarrierOptions o;
-  SectionSpec s{"stability",
-                "A material-stability barrier for a response surface (docs/theory/fabric.md §3.2): rows that\n"
-                "penalise det ∂(F_C, F_W)/∂(εC, εW) < det_margin and own slopes < slope_margin over the strains the\n"
-                "rig's fields reach, and a taut law's loss of strong ellipticity (acoustic_margin), so LM's trial laws\n"
-                "stay away from the instability where the FE inverts.",
-                false, {}, {}};
+  SectionSpec s{
+      "stability",
+      "A material-stability barrier for a response surface (docs/theory/fabric.md §3.2): rows that\n"
+      "penalise det ∂(F_C, F_W)/∂(εC, εW) < det_margin and own slopes < slope_margin over the strains the\n"
+      "rig's fields reach, and a taut law's loss of strong ellipticity (acoustic_margin), so LM's trial laws\n"
+      "stay away from the instability where the FE inverts.",
+      false,
+      {},
+      {}};
   s.keys = {key("enabled", true,
                 "Append the barrier to the objective. On by default for a response surface (issue 29: real data\n"
                 "need it); another law takes it only when asked, which is an error."),

@@ -387,11 +387,12 @@ TEST_F(Identify, HelpTeachesTheProjectFormat) {
 // grip force per width at the centre strain of the measured (homogeneous) field.
 TEST_F(Identify, ResultJsonHasTheEq9ErrorOfEachSurface) {
   constexpr double kEq9 = 1e-3;  // LM stops on δ short of the optimum; the centre fit is exact
-  ASSERT_EQ(identify("eq9", small_project("../exp", std::string(kStopOnDelta) +
-                                                        "[eq9]\npractical_course = [-1.0, 0.0]\npractical_wale = [0.2, 0.4]\n"
-                                                        "min_held_levels = 1\n"))
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      identify("eq9", small_project("../exp", std::string(kStopOnDelta) +
+                                                  "[eq9]\npractical_course = [-1.0, 0.0]\npractical_wale = [0.2, 0.4]\n"
+                                                  "min_held_levels = 1\n"))
+          .exit_code,
+      0);
   const json j = result("eq9");
   ASSERT_TRUE(j.contains("eq9"));
   EXPECT_TRUE(j["eq9"]["course"].is_null());

@@ -412,7 +412,8 @@ steps = 21
   EXPECT_EQ(lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("after 2 Newton iterations"), std::string::npos) << r.err;
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(r.err, m, std::regex(R"(largest [0-9.e+-]+ N at node [0-9]+, X = \(([0-9.e+-]+), ([0-9.e+-]+)\) mm\))")))
+  ASSERT_TRUE(std::regex_search(
+      r.err, m, std::regex(R"(largest [0-9.e+-]+ N at node [0-9]+, X = \(([0-9.e+-]+), ([0-9.e+-]+)\) mm\))")))
       << r.err;
   for (int k = 1; k <= 2; ++k) {  // a node of the 55 × 55 mm quarter
     EXPECT_GE(std::stod(m[k]), 0.0) << r.err;

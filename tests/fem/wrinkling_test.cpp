@@ -160,8 +160,8 @@ TEST(WrinklingLaw, ASheetSqueezedToAFewPercentAcrossStillCarriesTheUniaxialForce
   o.residual_stiffness = 0;
   const WrinklingLaw law(inner, o);
   const double l1 = 1.3;
-  const double l2_free = bisect([&](double b) { return P_of(inner, Vec2(l1, b).asDiagonal(), Mat2::Identity())(1, 1) > 0; },
-                                0.3, 1.3);
+  const double l2_free =
+      bisect([&](double b) { return P_of(inner, Vec2(l1, b).asDiagonal(), Mat2::Identity())(1, 1) > 0; }, 0.3, 1.3);
   const double force = P_of(inner, Vec2(l1, l2_free).asDiagonal(), Mat2::Identity())(0, 0);
   for (const double l2 : {0.5, 0.09, 0.0909, 0.03, 0.01}) {
     const Mat2 F = Vec2(l1, l2).asDiagonal();
@@ -197,8 +197,12 @@ TEST(ElementWrinkles, AHomogeneousFieldIsWhollyWrinkledOrSlackWithItsDirection) 
   EXPECT_NEAR(slack(1), 1.0, 1e-12);
   EXPECT_EQ(slack(0), 0.0);
   // Stretched both ways: taut; and a law that does not wrinkle has no wrinkles.
-  EXPECT_EQ(wrinkled_and_slack_area(mesh, element_wrinkles(mesh, law, 0, field(Vec2(1.2, 1.3).asDiagonal()))).norm(), 0.0);
-  EXPECT_EQ(wrinkled_and_slack_area(mesh, element_wrinkles(mesh, NeoHookean(0.1, 0.2), 0, field(Vec2(0.8, 1.3).asDiagonal()))).norm(), 0.0);
+  EXPECT_EQ(wrinkled_and_slack_area(mesh, element_wrinkles(mesh, law, 0, field(Vec2(1.2, 1.3).asDiagonal()))).norm(),
+            0.0);
+  EXPECT_EQ(
+      wrinkled_and_slack_area(mesh, element_wrinkles(mesh, NeoHookean(0.1, 0.2), 0, field(Vec2(0.8, 1.3).asDiagonal())))
+          .norm(),
+      0.0);
 }
 
 TEST(WrinklingLaw, PureShearOfAnIsotropicLawGivesATensionFieldAt45Degrees) {

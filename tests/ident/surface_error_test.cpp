@@ -74,7 +74,7 @@ TEST(HeldLevels, CountTheTransverseStrainsTheTestsProbeTheSurfaceAt) {
     for (int k = 0; k < 21; ++k) campaign.push_back({0.05 * k, h, 0.1 * k, h});
   EXPECT_EQ(held_levels(campaign), 5);
   EXPECT_EQ(held_levels(at({0.0, 0.04, 0.08, 0.3})), 2);  // a chain 0.04 apart is one level
-  EXPECT_EQ(held_levels(at({0.0, 0.3}), 0.5), 1);          // the tolerance
+  EXPECT_EQ(held_levels(at({0.0, 0.3}), 0.5), 1);         // the tolerance
 }
 
 TEST(TestSurfacePoints, AreTheGripForcePerWidthAgainstTheCentreStrainOfTheMeasuredField) {
