@@ -11,17 +11,21 @@ namespace {
 
 /// λ_min of sym Q(N), N = (cos t, sin t).
 double smallest(const Mat4& A, double t) {
-  const double n[2] = {std::cos(t), std::sin(t)};
-  double Q[2][2] = {{0, 0}, {0, 0}};
-  for (int i = 0; i < 2; ++i)
-    for (int k = 0; k < 2; ++k)
-      for (int j = 0; j < 2; ++j)
-        for (int l = 0; l < 2; ++l) Q[i][k] += A(2 * i + j, 2 * k + l) * n[j] * n[l];
-  const double s12 = 0.5 * (Q[0][1] + Q[1][0]), m = 0.5 * (Q[0][0] + Q[1][1]), d = 0.5 * (Q[0][0] - Q[1][1]);
+  const Mat2 Q = acoustic_tensor(A, Vec2(std::cos(t), std::sin(t)));
+  const double s12 = 0.5 * (Q(0, 1) + Q(1, 0)), m = 0.5 * (Q(0, 0) + Q(1, 1)), d = 0.5 * (Q(0, 0) - Q(1, 1));
   return m - std::hypot(d, s12);
 }
 
 }  // namespace
+
+Mat2 acoustic_tensor(const Mat4& A, const Vec2& N) {
+  Mat2 Q = Mat2::Zero();
+  for (int i = 0; i < 2; ++i)
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int l = 0; l < 2; ++l) Q(i, k) += A(2 * i + j, 2 * k + l) * N(j) * N(l);
+  return Q;
+}
 
 Ellipticity strong_ellipticity(const Mat4& A) {
   constexpr double pi = std::numbers::pi;

@@ -100,39 +100,22 @@ std::pair<double, Vec2> lowest(const Mat2& M) {
   return {eig.eigenvalues()(0), eig.eigenvectors().col(0)};
 }
 
-/// The acoustic tensor Q_ik = A_ijkl N_j N_l (A's rows 2i + j, columns 2k + l).
-Mat2 acoustic(const Mat4& A, const Vec2& N) {
-  Mat2 Q = Mat2::Zero();
-  for (int i = 0; i < 2; ++i)
-    for (int k = 0; k < 2; ++k)
-      for (int j = 0; j < 2; ++j)
-        for (int l = 0; l < 2; ++l) Q(i, k) += A(2 * i + j, 2 * k + l) * N(j) * N(l);
-  return Q;
-}
-
 /// min over 36 directions (every 5°) of λ_min(sym Q(N)): an upper bound of a_min, cheap (the barrier is
 /// evaluated at every bisection of LM's step cut, theory/fabric.md §3.2).
 double sampled_ellipticity(const Mat4& A) {
-  struct Direction {
-    double cc, cs, ss;  // N_x², N_x N_y, N_y²
-  };
-  static const std::array<Direction, 36> directions = [] {
-    std::array<Direction, 36> d{};
-    for (int a = 0; a < 36; ++a) {
-      const double t = a * std::numbers::pi / 36, c = std::cos(t), s = std::sin(t);
-      d[static_cast<std::size_t>(a)] = {c * c, c * s, s * s};
+  static const std::array<Vec2, 36> directions = [] {
+    std::array<Vec2, 36> d;
+    for (std::size_t a = 0; a < d.size(); ++a) {
+      const double t = double(a) * std::numbers::pi / 36;
+      d[a] = Vec2(std::cos(t), std::sin(t));
     }
     return d;
   }();
-  // Q_ik = A(2i, 2k) N_x² + (A(2i, 2k + 1) + A(2i + 1, 2k)) N_x N_y + A(2i + 1, 2k + 1) N_y².
   double best = INFINITY;
-  for (const Direction& n : directions) {
-    auto q = [&](int i, int k) {
-      return A(2 * i, 2 * k) * n.cc + (A(2 * i, 2 * k + 1) + A(2 * i + 1, 2 * k)) * n.cs +
-             A(2 * i + 1, 2 * k + 1) * n.ss;
-    };
-    const double q00 = q(0, 0), q11 = q(1, 1), q01 = 0.5 * (q(0, 1) + q(1, 0));
-    best = std::min(best, 0.5 * (q00 + q11) - std::hypot(0.5 * (q00 - q11), q01));
+  for (const Vec2& N : directions) {
+    const Mat2 Q = fem::acoustic_tensor(A, N);
+    const double q01 = 0.5 * (Q(0, 1) + Q(1, 0));
+    best = std::min(best, 0.5 * (Q(0, 0) + Q(1, 1)) - std::hypot(0.5 * (Q(0, 0) - Q(1, 1)), q01));
   }
   return best;
 }
@@ -169,11 +152,11 @@ void StabilizedObjective::add_ellipticity(const Eigen::VectorXd& c, Eigen::Vecto
     // likewise with S_i.
     const double t = e.angle_deg * std::numbers::pi / 180;
     const Vec2 N(std::cos(t), std::sin(t));
-    const Vec2 v_a = lowest(acoustic(A, N)).second;
+    const Vec2 v_a = lowest(fem::acoustic_tensor(A, N)).second;
     const double gate_slope = 6 * x * (1 - x) / s0;
     for (std::size_t k = 0; k < coefficient_.size(); ++k) {
       const std::size_t i = static_cast<std::size_t>(coefficient_[k]) + 1;
-      const double da = v_a.dot(acoustic(tangent_[g][i], N) * v_a);
+      const double da = v_a.dot(fem::acoustic_tensor(tangent_[g][i], N) * v_a);
       const double ds = v_s.dot(stress_[g][i] * v_s);
       (*jacobian)(row, static_cast<Eigen::Index>(k)) = w * (gate_slope * ds * shortfall - gate * da) / ma;
     }

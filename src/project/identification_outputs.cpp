@@ -431,7 +431,6 @@ plot {2} using {3} with points pt 6 ps 1 title "measured", \
   }
 }
 
-// The identified model against the measured field, per test with a cumulative field (issue 29):
 namespace {
 
 // DIR/wrinkles_<test>.csv and plots/wrinkles_<test>.png: the wrinkled zone at the last step (the
@@ -442,11 +441,9 @@ Vec2 write_wrinkles(const fs::path& dir, const fem::TestModel& m, const fem::Law
   const Vec2 area = fem::wrinkled_and_slack_area(m.mesh, w);
   io::Table tab;
   tab.columns = {"element", "x", "y", "wrinkled", "slack", "angle_deg"};
+  const Eigen::VectorXd X = Eigen::Map<const Eigen::VectorXd>(m.mesh.X.data(), m.mesh.X.size());  // as a nodal field
   for (int e = 0; e < m.mesh.elements(); ++e) {
-    Vec2 c = Vec2::Zero();
-    const int per = fem::nodes_per_element(m.mesh.type);
-    for (int k = 0; k < per; ++k) c += m.mesh.X.col(m.mesh.connectivity[std::size_t(e)][std::size_t(k)]);
-    c /= per;
+    const Vec2 c = fem::interpolate(m.mesh, {e, fem::element_centre(m.mesh.type)}, X);
     const fem::ElementWrinkles& x = w[std::size_t(e)];
     tab.rows.push_back({double(e), c(0), c(1), x.wrinkled, x.slack, x.angle * 180 / std::numbers::pi});
   }
@@ -477,6 +474,7 @@ plot {4} using "x":"y":"wrinkled" with points pt 5 ps 1.6 lc palette title "elem
 
 }  // namespace
 
+// The identified model against the measured field, per test with a cumulative field (issue 29):
 // DIR/fit_field_<test>.csv (step, id, x, y, u, v, model_u, model_v) and plots/fit_field_<test>.png,
 // the residual map (model − measured) at the last step, which the report shows with the other plots.
 // Returns each test's RMS of |model − measured| over its points and steps, mm (NaN: no field).

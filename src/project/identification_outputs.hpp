@@ -17,11 +17,11 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
 /// χ²/dof of the data at J* (ScaledResiduals::chi_square over N − n); NaN without measurement σ on
 /// every group, or without the residuals at J*.
 double chi2_per_dof(const ident::Objective& objective, const ident::IdentifyResult& r);
-/// result.json's "eq9" (docs/theory.md §9, paper Table 5): {"course": {"whole", "practical", "points_whole",
-/// "points_practical"}, "wale": {…}, "practical": {"course": [min, max], "wale": [min, max]}}, the
-/// identified law against the experimental points; a force without points is null.
-/// result.json's "eq9": per surface its whole and practical error, or, where its points probe it at
-/// fewer than `min_held_levels` transverse levels, "computed": false with the counts.
+/// result.json's "eq9" (docs/theory.md §9, paper Table 5): {"course": {"computed", "whole", "practical",
+/// "points_whole", "points_practical", "held_levels"}, "wale": {…}, "practical": {"course": [min, max],
+/// "wale": [min, max]}}, the identified law against the experimental points; a force without points is
+/// null; a surface whose points probe it at fewer than `min_held_levels` transverse levels has
+/// "computed": false, null errors and a "reason".
 json eq9_json(const SurfacePoints& points, const fem::Law& law, const ident::StrainDomain& practical,
               int min_held_levels);
 /// DIR/eq9_<force>.csv (eC, eW, force_exp, force_id, relative_error, practical per point),

@@ -73,5 +73,7 @@ struct Ellipticity {
 };
 /// Samples N every 5° and refines each local minimum by golden section (to ~1e-6°).
 Ellipticity strong_ellipticity(const Mat4& A);
+/// The acoustic tensor Q_ik(N) = A_ijkl N_j N_l of a tangent A (rows 2i + j, columns 2k + l).
+Mat2 acoustic_tensor(const Mat4& A, const Vec2& N);
 
 }  // namespace tricot::fem
