@@ -21,35 +21,76 @@ void check(bool ok, const char* field, double got, const std::string& expected) 
   if (!ok) throw InputError(Location{"", 0, std::string("law.") + field}, "out of range", format_number(got), expected);
 }
 
-/// The wrinkle kinematics at z = (β, θ): n across the wrinkles, t along them, M = I + β n nᵀ,
-/// F̃ = M F and its partial derivatives ∂F̃/∂β = n nᵀ F, ∂F̃/∂θ = β (t nᵀ + n tᵀ) F (flattened).
+/// The wrinkle kinematics (docs/theory/fabric.md §8): m = (cos φ, sin φ) across the wrinkles in the
+/// reference configuration, n ∝ cof(F) m across them in the current one (so Fᵀ n = ℓ m, ℓ the
+/// current stretch across, det F / |cof(F) m|), t ⊥ n along them, and the wavy sheet
+///   F̃ = F + q n mᵀ,
+/// q the extra length across that the waves take up (q = s − ℓ at the wavy sheet's stretch s).
+/// Parametrised by the reference direction φ, not by n's angle: where the FE squeezes an element to
+/// nearly nothing across (det F → 0), F̃ depends on n's angle through q |Fᵀ t|, beyond what a double
+/// resolves, and on φ at O(1). dn_F and dn_phi: n's turn along t per δF (flattened row by row) and
+/// per δφ; ell_F and ell_phi: ℓ's partials.
 struct Wrinkle {
-  Vec2 n, t;
-  Mat2 M, Ft;
-  Eigen::Matrix<double, 4, 2> Ft_z;
+  Vec2 m, mp, n, t;
+  double ell = 0, q = 0, dn_phi = 0, ell_phi = 0;
+  Vec4 dn_F, ell_F;
+  Mat2 Ft;
 };
 
-Wrinkle wrinkle(const Mat2& F, double beta, double theta) {
+/// The wavy sheet at reference direction φ with the wrinkle stretch s across (q = s − ℓ), or with
+/// the extra length q itself (`is_stretch` false).
+Wrinkle wrinkle(const Mat2& F, double phi, double s_or_q, bool is_stretch = true) {
   Wrinkle w;
-  w.n = Vec2(std::cos(theta), std::sin(theta));
+  w.m = Vec2(std::cos(phi), std::sin(phi));
+  w.mp = Vec2(-w.m(1), w.m(0));
+  Mat2 C;  // cof(F) = det F F⁻ᵀ, linear in F
+  C << F(1, 1), -F(1, 0), -F(0, 1), F(0, 0);
+  const Vec2 c = C * w.m;
+  const double c_norm = c.norm();
+  w.n = c / c_norm;
   w.t = Vec2(-w.n(1), w.n(0));
-  const Mat2 nn = w.n * w.n.transpose();
-  w.M = Mat2::Identity() + beta * nn;
-  w.Ft = w.M * F;
-  w.Ft_z.col(0) = flatten(nn * F);
-  w.Ft_z.col(1) = flatten(beta * (w.t * w.n.transpose() + w.n * w.t.transpose()) * F);
+  w.ell = F.determinant() / c_norm;
+  w.q = is_stretch ? s_or_q - w.ell : s_or_q;
+  w.Ft = F + w.q * w.n * w.m.transpose();
+  // δc turns n along t by tᵀδc / |c|, and moves ℓ = nᵀ F m by that times tᵀ F m (+ nᵀ δF m;
+  // nᵀ F δm = ℓ mᵀ δm = 0). δF = e_k e_lᵀ: cof(δF) = ±e_(1−k) e_(1−l)ᵀ (+ on the diagonal).
+  const double tFm = w.t.dot(F * w.m);
+  w.dn_phi = w.t.dot(C * w.mp) / c_norm;
+  w.ell_phi = w.dn_phi * tFm;
+  for (int k = 0; k < 2; ++k)
+    for (int l = 0; l < 2; ++l) {
+      const int i = 2 * k + l;
+      w.dn_F(i) = (k == l ? 1.0 : -1.0) * w.m(1 - l) * w.t(1 - k) / c_norm;
+      w.ell_F(i) = w.dn_F(i) * tFm + w.n(k) * w.m(l);
+    }
   return w;
 }
 
-/// g = P(F̃) Fᵀ n: the traction on a cut along the wrinkles (∝ σ̃ n).
-Vec2 residual(const Mat2& F, const Wrinkle& w, const LawOutput& at_Ft) { return at_Ft.P * (F.transpose() * w.n); }
+/// F̃'s derivatives (flattened) when q is a function of the stretch s and of ℓ, dq = q_s ds + q_ell dℓ:
+/// ∂F̃/∂F (4 × 4) and ∂F̃/∂z (4 × 2), z = (s, φ). At the root q = s − ℓ: q_s = 1, q_ell = −1.
+struct WrinkleJacobian {
+  Mat4 F;
+  Eigen::Matrix<double, 4, 2> z;
+};
 
-/// ∂g/∂z (2 × 2): dP̃ = A ∂F̃/∂z; the θ column adds P̃ Fᵀ t from ∂n/∂θ = t.
-Mat2 residual_z(const Mat2& F, const Wrinkle& w, const LawOutput& at_Ft) {
-  const Vec2 Fn = F.transpose() * w.n;
+WrinkleJacobian jacobian(const Wrinkle& w, double q_s = 1, double q_ell = -1) {
+  const Vec4 tm = flatten(w.t * w.m.transpose()), nm = flatten(w.n * w.m.transpose());
+  WrinkleJacobian J;
+  J.F = Mat4::Identity() + w.q * tm * w.dn_F.transpose() + q_ell * nm * w.ell_F.transpose();
+  J.z.col(0) = q_s * nm;
+  J.z.col(1) = w.q * (w.dn_phi * tm + flatten(w.n * w.mp.transpose())) + q_ell * w.ell_phi * nm;
+  return J;
+}
+
+/// g = P(F̃) m: the traction on a cut along the wrinkles (ℓ g = P(F̃) Fᵀ n, ∝ σ̃ n).
+Vec2 residual(const Wrinkle& w, const LawOutput& at_Ft) { return at_Ft.P * w.m; }
+
+/// ∂g/∂z (2 × 2) at the root: dP̃ = A ∂F̃/∂z; the φ column adds P̃ ∂m/∂φ.
+Mat2 residual_z(const Wrinkle& w, const LawOutput& at_Ft) {
+  const Eigen::Matrix<double, 4, 2> Ft_z = jacobian(w).z;
   Mat2 G;
-  for (int m = 0; m < 2; ++m) G.col(m) = unflatten(Vec4(at_Ft.A * w.Ft_z.col(m))) * Fn;
-  G.col(1) += at_Ft.P * (F.transpose() * w.t);
+  for (int j = 0; j < 2; ++j) G.col(j) = unflatten(Vec4(at_Ft.A * Ft_z.col(j))) * w.m;
+  G.col(1) += at_Ft.P * w.mp;
   return G;
 }
 
@@ -130,30 +171,31 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
   // of the stiffness (the unstressed state is the corner of all three states: the taut tangent there
   // lets the FE leave it in any direction). With a smoothed switch (width w > 0), a taut point whose
   // zero-traction root β (< 0: the sheet would have to shorten across) may lie above −w is solved
-  // too: the linear estimate β ≈ −λ_min(sym S) / (∂(nᵀ g)/∂β) at β = 0 decides.
+  // too: the linear estimate β ≈ −λ_min(sym S) / (∂(nᵀ P(F̃) Fᵀ n)/∂β) at β = 0 decides
+  // (∂F̃/∂β = n nᵀ F there).
   const Mat2 S = at_F.P * F.transpose();
   const double scale_S = max_abs(at_F.A) * max_abs(F) * max_abs(F);
   const double width = options_.smoothing;
   Eigen::SelfAdjointEigenSolver<Mat2> eig_S(0.5 * (S + S.transpose()));
   const Vec2 nS = eig_S.eigenvectors().col(0);
-  const double theta_S = std::atan2(nS(1), nS(0));
   double beta_start = 0;
   if ((S.determinant() > 0 && S.trace() > 0) || max_abs(S) <= 1e-12 * scale_S) {
     if (!(width > 0) || max_abs(S) <= 1e-12 * scale_S) return st;
-    const Wrinkle w0 = wrinkle(F, 0, theta_S);
-    const double k = nS.dot(residual_z(F, w0, at_F).col(0));
+    const Vec2 Fn = F.transpose() * nS;
+    const double k = nS.dot(unflatten(Vec4(at_F.A * flatten(nS * Fn.transpose()))) * Fn);
     if (!(k > 0)) return st;
     beta_start = -eig_S.eigenvalues()(0) / k;
     if (beta_start <= -2 * width) return st;
   }
 
-  // Wrinkled or slack: Newton on z = (β, θ) for g = 0. Two starts: β = 0 with n along the most
-  // compressive principal direction of sym S (exact at the taut/wrinkled switch), then n along the
-  // least stretched principal direction of B = F Fᵀ with 1 + β = 1/√b_min (exact at the
-  // wrinkled/slack switch, where F̃ is a rotation and θ is otherwise ill-conditioned; and for
-  // isotropic laws the direction is exact everywhere).
+  // Wrinkled or slack: Newton on z = (s, φ) for g = 0. Three starts, each a direction n across and a
+  // wrinkle strain β (z from m = Fᵀn / |Fᵀn|, s = (1 + β) |Fᵀn|): β = 0 with n along the most
+  // compressive principal direction of sym S (exact at the taut/wrinkled switch); n along the least
+  // stretched principal direction of B = F Fᵀ with 1 + β = 1/√b_min, i.e. s = 1 (exact at the
+  // wrinkled/slack switch, where F̃ is a rotation and φ is otherwise ill-conditioned; and for
+  // isotropic laws the direction is exact everywhere); then n along t of the first.
   const LawRequest with_tangent{true, false};
-  const double scale = at_F.P.norm() * F.norm() + 1e-300;
+  const double scale = at_F.P.norm() + 1e-300;
   struct Run {
     bool converged = false;
     Vec2 z;
@@ -165,12 +207,16 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
   const Vec2 nB = eig_B.eigenvectors().col(0);
   const double b_min = eig_B.eigenvalues()(0);
   const double beta_max = kWaveFactor * std::max(1.0, 1 / std::sqrt(b_min)) - 1;
+  auto evaluate_at = [&](const Vec2& z, Wrinkle& w, LawOutput& at) {
+    w = wrinkle(F, z(1), z(0));
+    inner_->evaluate({w.Ft, in.Q, in.region}, with_tangent, at);
+    return residual(w, at);
+  };
   auto newton = [&](Vec2 z) {
     Run run;
-    Wrinkle w = wrinkle(F, z(0), z(1));
+    Wrinkle w;
     LawOutput at;
-    inner_->evaluate({w.Ft, in.Q, in.region}, with_tangent, at);
-    Vec2 g = residual(F, w, at);
+    Vec2 g = evaluate_at(z, w, at);
     int it = 0;
     for (; it < options_.max_iterations; ++it) {
       if (!g.allFinite()) break;
@@ -178,31 +224,30 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
         run.converged = true;
         // One more full step to round-off (cheap at quadratic rate): P(F̃) is then exact to round-off
         // of P̃, not of the larger P(F) of the tolerance's scale.
-        const Eigen::FullPivLU<Mat2> lu(residual_z(F, w, at));
+        const Eigen::FullPivLU<Mat2> lu(residual_z(w, at));
         if (lu.isInvertible()) {
           const Vec2 zt = z - lu.solve(g);
-          const Wrinkle wt = wrinkle(F, zt(0), zt(1));
+          Wrinkle wt;
           LawOutput trial;
-          inner_->evaluate({wt.Ft, in.Q, in.region}, with_tangent, trial);
-          const Vec2 gt = residual(F, wt, trial);
+          const Vec2 gt = evaluate_at(zt, wt, trial);
           if (gt.allFinite() && gt.norm() <= g.norm()) z = zt, w = wt, at = std::move(trial), g = gt;
         }
         break;
       }
-      const Eigen::FullPivLU<Mat2> lu(residual_z(F, w, at));
+      const Eigen::FullPivLU<Mat2> lu(residual_z(w, at));
       if (!lu.isInvertible()) break;
       const Vec2 dz = -lu.solve(g);
-      // Backtracking on |g|: keep β in (−1/2, beta_max) and take the first step that lowers |g| (the
-      // full step near the root: quadratic convergence).
+      // Backtracking on |g|: keep β = q/ℓ in (−1/2, beta_max) and take the first step that lowers |g|
+      // (the full step near the root: quadratic convergence).
       double a = 1;
       bool accepted = false;
       for (int b = 0; b < 30 && !accepted; ++b, a *= 0.5) {
         const Vec2 zt = z + a * dz;
-        if (!(zt(0) > -0.5 && zt(0) < beta_max)) continue;
-        const Wrinkle wt = wrinkle(F, zt(0), zt(1));
+        const Wrinkle wt = wrinkle(F, zt(1), zt(0));
+        if (!(wt.q / wt.ell > -0.5 && wt.q / wt.ell < beta_max)) continue;
         LawOutput trial;
         inner_->evaluate({wt.Ft, in.Q, in.region}, with_tangent, trial);
-        const Vec2 gt = residual(F, wt, trial);
+        const Vec2 gt = residual(wt, trial);
         if (gt.allFinite() && gt.norm() < g.norm()) {
           z = zt, w = wt, at = std::move(trial), g = gt;
           accepted = true;
@@ -217,16 +262,22 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
     run.z = z, run.w = w, run.at_Ft = std::move(at), run.iterations = it;
     return run;
   };
+  auto start = [&](const Vec2& n, double beta) {
+    const Vec2 a = F.transpose() * n;
+    return Vec2((1 + beta) * a.norm(), std::atan2(a(1), a(0)));
+  };
   // A root counts when it is a tension field: β above the ramp's foot and a positive tension along
   // t. The rotated root (n and t swapped, a negative "tension") and a root missed from one start send
   // the solve to the next start; slack only when no start finds a tension field.
+  auto beta_of = [](const Run& r) { return r.w.q / r.w.ell; };
   auto tension_of = [](const Run& r) { return r.w.t.dot(r.at_Ft.P * r.w.Ft.transpose() * r.w.t); };
   auto is_field = [&](const Run& r) {
-    return r.converged && smooth_ramp(r.z(0), width)(0) > 0 && (width > 0 || r.z(0) >= -1e-10) && tension_of(r) > 0;
+    return r.converged && smooth_ramp(beta_of(r), width)(0) > 0 && (width > 0 || beta_of(r) >= -1e-10) &&
+           tension_of(r) > 0;
   };
-  const Vec2 starts[3] = {Vec2(beta_start, theta_S),
-                          Vec2(b_min < 1 ? 1 / std::sqrt(b_min) - 1 : std::max(beta_start, 0.0), std::atan2(nB(1), nB(0))),
-                          Vec2(std::max(beta_start, 0.0), theta_S + std::numbers::pi / 2)};
+  const Vec2 starts[3] = {start(nS, beta_start),
+                          start(nB, b_min < 1 ? 1 / std::sqrt(b_min) - 1 : std::max(beta_start, 0.0)),
+                          start(Vec2(-nS(1), nS(0)), std::max(beta_start, 0.0))};
   Run run;
   int it = 0;
   bool found = false, below_foot = false;
@@ -237,17 +288,18 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
       found = true;
       break;
     }
-    if (run.converged && !(smooth_ramp(run.z(0), width)(0) > 0) && tension_of(run) > 0) below_foot = true;
+    if (run.converged && !(smooth_ramp(beta_of(run), width)(0) > 0) && tension_of(run) > 0) below_foot = true;
   }
   st.iterations = it;
   if (found) {
-    const Vec2& z = run.z;
     const Wrinkle& w = run.w;
     at_Ft = std::move(run.at_Ft);
     st.state = MembraneState::wrinkled;
-    st.root_beta = z(0);
-    st.beta = smooth_ramp(z(0), width)(0);
-    st.angle = wrap_angle(z(1) + std::numbers::pi / 2);
+    st.stretch = run.z(0);
+    st.reference_angle = run.z(1);
+    st.root_beta = beta_of(run);
+    st.beta = smooth_ramp(st.root_beta, width)(0);
+    st.angle = wrap_angle(std::atan2(w.t(1), w.t(0)));
     st.tension = w.t.dot(at_Ft.P * w.Ft.transpose() * w.t);
     if (sensitivities) inner_->evaluate({w.Ft, in.Q, in.region}, {true, true}, at_Ft);
   } else if (beta_start != 0 || below_foot) {
@@ -281,50 +333,34 @@ void WrinklingLaw::evaluate(const LawInput& in, const LawRequest& req, LawOutput
     for (Mat2& d : out.dP_dc) d *= eta;
     return;
   }
-  // Wrinkled: P = (1 − η) P(F̃_eff) + η P(F), F̃_eff = M(r(β), θ) F; the implicit derivatives of
-  // z = (β, θ) with g(F, z) = 0 at the root, through the ramp r.
+  // Wrinkled: P = (1 − η) P(F̃_eff) + η P(F), F̃_eff = F + q_eff n mᵀ with q_eff = ℓ r(β), β = s/ℓ − 1;
+  // the implicit derivatives of z = (s, φ) with g(F, z) = 0 at the root, through the ramp r
+  // (dq_eff = r' ds + (r − r' (1 + β)) dℓ).
   const Mat2& F = in.F;
-  const double theta = st.angle - std::numbers::pi / 2;
-  const Wrinkle w = wrinkle(F, st.root_beta, theta);  // the root (at_Ft is the inner law there)
-  const Mat2 G_z = residual_z(F, w, at_Ft);
-  const Eigen::FullPivLU<Mat2> lu(G_z);
-  const Vec2 Fn = F.transpose() * w.n;
-  const double slope = smooth_ramp(st.root_beta, options_.smoothing)(1);
+  const Wrinkle w = wrinkle(F, st.reference_angle, st.stretch);  // the root (at_Ft is the inner law there)
+  const Eigen::FullPivLU<Mat2> lu(residual_z(w, at_Ft));
   const bool at_root = st.beta == st.root_beta;
-  const Wrinkle we = at_root ? w : wrinkle(F, st.beta, theta);  // the effective wavy sheet
+  const Vec2 ramp = smooth_ramp(st.root_beta, options_.smoothing);
+  const Wrinkle we = at_root ? w : wrinkle(F, st.reference_angle, w.ell * ramp(0), false);  // the effective sheet
   LawOutput at_eff;
   if (!at_root) inner_->evaluate({we.Ft, in.Q, in.region}, {true, req.sensitivities}, at_eff);
   const LawOutput& eff = at_root ? at_Ft : at_eff;
   out.P = (1 - eta) * eff.P + eta * out.P;
   out.lambda3 = eff.lambda3;
-  // ∂P̃_eff/∂z through the ramp: the β column times r'(β).
-  Eigen::Matrix<double, 4, 2> A_z = eff.A * we.Ft_z;
-  A_z.col(0) *= slope;
+  const WrinkleJacobian J_eff = at_root ? jacobian(w) : jacobian(we, ramp(1), ramp(0) - ramp(1) * (1 + st.root_beta));
+  const Eigen::Matrix<double, 4, 2> A_z = eff.A * J_eff.z;
   if (req.tangent) {
-    // ∂F̃/∂F at fixed z: δF̃ = M δF, i.e. D(2a + b, 2k + l) = M(a, k) δ(b, l) (M at the root for g,
-    // M_eff for P).
-    auto dFt_dF = [](const Mat2& M) {
-      Mat4 D = Mat4::Zero();
-      for (int a = 0; a < 2; ++a)
-        for (int b = 0; b < 2; ++b)
-          for (int k = 0; k < 2; ++k) D(2 * a + b, 2 * k + b) = M(a, k);
-      return D;
-    };
-    const Mat4 A_F_root = at_Ft.A * dFt_dF(w.M);
-    // ∂g/∂F: dP̃ Fᵀ n + P̃ δFᵀ n; δF = e_k e_lᵀ gives δFᵀ n = n_k e_l.
+    // ∂g/∂F = (A ∂F̃/∂F) m at the root.
+    const Mat4 A_F_root = at_Ft.A * jacobian(w).F;
     Eigen::Matrix<double, 2, 4> G_F;
-    for (int k = 0; k < 2; ++k)
-      for (int l = 0; l < 2; ++l) {
-        const int c = 2 * k + l;
-        G_F.col(c) = unflatten(Vec4(A_F_root.col(c))) * Fn + w.n(k) * at_Ft.P.col(l);
-      }
+    for (int c = 0; c < 4; ++c) G_F.col(c) = unflatten(Vec4(A_F_root.col(c))) * w.m;
     const Eigen::Matrix<double, 2, 4> z_F = -lu.solve(G_F);
-    const Mat4 A_F_eff = at_root ? A_F_root : Mat4(eff.A * dFt_dF(we.M));
+    const Mat4 A_F_eff = at_root ? A_F_root : Mat4(eff.A * J_eff.F);
     out.A = (1 - eta) * (A_F_eff + A_z * z_F) + eta * out.A;
   }
   if (req.sensitivities) {
     for (std::size_t k = 0; k < nc; ++k) {
-      const Vec2 z_c = -lu.solve(Vec2(at_Ft.dP_dc[k] * Fn));
+      const Vec2 z_c = -lu.solve(Vec2(at_Ft.dP_dc[k] * w.m));
       out.dP_dc[k] = (1 - eta) * (eff.dP_dc[k] + unflatten(Vec4(A_z * z_c))) + eta * out.dP_dc[k];
     }
   }

@@ -172,6 +172,42 @@ TEST(WrinklingLaw, ASheetSqueezedToAFewPercentAcrossStillCarriesTheUniaxialForce
   }
 }
 
+TEST(WrinklingLaw, AnElementSqueezedToNothingAtAnAngleFindsItsWrinklesToRoundOff) {
+  // A wrinkled point F0 with its root: reference direction m across the wrinkles, current n (Fᵀn = ℓ0 m)
+  // and the wavy sheet's stretch s. Squeezing it further across, F(ℓ) = F0 + (ℓ − ℓ0) n mᵀ, keeps
+  // Fᵀn = ℓ m, so the same wavy sheet F̃ = F + (s − ℓ) n mᵀ is the root for every ℓ < s: the same
+  // (s, m) and the same force. At ℓ = 1e-7 (an element squeezed flat, det F ~ 1e-7) and a generic
+  // angle, F̃ depends on n's angle through β |Fᵀt| ~ 1e7 times it, and a solve in (β, θ) cannot resolve
+  // the root in a double (it stalled the rig's 24 × 20 wrinkling campaign at a clip corner). Solved in
+  // (s, φ), φ the reference direction's angle, it is found to round-off (the (β, θ) solve was off by
+  // 5e-9 of the force at ℓ = 1e-7 and went slack, losing it all, at 1e-8); an orthotropic law at rotated
+  // material axes, sheared as well as squeezed.
+  WrinklingOptions o;
+  o.residual_stiffness = 0;  // the relaxed force alone (η P(F) changes with ℓ)
+  const WrinklingLaw law(campaign_paper14(), o);
+  const Mat2 Q = rot(0.4);
+  const double alpha = 0.65, phi = -0.37, l1 = 1.3, tau = 0.2, ell0 = 0.3;
+  const Vec2 n0(std::cos(alpha), std::sin(alpha)), t0(-n0(1), n0(0));
+  const Vec2 m0(std::cos(phi), std::sin(phi)), mp0(-m0(1), m0(0));
+  const Mat2 F0 = l1 * t0 * mp0.transpose() + (tau * t0 + ell0 * n0) * m0.transpose();
+  const WrinkleState ref = law.state({F0, Q});
+  ASSERT_EQ(ref.state, MembraneState::wrinkled);
+  const Vec2 m(std::cos(ref.reference_angle), std::sin(ref.reference_angle));
+  Vec2 n(std::sin(ref.angle), -std::cos(ref.angle));  // ⊥ the wrinkles, signed so that Fᵀn = ℓ m, ℓ > 0
+  if (n.dot(F0 * m) < 0) n = -n;
+  const double ell_ref = n.dot(F0 * m);
+  const Mat2 P_ref = P_of(law, F0, Q);
+  for (const double ell : {1e-2, 1e-4, 1e-7, 1e-9}) {
+    const Mat2 F = F0 + (ell - ell_ref) * n * m.transpose();
+    const WrinkleState st = law.state({F, Q});
+    ASSERT_EQ(st.state, MembraneState::wrinkled) << "ℓ = " << ell;
+    EXPECT_NEAR(st.stretch, ref.stretch, 1e-9 * ref.stretch) << "ℓ = " << ell;
+    // β = s/ℓ − 1 carries the round-off of F's entries relative to ℓ (~1e-16/ℓ); s and P do not.
+    EXPECT_NEAR(st.beta, ref.stretch / ell - 1, (1e-9 + 1e-15 / ell) * (ref.stretch / ell)) << "ℓ = " << ell;
+    EXPECT_LT((P_of(law, F, Q) - P_ref).norm(), 1e-9 * P_ref.norm()) << "ℓ = " << ell;
+  }
+}
+
 // The wrinkled zone of a mesh (VTU, identification outputs): a homogeneous field is wholly in one state.
 TEST(ElementWrinkles, AHomogeneousFieldIsWhollyWrinkledOrSlackWithItsDirection) {
   MeshOptions mo;

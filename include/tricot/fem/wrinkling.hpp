@@ -4,12 +4,14 @@
 // out of its plane into fine wrinkles and carries a uniaxial tension along them instead. The
 // wrapper keeps the in-plane F of the FE (the wrinkles' mean surface) and gives the inner law the
 // deformation of the wavy sheet itself (Roddeman-type modified deformation gradient):
-//   F̃ = (I + β n ⊗ n) F,   n = (cos θ, sin θ)  (current configuration, across the wrinkles),
-// β ≥ 0 the extra stretch across the wrinkles that the waves take up. The wrinkle angle θ and the
-// wrinkle strain β solve the two conditions that the traction on a cut along the wrinkles vanishes
-// (its normal and its shear part), for any law, isotropic or orthotropic, with or without a
-// potential:
-//   g(β, θ) = P(F̃) Fᵀ n = 0     (∝ σ̃ n, σ̃ the inner law's Cauchy stress at F̃).
+//   F̃ = (I + β n ⊗ n) F = F + (s − ℓ) n ⊗ m,
+// n across the wrinkles (current configuration), m = Fᵀn / ℓ the same direction in the reference one,
+// ℓ = |Fᵀn| the current stretch across and s = (1 + β) ℓ the wavy sheet's: β ≥ 0 is the extra
+// stretch across the wrinkles that the waves take up. The unknowns are s and m's angle φ (n ∝ cof(F) m):
+// unlike n's angle they stay well scaled where the FE squeezes an element flat (det F → 0). They solve
+// the two conditions that the traction on a cut along the wrinkles vanishes (its normal and its shear
+// part), for any law, isotropic or orthotropic, with or without a potential:
+//   g(s, φ) = P(F̃) m = 0     (ℓ g = P(F̃) Fᵀ n ∝ σ̃ n, σ̃ the inner law's Cauchy stress at F̃).
 // The membrane force of the mean surface is then P = P(F̃): across a cut along the wrinkles it is
 // zero, and along them it is the wavy sheet's force (its extra length (1 + β) cancels the smaller
 // current length of the cut). For a law with a potential W this is ∂W_relaxed/∂F of the relaxed
@@ -33,8 +35,8 @@
 // inner law's own stiffness and stress are kept in every state (exactly the inner law when taut),
 // so P stays continuous and A consistent.
 //
-// A = ∂P/∂F and ∂P/∂c are exact: the wrinkle angle and strain are differentiated implicitly,
-// ∂z/∂F = −(∂g/∂z)⁻¹ ∂g/∂F and ∂z/∂c = −(∂g/∂z)⁻¹ ∂g/∂c, z = (β, θ). The relaxed law is not linear
+// A = ∂P/∂F and ∂P/∂c are exact: the wrinkle stretch and direction are differentiated implicitly,
+// ∂z/∂F = −(∂g/∂z)⁻¹ ∂g/∂F and ∂z/∂c = −(∂g/∂z)⁻¹ ∂g/∂c, z = (s, φ). The relaxed law is not linear
 // in the inner law's coefficients (z depends on them): linear_in_coefficients() is false and dP_dc
 // carries the implicit term.
 #pragma once
@@ -59,9 +61,9 @@ struct WrinklingOptions {
   /// tangent jumps; the FE's Newton then chatters where a whole region sits on the switch (a sheet
   /// stretched one way with no stress across, as in the rig's first increments). Default 1e-3.
   double smoothing = 1e-3;
-  /// Newton on (β, θ) stops when |g| ≤ tolerance × |P(F)| |F| (relative), in (0, 1e-6]. Default 1e-13.
+  /// Newton on (s, φ) stops when |P(F̃) m| ≤ tolerance × |P(F)| (relative), in (0, 1e-6]. Default 1e-13.
   double tolerance = 1e-13;
-  /// Newton iterations on (β, θ), 1–200. Default 50.
+  /// Newton iterations on (s, φ), 1–200. Default 50.
   int max_iterations = 50;
   /// Throws InputError (key `law.<field>`) for a value out of range.
   void validate() const;
@@ -82,6 +84,11 @@ struct WrinkleState {
   /// Angle from x of the wrinkles (the tension direction t, current configuration), radians in
   /// (−π/2, π/2]; 0 unless wrinkled.
   double angle = 0;
+  /// The wavy sheet's stretch across the wrinkles, s = (1 + β) |Fᵀ n| (0 unless wrinkled).
+  double stretch = 0;
+  /// Angle from x of the direction across the wrinkles in the reference configuration, m = Fᵀn / |Fᵀn|
+  /// (radians; 0 unless wrinkled). With `stretch`, the unknowns of the wrinkle solve.
+  double reference_angle = 0;
   /// Tension along the wrinkles, tᵀ P(F̃) F̃ᵀ t [N/mm · stretch]; 0 unless wrinkled.
   double tension = 0;
   /// Newton iterations the wrinkle solve took (0 when taut).
