@@ -64,19 +64,38 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
     if (!experiment_.find(m.name))
       throw InputError(Location{"", 0, "test." + m.name}, "test model without data in the experiment");
 
-  // Parameters: coefficients of the law; a NaN start is the law's value.
+  // Parameters: coefficients of the law (a NaN start is the law's value), then force scales
+  // `<test>.force_scale` (a NaN start is 1).
   const std::vector<std::string> names = law_->coefficient_names();
   const Eigen::VectorXd c0 = law_->coefficients();
-  for (Parameter& p : parameters_) {
+  scale_of_test_.assign(models_.size(), -1);
+  for (std::size_t k = 0; k < parameters_.size(); ++k) {
+    Parameter& p = parameters_[k];
     const auto it = std::find(names.begin(), names.end(), p.name);
-    if (it == names.end()) {
-      std::string list;
-      for (const auto& s : names) list += (list.empty() ? "" : ", ") + s;
-      throw InputError(Location{"", 0, "parameters." + p.name}, "not a coefficient of the " + law_->name() + " law",
-                       p.name, "one of " + list);
+    if (it != names.end()) {
+      if (coefficient_.size() != k)
+        throw std::logic_error("Objective: the law's coefficients must come before the force scales (" + p.name + ")");
+      coefficient_.push_back(static_cast<int>(it - names.begin()));
+      if (std::isnan(p.start)) p.start = c0(coefficient_.back());
+      continue;
     }
-    coefficient_.push_back(static_cast<int>(it - names.begin()));
-    if (std::isnan(p.start)) p.start = c0(coefficient_.back());
+    const std::string suffix = std::string(".") + kForceScale;
+    const bool is_scale = p.name.size() > suffix.size() && p.name.ends_with(suffix);
+    if (!is_scale) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      throw InputError(Location{"", 0, "parameters." + p.name}, "not a coefficient of the " + law_->name() + " law",
+                       p.name, "one of " + list + ", or <test>." + kForceScale);
+    }
+    if (std::isnan(p.start)) p.start = 1;
+    const std::string test = p.name.substr(0, p.name.size() - suffix.size());
+    for (std::size_t t = 0; t < models_.size(); ++t) {
+      if (models_[t].name != test) continue;
+      if (models_[t].control == fem::GripControl::force)
+        throw InputError(Location{"", 0, "parameters." + p.name}, "a force scale needs a displacement-controlled grip",
+                         "test " + test + " under force control", "control = \"displacement\"");
+      scale_of_test_[t] = static_cast<int>(k);
+    }
   }
 #ifndef NDEBUG
   validate(parameters_);  // the caller's check (project: IdentificationSpec::validate); trusted in release
@@ -150,10 +169,22 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
       data_.weight_rows(g, omega.replicate(1, per_step).transpose().reshaped());
     }
   }
+  bool scaled = false, unscaled = false;
+  for (const DataGroup& g : data_.groups())
+    if (g.kind == GroupKind::edge_force) (scale_of_test_[g.test] >= 0 ? scaled : unscaled) = true;
+  if (scaled && !unscaled)
+    throw InputError(Location{"", 0, "parameters"}, "every test's force is scaled, so nothing sets the law's scale",
+                     std::string("a <test>.") + kForceScale + " for every test with force data",
+                     "one test at least (one per direction) without a force scale: its specimen is the reference");
   if (data_.size() == 0)
     throw InputError(Location{"", 0, "data"}, "no data selected",
                      "", "edge displacement (force control), edge force (displacement control) or field data "
                          "with a weight > 0");
+}
+
+double Objective::force_scale(const Eigen::VectorXd& J, int test) const {
+  const int s = scale_of_test_[static_cast<std::size_t>(test)];
+  return s < 0 ? 1.0 : J(s);
 }
 
 std::unique_ptr<fem::Law> Objective::law_at(const Eigen::VectorXd& J) const {
@@ -247,32 +278,33 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
       if (g.test == t) rows += g.size;
     v.y.resize(rows);
     if (jacobian) v.dy.setZero(rows, static_cast<Eigen::Index>(parameters_.size()));
+    const Eigen::Index nl = static_cast<Eigen::Index>(coefficient_.size());  // the law's columns
     int row = 0;
     for (const DataGroup& g : data_.groups()) {
       if (g.test != t) continue;
       switch (g.kind) {
         case GroupKind::edge_displacement:
           v.y.segment(row, g.size) = P.edge_displacement;
-          if (jacobian) v.dy.middleRows(row, g.size) = P.d_edge_displacement;
+          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.d_edge_displacement;
           break;
         case GroupKind::edge_force:
           v.y.segment(row, g.size) = P.edge_force;
-          if (jacobian) v.dy.middleRows(row, g.size) = P.d_edge_force;
+          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.d_edge_force;
           break;
         case GroupKind::field_u:
           v.y.segment(row, g.size) = detail::stack(P.U);
-          if (jacobian) v.dy.middleRows(row, g.size) = P.dU;
+          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dU;
           break;
         case GroupKind::field_v:
           v.y.segment(row, g.size) = detail::stack(P.V);
-          if (jacobian) v.dy.middleRows(row, g.size) = P.dV;
+          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dV;
           break;
         case GroupKind::field_uv:
           v.y.segment(row, g.size) = detail::stack_uv(P.U, P.V);
           if (jacobian)
             for (Eigen::Index i = 0; i < P.dU.rows(); ++i) {
-              v.dy.row(row + 2 * i) = P.dU.row(i);
-              v.dy.row(row + 2 * i + 1) = P.dV.row(i);
+              v.dy.row(row + 2 * i).head(nl) = P.dU.row(i);
+              v.dy.row(row + 2 * i + 1).head(nl) = P.dV.row(i);
             }
           break;
       }
@@ -363,6 +395,18 @@ Evaluation Objective::evaluate_afresh(const Eigen::VectorXd& J, bool jacobian) c
     out.y.segment(g.offset, g.size) = v.y.segment(row[g.test], g.size);
     if (jacobian) dy.middleRows(g.offset, g.size) = v.dy.middleRows(row[g.test], g.size);
     row[g.test] += g.size;
+  }
+  // Force scales: a scaled test's grip force is k times the law's (its field does not change: under a
+  // displacement-controlled grip the FE's displacements do not depend on the forces' scale).
+  for (const DataGroup& g : data_.groups()) {
+    const int s = g.kind == GroupKind::edge_force ? scale_of_test_[g.test] : -1;
+    if (s < 0) continue;
+    const double k = J(s);
+    if (jacobian) {
+      dy.block(g.offset, 0, g.size, static_cast<Eigen::Index>(coefficient_.size())) *= k;
+      dy.col(s).segment(g.offset, g.size) = out.y.segment(g.offset, g.size);
+    }
+    out.y.segment(g.offset, g.size) *= k;
   }
   out.r = data_.residuals(out.y);
   if (jacobian) {

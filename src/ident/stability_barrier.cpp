@@ -52,8 +52,9 @@ StabilizedObjective::StabilizedObjective(const Objective& objective, StabilityBa
                      "response_surface");
   base_ = rs->coefficients();
   const auto names = rs->coefficient_names();
-  for (const auto& p : objective.parameters())
-    coefficient_.push_back(static_cast<int>(std::find(names.begin(), names.end(), p.name) - names.begin()));
+  for (int k = 0; k < objective.law_parameters(); ++k)  // the force scales after them have no barrier
+    coefficient_.push_back(static_cast<int>(
+        std::find(names.begin(), names.end(), objective.parameters()[static_cast<std::size_t>(k)].name) - names.begin()));
   const int nx = static_cast<int>(std::floor((options_.eC_max - options_.eC_min) / options_.step + 1e-9)) + 1;
   const int ny = static_cast<int>(std::floor((options_.eW_max - options_.eW_min) / options_.step + 1e-9)) + 1;
   for (int i = 0; i < nx; ++i)
@@ -192,7 +193,7 @@ Eigen::VectorXd StabilizedObjective::barrier(const Eigen::VectorXd& J, Eigen::Ma
       if (values[m] >= 0) continue;
       r(row + m) = -w * values[m] / margins[m];
       if (!jacobian) continue;
-      for (Eigen::Index k = 0; k < n; ++k) {
+      for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(coefficient_.size()); ++k) {
         const Mat2& b = basis_[g][static_cast<std::size_t>(coefficient_[static_cast<std::size_t>(k)])];
         // ∂A11/∂J_k = b11, ∂A22/∂J_k = b22, ∂det A/∂J_k = b11 a22 + a11 b22 − b12 a21 − a12 b21.
         const double d = m == 0 ? b(0, 0) : m == 1 ? b(1, 1)

@@ -399,8 +399,9 @@ void write_fit(const fs::path& dir, const ident::Objective& objective, const ide
     tab.columns = {"step", "load", "model_edge_displacement", "model_edge_force"};
     if (!d.edge_displacement.empty()) tab.columns.push_back("edge_displacement");
     if (!d.edge_force.empty()) tab.columns.push_back("edge_force");
+    const double scale = objective.force_scale(r.parameters, static_cast<int>(t));  // the specimen's
     for (int k = 0; k < d.steps(); ++k) {
-      std::vector<double> row{double(k + 1), d.loads[k], sim.steps[k].edge_displacement, sim.steps[k].edge_force};
+      std::vector<double> row{double(k + 1), d.loads[k], sim.steps[k].edge_displacement, scale * sim.steps[k].edge_force};
       if (!d.edge_displacement.empty()) row.push_back(d.edge_displacement[k]);
       if (!d.edge_force.empty()) row.push_back(d.edge_force[k]);
       tab.rows.push_back(std::move(row));
@@ -495,8 +496,9 @@ std::vector<TestFit> write_fit_field(const fs::path& dir, const ident::Objective
     }
     if (!d.edge_force.empty()) {
       double f2 = 0, peak = 0;
+      const double scale = objective.force_scale(r.parameters, static_cast<int>(t));
       for (int k = 0; k < d.steps(); ++k)
-        f2 += std::pow(sim.steps[std::size_t(k)].edge_force - d.edge_force[std::size_t(k)], 2),
+        f2 += std::pow(scale * sim.steps[std::size_t(k)].edge_force - d.edge_force[std::size_t(k)], 2),
             peak = std::max(peak, std::abs(d.edge_force[std::size_t(k)]));
       fits[t].force_rms_N = std::sqrt(f2 / d.steps()), fits[t].force_peak_N = peak;
     }
@@ -547,13 +549,15 @@ void print_summary(const IdentifyOutcome& o, const fs::path& out, const Log& log
   const ident::IdentifyResult& r = o.result;
   const bool truth = o.truth.has_value();
   log.print(r.brief_report());
-  std::string head = fmt::format("  {:<10} {:>13} {:>13} {:>11}", "", "start", "identified", "std error");
+  std::size_t w = 10;  // the names' column: as wide as the longest (a force scale's `<test>.force_scale`)
+  for (const auto& n : r.names) w = std::max(w, n.size());
+  std::string head = fmt::format("  {:<{}} {:>13} {:>13} {:>11}", "", w, "start", "identified", "std error");
   if (truth) head += fmt::format(" {:>13} {:>10} {:>7}", "truth", "rel. error", "in s.e.");
   log.print(head);
   for (std::size_t k = 0; k < r.names.size(); ++k) {
     const Eigen::Index i = Eigen::Index(k);
     const double se = i < r.uncertainty.std_error.size() ? r.uncertainty.std_error(i) : std::nan("");
-    std::string line = fmt::format("  {:<10} {:>13.6g} {:>13.6g} {:>11.3g}", r.names[k], r.start(i), r.parameters(i), se);
+    std::string line = fmt::format("  {:<{}} {:>13.6g} {:>13.6g} {:>11.3g}", r.names[k], w, r.start(i), r.parameters(i), se);
     if (truth)
       if (const auto t = o.truth->value(r.names[k]))
         line += fmt::format(" {:>13.6g} {:>9.3g}% {:>7.2f}", *t, 100 * (r.parameters(i) - *t) / std::abs(*t),

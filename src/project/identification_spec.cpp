@@ -52,10 +52,15 @@ SectionSpec parameter_section() {
                 "J_{i+1} = J_i + t_i·J_i (docs/theory.md §3).",
                 true, {}, {}};
   s.keys = {
-      key("name", std::string("C10"), "The coefficient's name in the law (e.g. C10, C03; a1 … for a response surface)."),
+      key("name", std::string("C10"),
+          "The coefficient's name in the law (e.g. C10, C03; a1 … for a response surface), or\n"
+          "\"<test>.force_scale\": that test's specimen force scale k, its grip force being k times the law's\n"
+          "(displacement-controlled tests). Repeats of one fabric differ in stiffness (density, width, yarn):\n"
+          "give each repeat but one per direction a scale, and the law is the reference repeat's, the\n"
+          "scales its repeats' spread (docs/theory.md §2)."),
       key("start", 0.1,
           "Start value, in the coefficient's units. Not given: the value in [law], so that [law] can\n"
-          "hold the start point."),
+          "hold the start point (1 for a force scale)."),
       key("scale", 0.0,
           "Typical size of the coefficient, > 0; 0 = |start|. A zero start needs a scale.", 0, 1e12),
       key("bounds", io::Reals{},
@@ -183,23 +188,30 @@ std::vector<ident::Parameter> build_parameters(const IdentificationSpec& spec, c
   const std::vector<std::string> names = law.coefficient_names();
   const Eigen::VectorXd c = law.coefficients();
   std::vector<ident::Parameter> out;
+  std::vector<ident::Parameter> scales;  // after the law's coefficients (ident::Objective)
   for (const ParameterSpec& p : spec.parameter) {
     const std::string& name = p.name;
     const auto it = std::find(names.begin(), names.end(), name);
-    if (it == names.end()) {
+    const std::string suffix = std::string(".") + ident::kForceScale;
+    const bool is_scale = it == names.end() && name.ends_with(suffix) &&
+                          std::any_of(spec.test.begin(), spec.test.end(), [&](const TestSpec& t) {
+                            return t.name + suffix == name;
+                          });
+    if (it == names.end() && !is_scale) {
       const std::string hint = io::closest_name(name, names);
       std::string all;
       for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
       p.origin.fail("name",
                     fmt::format("not a coefficient of the {} law in [law]{}", law.name(),
                                 hint.empty() ? "" : "; did you mean '" + hint + "'?"),
-                    "\"" + name + "\"", all);
+                    "\"" + name + "\"", all + ", or <test>." + ident::kForceScale + " of a [[test]]");
     }
-    for (const auto& q : out)
-      if (q.name == name) p.origin.fail("name", "this coefficient is identified twice", "\"" + name + "\"", "unique names");
+    for (const auto* list : {&out, &scales})
+      for (const auto& q : *list)
+        if (q.name == name) p.origin.fail("name", "this coefficient is identified twice", "\"" + name + "\"", "unique names");
     ident::Parameter x;
     x.name = name;
-    x.start = p.start ? *p.start : c(it - names.begin());
+    x.start = p.start ? *p.start : is_scale ? 1.0 : c(it - names.begin());
     x.scale = p.scale;
     // A start taken from [law] was checked with the law (its constructor); a given one is checked here.
     if (p.start) check_key(p.origin, parameter_section(), "start", *p.start);
@@ -219,8 +231,9 @@ std::vector<ident::Parameter> build_parameters(const IdentificationSpec& spec, c
       x.lower = b[0];
       x.upper = b[1];
     }
-    out.push_back(x);
+    (is_scale ? scales : out).push_back(x);
   }
+  out.insert(out.end(), scales.begin(), scales.end());
   return out;
 }
 

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tricot/core/error.hpp"
+#include "tricot/ident/problem.hpp"
 #include "tricot/image/image.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/io/log.hpp"
@@ -183,7 +184,11 @@ io::SectionSpec lab_schema() {
        key("frame_stride", std::int64_t{1}, "Steps are every frame_stride-th frame after the first (the reference), and the last.", 1, 1000000),
        key("mm_per_px", 0.0, "This test's pixel size, mm/px (a camera and zoom per test); 0 = [physical] mm_per_px.", 0, 1e6),
        key("model", std::string("kind = \"uniaxial\""),
-           "TOML lines added to this test's [[test]] in DIR/project.toml (kind, grip_holds_x, mesh, ...).")},
+           "TOML lines added to this test's [[test]] in DIR/project.toml (kind, grip_holds_x, mesh, ...)."),
+       key("force_scale", false,
+           "Identify this specimen's force scale k too (a [[parameter]] \"<name>.force_scale\" in\n"
+           "DIR/project.toml; its model force is k times the law's): repeats of one fabric differ in stiffness.\n"
+           "Leave it off on one test per direction, whose specimen sets the law's scale (docs/theory.md §2).")},
       {}};
   root.sections.push_back(test);
   for (io::SectionSpec s : dic_schema().sections) {
@@ -442,7 +447,12 @@ std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, cons
                      "[data]\n{} = 1.0\nfield = 1.0\nfield_sigma = \"per_point\"   # the DIC's σ of every value (field.csv)\n\n",
                      e.force_control() ? "edge_displacement" : "edge_force");
   }
-  for (std::size_t i = 0; i < tests.size(); ++i) s += project_test_table(root.array("test")[i], tests[i], e);
+  for (std::size_t i = 0; i < tests.size(); ++i) {
+    s += project_test_table(root.array("test")[i], tests[i], e);
+    if (root.array("test")[i].boolean("force_scale"))
+      s += fmt::format("[[parameter]]   # {0}'s specimen against the law's (force_scale in the lab file)\nname = \"{0}.{1}\"\n\n",
+                       tests[i].name, ident::kForceScale);
+  }
   s += fmt::format("[experiment]\ndir = \".\"\nfield_kind = \"{}\"\n", e.field_kind);
   double noise = 0;
   for (const auto& t : tests) noise = std::max(noise, t.force_noise_N);

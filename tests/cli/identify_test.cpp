@@ -352,6 +352,21 @@ TEST_F(Identify, AnUnknownCoefficientIsNamedWithAHint) {
   EXPECT_NE(r.err.find("].name: not a coefficient of the mooney_rivlin law in [law]; did you mean 'C10'?"), std::string::npos) << r.err;
 }
 
+TEST_F(Identify, AForceScaleNamesItsTestAndNeedsADisplacementGrip) {
+  // `<test>.force_scale` (docs/theory.md §2): of a [[test]] of the project, under displacement control.
+  const auto unknown = identify("scale_unknown", small_project("../exp", "", "[[parameter]]\nname = \"C10\"\n"
+                                                                             "[[parameter]]\nname = \"tensoin.force_scale\"\n"));
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("].name: not a coefficient of the mooney_rivlin law in [law]"), std::string::npos) << unknown.err;
+  EXPECT_NE(unknown.err.find("or <test>.force_scale of a [[test]]"), std::string::npos) << unknown.err;
+  const auto force = identify("scale_force", small_project("../exp", "", "[[parameter]]\nname = \"C10\"\n"
+                                                                         "[[parameter]]\nname = \"tension.force_scale\"\n"));
+  EXPECT_EQ(force.exit_code, 2);
+  EXPECT_NE(force.err.find("parameters.tension.force_scale: a force scale needs a displacement-controlled grip"),
+            std::string::npos)
+      << force.err;
+}
+
 TEST_F(Identify, ANanInTheDataNamesFileLineAndColumn) {
   const fs::path exp = root_ / "exp_nan";
   fs::remove_all(exp);

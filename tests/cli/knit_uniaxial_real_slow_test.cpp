@@ -18,10 +18,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Measured (docs/validation.md §4): the worst repeat's force RMS is 5.8 % of its peak with the
-// example's 6-coefficient polynomial law; an elastic law cannot follow the holds' relaxation. The
-// bound below is that figure with a margin, not the issue's 3 % target, which is not reached.
-constexpr double kWorstForceRmsOfPeak = 0.07;
+// Issue 29's targets: each repeat's force RMS within 3 % of its peak for the acrylic garter, 5 % for
+// the cotton one, with every repeat of both directions identified jointly. Measured
+// (docs/validation.md §4): 2.8 % and 3.1 % at worst, with each repeat but the first per direction
+// given its own force scale (the repeats differ in stiffness by up to 22 %); without them the best
+// single curve through the repeats is 5.4 % and 6.6 % off the worst one.
+constexpr double kAcrylicForceRmsOfPeak = 0.03, kCottonForceRmsOfPeak = 0.05;
 
 bool have_the_data() { return fs::exists(test::shared_data() / "knit-uniaxial" / "acrylic-garter-X" / "video1" / "tracks.csv"); }
 
@@ -41,11 +43,13 @@ fs::path run_example(const std::string& name, const char* lab, const char* templ
   return root;
 }
 
-TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
-  if (!have_the_data()) GTEST_SKIP() << "no " << test::shared_data() / "knit-uniaxial";
-  const fs::path root = run_example("knit_uniaxial_real", "acrylic-garter.toml", "project-template.toml");
+// Each repeat's fit: its force RMS below `worst` of its peak (fit_<test>.csv, and as result.json says),
+// its tracked points' residual (fit_field_<test>.csv, its RMS in result.json, its map in plots/), and
+// the force scales of repeats 2–5 of each direction in result.json.
+void expect_repeats_fitted(const fs::path& root, double worst) {
   const nlohmann::json j = nlohmann::json::parse(io::read_text(root / "out" / "result.json"));
   EXPECT_TRUE(j["converged"].get<bool>()) << j["termination"];
+  EXPECT_TRUE(j["stability_passed"].get<bool>());
   EXPECT_TRUE(fs::exists(root / "out" / "report.html"));
   int tests = 0;
   for (const char* d : {"X", "Y"})
@@ -55,20 +59,27 @@ TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
       const auto model = fit.numbers("model_edge_force"), measured = fit.numbers("edge_force");
       double s2 = 0, peak = 0;
       for (std::size_t k = 0; k < model.size(); ++k) s2 += std::pow(model[k] - measured[k], 2), peak = std::max(peak, std::abs(measured[k]));
-      EXPECT_LT(std::sqrt(s2 / double(model.size())), kWorstForceRmsOfPeak * peak) << name;
+      EXPECT_LT(std::sqrt(s2 / double(model.size())), worst * peak) << name;
       EXPECT_NEAR(j["fit"][name]["force_rms_N"].get<double>(), std::sqrt(s2 / double(model.size())), 1e-9 * peak) << name;
-      // The tracked points' residual: fit_field_<test>.csv, its RMS in result.json, its map in plots/.
       const io::LogTable field = io::read_log(root / "out" / ("fit_field_" + name + ".csv"));
-      const auto u = field.numbers("u"), v = field.numbers("v"), mu = field.numbers("model_u"), mv = field.numbers("model_v");
+      const auto u = field.numbers("u"), vv = field.numbers("v"), mu = field.numbers("model_u"), mv = field.numbers("model_v");
       double e2 = 0;
-      for (std::size_t k = 0; k < u.size(); ++k) e2 += std::pow(mu[k] - u[k], 2) + std::pow(mv[k] - v[k], 2);
+      for (std::size_t k = 0; k < u.size(); ++k) e2 += std::pow(mu[k] - u[k], 2) + std::pow(mv[k] - vv[k], 2);
       EXPECT_NEAR(j["fit"][name]["points_rms_mm"].get<double>(), std::sqrt(e2 / double(u.size())), 1e-6) << name;
       EXPECT_TRUE(fs::exists(root / "out" / "plots" / ("fit_field_" + name + ".png"))) << name;
+      EXPECT_EQ(j["parameters"].contains(name + ".force_scale"), v > 1) << name;
       ++tests;
     }
   EXPECT_EQ(tests, 10);
+}
+
+TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
+  if (!have_the_data()) GTEST_SKIP() << "no " << test::shared_data() / "knit-uniaxial";
+  const fs::path root = run_example("knit_uniaxial_real", "acrylic-garter.toml", "project-template.toml");
+  expect_repeats_fitted(root, kAcrylicForceRmsOfPeak);
   // Five repeats per direction, all free-sided: one path through (εC, εW) per surface, so eq. 9 is
   // "not computed", with the counts (issue 29, obstacle 7).
+  const nlohmann::json j = nlohmann::json::parse(io::read_text(root / "out" / "result.json"));
   for (const char* surface : {"course", "wale"}) {
     const auto& e = j["eq9"][surface];
     EXPECT_FALSE(e["computed"].get<bool>()) << surface;
@@ -77,12 +88,17 @@ TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
   }
 }
 
+TEST(KnitUniaxialReal, CottonGarterTheSameWay) {
+  if (!have_the_data()) GTEST_SKIP() << "no " << test::shared_data() / "knit-uniaxial";
+  expect_repeats_fitted(run_example("knit_uniaxial_cotton", "cotton-garter.toml", "project-template.toml"),
+                        kCottonForceRmsOfPeak);
+}
+
 // The same repeats as whole specimens (acrylic-garter-full.toml: model = "full", each clamp driven by
 // its marker's measured motion, nothing removed or folded). With one homogeneous material both models
 // stretch the fabric uniformly between the clamps, so they leave the same residual on the tracked
-// points (measured: full / quarter 0.99–1.00 per repeat, 2.2–3.7 mm): the floor is the fabric's own
-// uneven stretch (its two halves 58 % and 44 %), which no single-material model follows. Issue 29's
-// "at most half the quarter's" is not reached.
+// points (measured: full / quarter 0.99–1.00 per repeat, 1.0–2.9 mm): the quarter's rigid motion
+// removal already follows the one-sided pull. Issue 29's "at most half the quarter's" is not reached.
 TEST(KnitUniaxialReal, TheWholeSpecimenDrivenByItsClampsLeavesTheQuartersResidual) {
   if (!have_the_data()) GTEST_SKIP() << "no " << test::shared_data() / "knit-uniaxial";
   const fs::path quarter = run_example("knit_uniaxial_quarter", "acrylic-garter.toml", "project-template.toml");

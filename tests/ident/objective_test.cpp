@@ -10,6 +10,7 @@
 #include "tricot/fem/reference_fabric.hpp"
 #include "tricot/fem/response_surface.hpp"
 #include "tricot/fem/rig.hpp"
+#include "tricot/ident/identify.hpp"
 #include "tricot/ident/synthetic.hpp"
 #include "uniaxial.hpp"
 
@@ -80,6 +81,97 @@ TEST(Objective, JacobianMatchesFiniteDifferencesForEdgeForceAndIncrementalField)
   ASSERT_EQ(objective.data().groups().size(), 2u);  // edge force, uv
   EXPECT_EQ(objective.data().groups()[1].kind, GroupKind::field_uv);
   expect_jacobian_matches_fd(objective);
+}
+
+// Two repeats of one strip, the second a stiffer specimen (its force ×1.2), with the second's force
+// scale identified (docs/theory.md §2): the objective is zero at the law's truth and k = 1.2, its
+// Jacobian (the scale's column: the law's force) matches central differences, and LM finds both from a
+// start 10 % off.
+struct Repeats {
+  std::vector<fem::TestModel> models;
+  Experiment experiment;
+};
+Repeats two_repeats(double k) {
+  Repeats r;
+  for (const char* name : {"a", "b"}) {
+    fem::TestModel m = uniaxial(2, 4, 3, fem::GripControl::displacement);
+    m.name = name;
+    r.models.push_back(m);
+    Experiment e = experiment_from(m, field_points(3, 4), FieldKind::cumulative);
+    e.tests[0].name = name;
+    if (std::string(name) == "b")
+      for (double& f : e.tests[0].edge_force) f *= k;
+    r.experiment.tests.push_back(e.tests[0]);
+  }
+  return r;
+}
+
+TEST(Objective, AForceScaleIsZeroAtItsTruthAndItsJacobianMatchesFiniteDifferences) {
+  const Repeats rep = two_repeats(1.2);
+  std::vector<Parameter> p = all_four();
+  p.push_back(Parameter{"b.force_scale"});
+  const Objective objective(rep.models, rep.experiment, fem::MooneyRivlin(kTruth), p, tight());
+  ASSERT_EQ(objective.law_parameters(), 4);
+  EXPECT_EQ(objective.parameters()[4].start, 1.0);  // a NaN start is 1
+  Eigen::VectorXd J(5);
+  J << 0.1, -0.025, 0.015, 0.01, 1.2;
+  const Evaluation at_truth = objective.evaluate(J, false);
+  ASSERT_TRUE(at_truth.ok) << at_truth.message;
+  EXPECT_LT(at_truth.objective(), 1e-20);  // round-off of k × y
+  EXPECT_EQ(objective.force_scale(J, 1), 1.2);
+  EXPECT_EQ(objective.force_scale(J, 0), 1.0);
+  J << 0.11, -0.022, 0.016, 0.0095, 1.1;
+  const Evaluation e = objective.evaluate(J, true);
+  ASSERT_TRUE(e.ok) << e.message;
+  auto r = [&](const Eigen::VectorXd& x) {
+    const Evaluation ex = objective.evaluate(x, false);
+    EXPECT_TRUE(ex.ok) << ex.message;
+    return ex.r;
+  };
+  EXPECT_TRUE(tricot::test::JacobianMatches(r, J, e.jacobian, kFdAgreement, 1e-6));
+  // The field rows do not depend on the scale: under a displacement-controlled grip the FE's
+  // displacements are the law's whatever the forces' scale.
+  for (const DataGroup& g : objective.data().groups()) {
+    if (g.kind != GroupKind::edge_force || g.test == 0) {
+      EXPECT_EQ(e.jacobian.col(4).segment(g.offset, g.size).norm(), 0.0) << g.name;
+    }
+  }
+  // LM from 10 % off.
+  std::vector<Parameter> off = p;
+  for (std::size_t k = 0; k < 4; ++k) off[k].start = 1.1 * kTruth[k].C;
+  off[4].start = 1.0;
+  const Objective from_off(rep.models, rep.experiment, fem::MooneyRivlin(kTruth), off, tight());
+  IdentifyOptions io;
+  io.epsilon = 1e-20;
+  io.delta = 1e-10;
+  const IdentifyResult got = identify(from_off, io);
+  ASSERT_TRUE(got.converged()) << got.message;
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_NEAR(got.parameters(Eigen::Index(k)), kTruth[k].C, 1e-6 * std::abs(kTruth[k].C));
+  EXPECT_NEAR(got.parameters(4), 1.2, 1e-6);
+}
+
+TEST(Objective, AForceScaleNeedsADisplacementGripAndAnUnscaledTestBeside) {
+  const Repeats rep = two_repeats(1.0);
+  std::vector<Parameter> both = all_four();
+  both.push_back(Parameter{"a.force_scale"});
+  both.push_back(Parameter{"b.force_scale"});
+  try {  // nothing sets the law's scale
+    Objective(rep.models, rep.experiment, fem::MooneyRivlin(kTruth), both);
+    FAIL();
+  } catch (const InputError& err) {
+    EXPECT_EQ(err.where().key, "parameters");
+    EXPECT_NE(std::string(err.what()).find("every test's force is scaled"), std::string::npos) << err.what();
+  }
+  const fem::TestModel force = uniaxial(2, 4, 3, fem::GripControl::force);
+  std::vector<Parameter> p = all_four();
+  p.push_back(Parameter{"uniaxial.force_scale"});
+  try {
+    Objective({force}, experiment_from(force, field_points(3, 4), FieldKind::cumulative), fem::MooneyRivlin(kTruth), p);
+    FAIL();
+  } catch (const InputError& err) {
+    EXPECT_EQ(err.where().key, "parameters.uniaxial.force_scale");
+    EXPECT_NE(std::string(err.what()).find("displacement-controlled"), std::string::npos) << err.what();
+  }
 }
 
 TEST(Objective, IsZeroAtTheTruthOnTheSameMesh) {

@@ -91,7 +91,10 @@ class Objective : public Problem {
  public:
   /// Checks everything before any work (InputError): the experiment; one model per test, same name
   /// and loads (to 1e-9 of the largest); the parameters' names among the law's coefficients (NaN
-  /// start = the law's value; their values are trusted: ident::validate() is the caller's check,
+  /// start = the law's value), followed by any force scales `<test>.force_scale` (NaN start = 1): a
+  /// scaled test's grip force is k times the law's, for displacement-controlled tests only, and one
+  /// test with force data at least keeps its own (a scale of a test this experiment lacks has no
+  /// effect: a one-test objective takes the whole parameter vector). Their values are trusted: ident::validate() is the caller's check,
   /// repeated here in debug builds only); every field point inside its reference mesh (else one error
   /// saying how many are outside and naming the first: test, id, x, y); at least one data group.
   Objective(std::vector<fem::TestModel> models, Experiment experiment, const fem::Law& law,
@@ -126,6 +129,10 @@ class Objective : public Problem {
   const Experiment& experiment() const { return experiment_; }
   /// A clone of the law with the identified coefficients set to J (the others as given).
   std::unique_ptr<fem::Law> law_at(const Eigen::VectorXd& J) const;
+  /// How many of parameters() are the law's coefficients: the first ones; the force scales follow.
+  int law_parameters() const { return static_cast<int>(coefficient_.size()); }
+  /// Test `test`'s force scale k at J (its model force is k times the law's; 1 when it has none).
+  double force_scale(const Eigen::VectorXd& J, int test) const;
   /// Every test simulated with the law at J (e.g. the answer's fits): the last evaluation's
   /// simulations where they are at J (warm_start, sensitivities_after), else fresh runs in parallel
   /// threads; an unusable run says why in its message.
@@ -136,7 +143,8 @@ class Objective : public Problem {
   Experiment experiment_;
   std::unique_ptr<fem::Law> law_;
   std::vector<Parameter> parameters_;
-  std::vector<int> coefficient_;  // law coefficient index of each parameter
+  std::vector<int> coefficient_;    // law coefficient index of each of the first parameters
+  std::vector<int> scale_of_test_;  // per test: the index of its force scale in parameters_, or −1
   ObjectiveOptions options_;
   ScaledResiduals data_;
   std::vector<std::vector<fem::Location>> reference_locations_;  // per test, per point

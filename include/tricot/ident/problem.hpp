@@ -24,6 +24,10 @@ struct Parameter {
   /// The scale LM uses: `scale`, or |start| when scale is 0.
   double resolved_scale() const;
 };
+/// The suffix of a test's force scale k, a parameter named `<test>.force_scale`: that test's grip force
+/// is k times the law's (ident::Objective; docs/theory.md §2).
+inline constexpr const char* kForceScale = "force_scale";
+
 /// Throws InputError naming `parameters.<name>.<field>` for: an empty or repeated name, a
 /// non-finite start, lower ≥ upper, a start outside the bounds, a negative or non-finite scale, or
 /// a zero start without a scale. identify() calls it; Objective trusts its parameters (checked by
