@@ -7,14 +7,28 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <optional>
 #include <type_traits>
 
 #include "tricot/core/error.hpp"
+#include "tricot/core/format.hpp"
 
 namespace tricot::dic {
+
+std::string SequenceResult::brief_report() const {
+  // The last frame's number + 1: `frames` may hold only the last ones (keep_frames, a resumed run).
+  const std::string points = std::to_string(grid.size());
+  std::string s = std::to_string(frames.empty() ? 0 : frames.back().frame + 1) + " frames, " + points + " points";
+  if (!frames.empty()) {
+    char z[64];
+    std::snprintf(z, sizeof z, "%.4f", frames.back().mean_zncc);
+    s += ": " + std::to_string(frames.back().ok) + "/" + points + " ok in the last frame, mean ZNCC " + z;
+  }
+  return s + ", " + format_duration(seconds);
+}
 
 const char* to_string(SequenceMode m) {
   switch (m) {

@@ -11,6 +11,7 @@
 #include "linear_solver.hpp"
 #include "tricot/fem/element.hpp"
 #include "tricot/core/error.hpp"
+#include "tricot/core/format.hpp"
 
 namespace tricot::fem {
 
@@ -41,6 +42,18 @@ const char* to_string(SolveTermination t) {
     case SolveTermination::cancelled: return "cancelled";
   }
   return "?";
+}
+
+std::string SimulationResult::brief_report() const {
+  if (steps.empty()) return "no step converged, " + format_duration(seconds);
+  int iterations = 0, cutbacks = 0;
+  for (const StepResult& s : steps) iterations += s.iterations, cutbacks += s.cutbacks;
+  const StepResult& last = steps.back();
+  char tail[160];
+  std::snprintf(tail, sizeof tail, "; final force %.5g N (%.5g N/mm) at %.5g mm", last.edge_force, last.force_per_width,
+                last.edge_displacement);
+  return std::to_string(steps.size()) + " steps, " + std::to_string(iterations) + " Newton iterations, " +
+         std::to_string(cutbacks) + " cutbacks, " + format_duration(seconds) + tail;
 }
 
 namespace {

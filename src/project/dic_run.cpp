@@ -524,11 +524,8 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
     fs::remove(checkpoint_path, ec);  // the run is whole: nothing to resume
   }
   output.publish();
-  const dic::TrackedFrame& last = r.frames.back();
   run.frames = n + 1;
-  log.print(fmt::format("{} frames, {} points, {} mode: {}/{} ok in the last frame, mean ZNCC {:.4f}, {}",
-                        run.frames, grid.size(), dic::to_string(s.sequence.mode), last.ok, grid.size(),
-                        last.mean_zncc, format_duration(r.seconds)));
+  log.print(fmt::format("{} ({} mode)", r.brief_report(), dic::to_string(s.sequence.mode)));
   log.print(fmt::format("strains: virtual strain gauge {} px = ({} - 1) x {} px step + {} px subset ({}-point window; "
                         "a sinusoidal strain keeps 90 % of its amplitude at periods >= {:.0f} px with first-order subsets)",
                         vsg, s.sequence.strain.window, s.sequence.dic.step, s.sequence.dic.icgn.subset_size,

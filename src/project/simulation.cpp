@@ -120,15 +120,7 @@ plot {} using "edge_displacement":"force_per_width" with linespoints pt 7 ps 0.6
   }
 
   const std::string where = (shown / test.name / "").string();
-  if (!r.steps.empty()) {
-    const auto& last = r.steps.back();
-    log.print(fmt::format("{}: {} steps, {} Newton iterations, {} cutbacks, {}; final force {:.5g} N "
-                              "({:.5g} N/mm) at {:.5g} mm -> {}",
-                              test.name, r.steps.size(), iterations, cutbacks, format_duration(r.seconds),
-                              last.edge_force, last.force_per_width, last.edge_displacement, where));
-  } else {
-    log.print(fmt::format("{}: no step converged, {} -> {}", test.name, format_duration(r.seconds), where));
-  }
+  log.print(test.name + ": " + r.brief_report() + " -> " + where);
   return {r.usable(), r.message};
 }
 

@@ -28,6 +28,19 @@ SequenceOptions options(SequenceMode mode) {
 
 }  // namespace
 
+TEST(Sequence, ABriefReportCountsTheFramesUpToTheLastOneKeptOrNot) {
+  SequenceResult r;
+  r.grid.resize(25);
+  r.seconds = 2.1;
+  EXPECT_EQ(r.brief_report(), "0 frames, 25 points, 2.1 s");
+  TrackedFrame last;
+  last.frame = 40;  // only the last frame kept (keep_frames = false, or a resumed run)
+  last.ok = 24;
+  last.mean_zncc = 0.99871;
+  r.frames.push_back(last);
+  EXPECT_EQ(r.brief_report(), "41 frames, 25 points: 24/25 ok in the last frame, mean ZNCC 0.9987, 2.1 s");
+}
+
 TEST(Sequence, IncrementalModeTracksAStretchTo120And40PercentInTenFrames) {
   StretchSequence s;  // 12 % stretch per frame along x, 4 % along y
   const SequenceResult r = test::track(s, options(SequenceMode::incremental));

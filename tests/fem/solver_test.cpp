@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 #include <map>
 #include <random>
@@ -504,6 +506,22 @@ TEST(Simulate, ReportsOneProgressPerStepAndTimings) {
   EXPECT_GT(r.factorizations, 0);
   EXPECT_GE(r.seconds, r.factorization_seconds);
   EXPECT_STREQ(to_string(r.termination), "converged");
+}
+
+TEST(Simulate, ABriefReportSaysTheStepsTheNewtonWorkAndTheFinalForce) {
+  const test::TestingLaw law;
+  const TestModel t = model(strip(ElementType::Q4, 2, 2), {1, 2, 3});
+  SimulationResult r = simulate(t, law);
+  ASSERT_TRUE(r.usable());
+  int iterations = 0;
+  for (const StepResult& s : r.steps) iterations += s.iterations;
+  r.seconds = 0.781;
+  char force[160];
+  std::snprintf(force, sizeof force, "; final force %.5g N (%.5g N/mm) at %.5g mm", r.steps.back().edge_force,
+                r.steps.back().force_per_width, r.steps.back().edge_displacement);
+  EXPECT_EQ(r.brief_report(), "3 steps, " + std::to_string(iterations) + " Newton iterations, 0 cutbacks, 781 ms" + force);
+  r.steps.clear();
+  EXPECT_EQ(r.brief_report(), "no step converged, 781 ms");
 }
 
 TEST(Simulate, InvalidModelThrowsBeforeAnyWork) {

@@ -91,6 +91,9 @@ struct SequenceResult {
   SequenceTermination termination = SequenceTermination::completed;
   std::string message;
   double seconds = 0;
+  /// One line: "41 frames, 1131 points: 1131/1131 ok in the last frame, mean ZNCC 0.9987, 2.1 s" (the
+  /// frames up to the last one tracked, kept or not).
+  std::string brief_report() const;
 };
 
 /// Where a checkpoint (SequenceTracker::checkpoint) stands: the images a resumed tracker needs.

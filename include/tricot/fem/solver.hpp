@@ -113,6 +113,9 @@ struct SimulationResult {
   double factorization_seconds = 0;  ///< of which in numeric factorization
   int factorizations = 0;
   bool usable() const { return termination == SolveTermination::converged; }
+  /// One line: "21 steps, 38 Newton iterations, 0 cutbacks, 781 ms; final force 34.443 N (0.31312 N/mm)
+  /// at 30.676 mm" (iterations and cutbacks of the steps), or "no step converged, 781 ms".
+  std::string brief_report() const;
 };
 
 /// Runs every step of `test` with `law`. Validates options and model first (InputError); a step that
