@@ -49,8 +49,8 @@ struct Setup {
     data.tests.push_back(ident::measure(fine, sim, points));
     std::vector<ident::Parameter> p;
     for (const auto& t : truth) p.push_back({"C" + std::to_string(t.i) + std::to_string(t.j), 0.9 * t.C});
-    objective = std::make_unique<ident::Objective>(std::vector<fem::TestModel>{model}, data,
-                                                   fem::MooneyRivlin(truth), p);
+    objective =
+        std::make_unique<ident::Objective>(std::vector<fem::TestModel>{model}, data, fem::MooneyRivlin(truth), p);
     J = Eigen::Vector4d(0.9 * truth[0].C, 0.9 * truth[1].C, 0.9 * truth[2].C, 0.9 * truth[3].C);
   }
 };

@@ -53,9 +53,9 @@ constexpr double kShear = 0.05;  // G_s of the truth and of the identified surfa
 struct CampaignSpec {
   double side;
   int steps;
-  double wale_pull, course_pull;            // GL strain along the pull at the last step
-  std::vector<double> course_settings;      // transverse course strains of the wale-pulled tests
-  std::vector<double> wale_settings;        // transverse wale strains of the course-pulled tests
+  double wale_pull, course_pull;        // GL strain along the pull at the last step
+  std::vector<double> course_settings;  // transverse course strains of the wale-pulled tests
+  std::vector<double> wale_settings;    // transverse wale strains of the course-pulled tests
 };
 const CampaignSpec k110{110, 21, 0.65, 1.0, {0, 0.2, 0.4, 0.55, 0.7}, {0, 0.15, 0.3, 0.45, 0.6}};
 const CampaignSpec k150{150, 28, 0.35, 0.45, {0, 0.15, 0.3, 0.45}, {0, 0.12, 0.24, 0.35}};
@@ -141,7 +141,8 @@ Campaign& campaign(int size) {
 }
 
 /// Eq. 9's points (docs/theory.md §9): course points from the course-pulled tests, wale from wale-pulled.
-std::vector<ident::SurfacePoint> surface_points(const Campaign& c, fem::PullDirection pull, bool (*keep)(const CampaignTest&, int)) {
+std::vector<ident::SurfacePoint> surface_points(const Campaign& c, fem::PullDirection pull,
+                                                bool (*keep)(const CampaignTest&, int)) {
   std::vector<ident::SurfacePoint> p;
   for (const auto& t : c.tests) {
     if (t.pull != pull) continue;
@@ -205,7 +206,8 @@ Eigen::VectorXd polynomial_start(const fem::ResponseSurface& law, const Campaign
     for (int force = 0; force < 2; ++force) {
       const Eigen::Index m = A[force].cols();
       const Eigen::MatrixXd M = A[force].transpose() * A[force] + lambda * Eigen::MatrixXd::Identity(m, m);
-      const Eigen::VectorXd x = M.colPivHouseholderQr().solve(A[force].transpose() * b[force] + lambda * x_slope[force]);
+      const Eigen::VectorXd x =
+          M.colPivHouseholderQr().solve(A[force].transpose() * b[force] + lambda * x_slope[force]);
       J.segment(force == 0 ? 0 : nc, m) = x.cwiseQuotient(norms[force]);
     }
     return J;
@@ -222,7 +224,6 @@ Eigen::VectorXd polynomial_start(const fem::ResponseSurface& law, const Campaign
   }
   return solve(1e12);
 }
-
 
 /// Diagnosis (TRICOT_CAMPAIGN_PROBE="J1,…,J14[;s]"): the 110 mm models run with paper14 at
 /// J* + s (J* − J_start), printing each test's status and, step by step, the strains, the tangent
@@ -248,7 +249,8 @@ void probe(const char* spec) {
   const int watch = std::getenv("TRICOT_PROBE_ELEMENT") ? std::atoi(std::getenv("TRICOT_PROBE_ELEMENT")) : 107;
   for (const auto& t : c.tests) {
     const fem::SimulationResult r = fem::simulate(t.model, law);
-    std::printf("# probe s=%g %s: %s %s (%zu steps)\n", s, t.model.name.c_str(), fem::to_string(r.termination), r.message.c_str(), r.steps.size());
+    std::printf("# probe s=%g %s: %s %s (%zu steps)\n", s, t.model.name.c_str(), fem::to_string(r.termination),
+                r.message.c_str(), r.steps.size());
     if (r.usable()) continue;
     const Eigen::Matrix2d Q = t.pull == fem::PullDirection::wale ? Eigen::Matrix2d::Identity()
                                                                  : Eigen::Matrix2d(Eigen::Rotation2Dd(M_PI / 2));
@@ -266,8 +268,9 @@ void probe(const char* spec) {
         A.col(0) = (law.forces(E(0, 0) + h, E(1, 1)) - law.forces(E(0, 0) - h, E(1, 1))) / (2 * h);
         A.col(1) = (law.forces(E(0, 0), E(1, 1) + h) - law.forces(E(0, 0), E(1, 1) - h)) / (2 * h);
         const Vec2 f = law.forces(E(0, 0), E(1, 1));
-        std::printf("#   step %2zu el %3d: eC %7.3f eW %7.3f eCW %7.3f detF %6.3f  F_C %7.4f F_W %7.4f  det dF/de %8.4f\n", k + 1, e,
-                    E(0, 0), E(1, 1), E(0, 1), F.determinant(), f(0), f(1), A.determinant());
+        std::printf(
+            "#   step %2zu el %3d: eC %7.3f eW %7.3f eCW %7.3f detF %6.3f  F_C %7.4f F_W %7.4f  det dF/de %8.4f\n",
+            k + 1, e, E(0, 0), E(1, 1), E(0, 1), F.determinant(), f(0), f(1), A.determinant());
       }
   }
 }
@@ -356,8 +359,9 @@ Run identify(const Campaign& c, const std::string& preset, bool restricted) {
   run.objective = wrinkling() ? std::make_unique<ident::Objective>(models, data, fem::WrinklingLaw(law), p, oo)
                               : std::make_unique<ident::Objective>(models, data, law, p, oo);
   ident::IdentifyOptions o;
-  o.initial_trust_region_radius = 100, o.line_search_trials = 4;  // examples/knit-campaign/project-110.toml's [identify]
-  o.active_set = true;  // as project-110.toml (docs/validation.md §5)
+  o.initial_trust_region_radius = 100,
+  o.line_search_trials = 4;  // examples/knit-campaign/project-110.toml's [identify]
+  o.active_set = true;       // as project-110.toml (docs/validation.md §5)
   // TRICOT_CAMPAIGN_BARRIER_GROWTH: identify.barrier_growth (0 = LM's steps not cut at the barrier).
   if (const char* g = std::getenv("TRICOT_CAMPAIGN_BARRIER_GROWTH")) o.barrier_growth = std::strtod(g, nullptr);
   // The material-stability barrier (ident/stability_barrier.hpp) unless TRICOT_CAMPAIGN_NO_BARRIER.
@@ -401,16 +405,18 @@ void report(benchmark::State& state, const Campaign& c, const Run& r, const std:
   state.counters["true_W_pract"] = r.errors.wale_true.practical;
   state.SetLabel(label + " " + ident::to_string(res.termination));
   std::printf("\n# %s: %s (%s)\n# f = %.4g, %d iterations, %d evaluations, %.1f s, cond %.3g, max |corr| %.3f\n",
-              label.c_str(), ident::to_string(res.termination), res.message.c_str(), res.objective, res.iterations, res.evaluations,
-              res.wall_seconds, res.uncertainty.condition_number, max_correlation(res.uncertainty));
+              label.c_str(), ident::to_string(res.termination), res.message.c_str(), res.objective, res.iterations,
+              res.evaluations, res.wall_seconds, res.uncertainty.condition_number, max_correlation(res.uncertainty));
   auto row = [](const char* what, const Surfaces& s) {
-    std::printf("#   %-34s course %.3f / %.3f   wale %.3f / %.3f   (true: course %.3f / %.3f, wale %.3f / %.3f)\n", what,
-                s.course.whole, s.course.practical, s.wale.whole, s.wale.practical, s.course_true.whole,
+    std::printf("#   %-34s course %.3f / %.3f   wale %.3f / %.3f   (true: course %.3f / %.3f, wale %.3f / %.3f)\n",
+                what, s.course.whole, s.course.practical, s.wale.whole, s.wale.practical, s.course_true.whole,
                 s.course_true.practical, s.wale_true.whole, s.wale_true.practical);
   };
-  std::printf("#   eq. 9 whole / practical (points: course %d / %d, wale %d / %d); paper 110/14: course 0.218 / 0.084, wale 0.313 / 0.079\n",
-              r.errors.course.points_whole, r.errors.course.points_practical, r.errors.wale.points_whole,
-              r.errors.wale.points_practical);
+  std::printf(
+      "#   eq. 9 whole / practical (points: course %d / %d, wale %d / %d); paper 110/14: course 0.218 / 0.084, wale "
+      "0.313 / 0.079\n",
+      r.errors.course.points_whole, r.errors.course.points_practical, r.errors.wale.points_whole,
+      r.errors.wale.points_practical);
   row("LS fit of the points (no FE)", r.start_errors);
   row("identified (FE, field + force)", r.errors);
   std::printf("#   J*:");
@@ -426,8 +432,8 @@ void report(benchmark::State& state, const Campaign& c, const Run& r, const std:
       size_t g_min = 0;
       for (size_t g = 0; g < A.size(); ++g)
         if (A[g].determinant() < A[g_min].determinant()) g_min = g;
-      std::printf("#   smallest det dF/de %.4g (N/mm)^2 at (%.2f, %.2f); barrier part of f %.4g\n", A[g_min].determinant(),
-                  r.stabilized->grid()[g_min](0), r.stabilized->grid()[g_min](1),
+      std::printf("#   smallest det dF/de %.4g (N/mm)^2 at (%.2f, %.2f); barrier part of f %.4g\n",
+                  A[g_min].determinant(), r.stabilized->grid()[g_min](0), r.stabilized->grid()[g_min](1),
                   0.5 * r.stabilized->barrier(res.parameters).squaredNorm());
     }
   }
@@ -453,10 +459,12 @@ void report(benchmark::State& state, const Campaign& c, const Run& r, const std:
                 id.pinned[k] ? "yes" : "no");
   std::printf("#   least identifiable direction:");
   for (Eigen::Index k = 0; k < id.least_identifiable.size(); ++k)
-    if (std::abs(id.least_identifiable(k)) > 0.2) std::printf(" %+.2f %s", id.least_identifiable(k), res.names[k].c_str());
+    if (std::abs(id.least_identifiable(k)) > 0.2)
+      std::printf(" %+.2f %s", id.least_identifiable(k), res.names[k].c_str());
   std::printf("\n#   share of tr M / of the weak direction per test:");
   for (size_t t = 0; t < rows.size(); ++t)
-    std::printf(" %s %.2f/%.2f", r.objective->experiment().tests[t].name.c_str(), id.trace_share[t], id.weak_direction_share[t]);
+    std::printf(" %s %.2f/%.2f", r.objective->experiment().tests[t].name.c_str(), id.trace_share[t],
+                id.weak_direction_share[t]);
   std::printf("\n");
   (void)c;
 }
@@ -506,9 +514,9 @@ BENCHMARK(BM_Evaluate)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasurePr
 /// Issue 15, the paper's scale: one evaluation (field + grip force, 14 sensitivities) of the five
 /// wale-pulled 110 mm tests × 21 steps with `paper14` at the slope start (a1 and c1 only, fitted to the
 /// eq. 9 points: stable at every strain; the least-squares start and the 120-element J* both lose
-/// material stability at the fine mesh's clip strains, docs/validation.md §9), on an nx × ny Q8 quarter (70 × 58: 24 874 dofs, the paper's ~24 000),
-/// the data of the 24 × 20 synthesis, the tests on the objective's threads (OpenMP default). The
-/// identification's cost is this times its evaluations.
+/// material stability at the fine mesh's clip strains, docs/validation.md §9), on an nx × ny Q8 quarter (70 × 58: 24
+/// 874 dofs, the paper's ~24 000), the data of the 24 × 20 synthesis, the tests on the objective's threads (OpenMP
+/// default). The identification's cost is this times its evaluations.
 void BM_EvaluatePaperScale(benchmark::State& state) {
   Campaign& c = campaign(110);
   fem::ResponseSurface law = fem::ResponseSurface::preset("paper14", kShear);
@@ -518,8 +526,8 @@ void BM_EvaluatePaperScale(benchmark::State& state) {
   ident::Experiment data;
   for (const auto& t : c.tests) {
     if (t.pull != fem::PullDirection::wale) continue;
-    models.push_back(fem::make_rig_test(rig(c.spec, t.pull, t.transverse, static_cast<int>(state.range(0)),
-                                            static_cast<int>(state.range(1)))));
+    models.push_back(fem::make_rig_test(
+        rig(c.spec, t.pull, t.transverse, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)))));
     data.tests.push_back(t.data);
   }
   std::vector<ident::Parameter> p;
@@ -540,8 +548,8 @@ void BM_EvaluatePaperScale(benchmark::State& state) {
 /// knit itself: docs/validation.md §9); their field (the campaign's
 /// 3 × 3 points per quarter) and grip force generated on an nx × ny Q8 quarter by `paper14` at
 /// kPaperScaleTruth. Cached per mesh: the synthesis is the experiment, not the identification.
-const std::array<double, 14> kPaperScaleTruth{0.21808, 0.23574, -0.14126, 0.024769, 0.017599, 0.0002448, 0.075506,
-                                              0.10097, 0.049463, 0.076792, -0.080957, 0.11044, 0.10105, 0.085016};
+const std::array<double, 14> kPaperScaleTruth{0.21808, 0.23574,  -0.14126, 0.024769,  0.017599, 0.0002448, 0.075506,
+                                              0.10097, 0.049463, 0.076792, -0.080957, 0.11044,  0.10105,   0.085016};
 struct PaperScale {
   std::vector<fem::TestModel> coarse, fine;  // the paper's 120 Q8 (12 × 10) and nx × ny
   ident::Experiment data;
@@ -558,10 +566,10 @@ PaperScale& paper_scale(int nx, int ny) {
   ps.law.set_coefficients(Eigen::Map<const Eigen::VectorXd>(kPaperScaleTruth.data(), 14));
   const auto t0 = std::chrono::steady_clock::now();
   const std::pair<fem::PullDirection, double> tests[] = {{fem::PullDirection::wale, 0},
-                                                          {fem::PullDirection::wale, 0.4},
-                                                          {fem::PullDirection::wale, 0.7},
-                                                          {fem::PullDirection::course, 0},
-                                                          {fem::PullDirection::course, 0.3}};
+                                                         {fem::PullDirection::wale, 0.4},
+                                                         {fem::PullDirection::wale, 0.7},
+                                                         {fem::PullDirection::course, 0},
+                                                         {fem::PullDirection::course, 0.3}};
   for (const auto& [pull, x] : tests) {
     fem::RigOptions o = rig(k110, pull, x, 12, 10);
     o.guide_gap = 0.05;
@@ -586,12 +594,13 @@ PaperScale& paper_scale(int nx, int ny) {
   std::thread helper(work);
   work();
   helper.join();
-  std::printf("\n# paper scale: %zu tests x %d steps on %d x %d Q8 (%d dofs), generated by paper14 in %.1f s\n", ps.fine.size(),
-              k110.steps, nx, ny, ps.fine.front().mesh.dofs(),
+  std::printf("\n# paper scale: %zu tests x %d steps on %d x %d Q8 (%d dofs), generated by paper14 in %.1f s\n",
+              ps.fine.size(), k110.steps, nx, ny, ps.fine.front().mesh.dofs(),
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   for (size_t i = 0; i < ps.fine.size(); ++i)
-    std::printf("# %-12s eC [%6.3f, %6.3f]  eW [%6.3f, %6.3f]  centre (%.3f, %.3f)\n", ps.fine[i].name.c_str(), spread[i].eC_min,
-                spread[i].eC_max, spread[i].eW_min, spread[i].eW_max, spread[i].eC_centre, spread[i].eW_centre);
+    std::printf("# %-12s eC [%6.3f, %6.3f]  eW [%6.3f, %6.3f]  centre (%.3f, %.3f)\n", ps.fine[i].name.c_str(),
+                spread[i].eC_min, spread[i].eC_max, spread[i].eW_min, spread[i].eW_max, spread[i].eC_centre,
+                spread[i].eW_centre);
   const auto names = ps.law.coefficient_names();
   for (size_t k = 0; k < names.size(); ++k) {
     ident::Parameter q;  // as identify() above: the campaign's start, scales and bounds
@@ -606,18 +615,19 @@ PaperScale& paper_scale(int nx, int ny) {
 /// The paper-scale identification, from the campaign's eq. 9 fit, by mesh levels
 /// (ident::identify_by_levels; range(2) = 1: LM on the 120 Q8 with the stability test, then nx × ny
 /// through the 120 Q8 corrected to it), or LM on nx × ny alone (0; at 70 × 58 that takes tens of
-/// minutes, so it is not run by `make bench`), the objectives warm started. Counters: wall time, iterations and FE evaluations of each level, the
-/// coarse evaluations inside the corrected models, f, the largest relative error of a coefficient
-/// against the truth (absolute where the truth is 0), the paper's ~80 h over the wall time.
+/// minutes, so it is not run by `make bench`), the objectives warm started. Counters: wall time, iterations and FE
+/// evaluations of each level, the coarse evaluations inside the corrected models, f, the largest relative error of a
+/// coefficient against the truth (absolute where the truth is 0), the paper's ~80 h over the wall time.
 void BM_IdentifyPaperScale(benchmark::State& state) {
   PaperScale& ps = paper_scale(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   ident::ObjectiveOptions oo;
-  oo.sensitivities_after = true;  // as a project with bounds
+  oo.sensitivities_after = true;                // as a project with bounds
   oo.warm_start = !std::getenv("TRICOT_COLD");  // TRICOT_COLD: every evaluation from the load path
   ident::IdentifyOptions o;
   o.initial_trust_region_radius = 100, o.line_search_trials = 4, o.active_set = true;  // project-110.toml
   if (const char* g = std::getenv("TRICOT_CAMPAIGN_BARRIER_GROWTH")) o.barrier_growth = std::strtod(g, nullptr);
-  const ident::Objective coarse(ps.coarse, ps.data, ps.law, ps.parameters, oo), fine(ps.fine, ps.data, ps.law, ps.parameters, oo);
+  const ident::Objective coarse(ps.coarse, ps.data, ps.law, ps.parameters, oo),
+      fine(ps.fine, ps.data, ps.law, ps.parameters, oo);
   const ident::StabilizedObjective coarse_s(coarse), fine_s(fine);
   std::vector<const ident::Problem*> levels{&fine_s};
   if (state.range(2)) levels.insert(levels.begin(), &coarse_s);
@@ -625,8 +635,9 @@ void BM_IdentifyPaperScale(benchmark::State& state) {
   Reporter progress;  // LM's iterations on stderr, with the time since the start
   const auto t0 = std::chrono::steady_clock::now();
   progress.progress = [&](const Progress& p) {
-    std::fprintf(stderr, "# %6.1f s  %s %zu: %s\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-                 p.stage.c_str(), p.done, p.detail.substr(0, 60).c_str());
+    std::fprintf(stderr, "# %6.1f s  %s %zu: %s\n",
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), p.stage.c_str(), p.done,
+                 p.detail.substr(0, 60).c_str());
   };
   for (auto _ : state) {
     r = ident::identify_by_levels(levels, o, progress);
@@ -639,8 +650,7 @@ void BM_IdentifyPaperScale(benchmark::State& state) {
   for (size_t l = 0; l < r.levels.size(); ++l) {
     const ident::IdentifyResult& x = r.levels[l];
     const auto& models = levels[l] == &fine_s ? ps.fine : ps.coarse;
-    std::printf("# level %zu (%d dofs): %s\n#   J:", l, models.front().mesh.dofs(),
-                x.brief_report().c_str());
+    std::printf("# level %zu (%d dofs): %s\n#   J:", l, models.front().mesh.dofs(), x.brief_report().c_str());
     for (Eigen::Index k = 0; k < x.parameters.size(); ++k) std::printf(" %.5g", x.parameters(k));
     std::printf("\n");
     std::fflush(stdout);
@@ -675,16 +685,49 @@ void BM_EvaluateNextPaperScale(benchmark::State& state) {
     if (!e.ok) state.SkipWithError(e.message.c_str());
   }
 }
-BENCHMARK(BM_EvaluateNextPaperScale)->Args({70, 58, 0})->Args({70, 58, 1})->Iterations(1)->Unit(benchmark::kSecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_EvaluateNextPaperScale)
+    ->Args({70, 58, 0})
+    ->Args({70, 58, 1})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
-BENCHMARK(BM_IdentifyPaperScale)->Args({70, 58, 1})->Args({24, 20, 1})->Args({24, 20, 0})->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+BENCHMARK(BM_IdentifyPaperScale)
+    ->Args({70, 58, 1})
+    ->Args({24, 20, 1})
+    ->Args({24, 20, 0})
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
 
-BENCHMARK(BM_EvaluatePaperScale)->Args({12, 10})->Args({70, 58})->Iterations(1)->Unit(benchmark::kSecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_EvaluatePaperScale)
+    ->Args({12, 10})
+    ->Args({70, 58})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
-BENCHMARK_CAPTURE(BM_Identify, 110/paper14, 110, "paper14", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_Identify, 110/paper14/restricted, 110, "paper14", true)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_Identify, 110/paper24, 110, "paper24", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_Identify, 150/paper14, 150, "paper14", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_Identify, 150/paper24, 150, "paper24", false)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Identify, 110 / paper14, 110, "paper14", false)
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Identify, 110 / paper14 / restricted, 110, "paper14", true)
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Identify, 110 / paper24, 110, "paper24", false)
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Identify, 150 / paper14, 150, "paper14", false)
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_Identify, 150 / paper24, 150, "paper24", false)
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
 
 }  // namespace

@@ -65,7 +65,8 @@ void BM_RenderFrame(benchmark::State& state) {
   if (state.range(0) == 0) o.bits = 32, o.noise = 0;
   const SpecimenRenderer r(s.mesh, o);
   for (auto _ : state) benchmark::DoNotOptimize(r.render(s.u, 7));
-  state.counters["Mpx_per_s"] = benchmark::Counter(kMegapixels * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["Mpx_per_s"] =
+      benchmark::Counter(kMegapixels * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_RenderFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -107,7 +108,8 @@ void BM_OldRenderer(benchmark::State& state) {
   const image::Image now = r.render(s.u);
   double d2 = 0;
   for (std::size_t i = 0; i < now.pixels.size(); ++i) d2 += std::pow(255.0 * (now.pixels[i] - old.pixels[i]), 2);
-  state.counters["Mpx_per_s"] = benchmark::Counter(kMegapixels * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["Mpx_per_s"] =
+      benchmark::Counter(kMegapixels * double(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["rms_vs_old"] = std::sqrt(d2 / double(now.pixels.size()));
 }
 BENCHMARK(BM_OldRenderer)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
@@ -125,7 +127,8 @@ void BM_FillFrame(benchmark::State& state) {
     std::fill(img.pixels.begin(), img.pixels.end(), v += 1);
     benchmark::ClobberMemory();
   }
-  state.counters["Mpx_per_s"] = benchmark::Counter(kMegapixels * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["Mpx_per_s"] =
+      benchmark::Counter(kMegapixels * double(state.iterations()), benchmark::Counter::kIsRate);
   state.SetBytesProcessed(int64_t(state.iterations()) * int64_t(img.pixels.size() * sizeof(float)));
 }
 BENCHMARK(BM_FillFrame)->Unit(benchmark::kMicrosecond);
@@ -137,7 +140,8 @@ void BM_CopyFrame(benchmark::State& state) {
     std::memcpy(b.pixels.data(), a.pixels.data(), a.pixels.size() * sizeof(float));
     benchmark::ClobberMemory();
   }
-  state.counters["Mpx_per_s"] = benchmark::Counter(kMegapixels * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["Mpx_per_s"] =
+      benchmark::Counter(kMegapixels * double(state.iterations()), benchmark::Counter::kIsRate);
   state.SetBytesProcessed(int64_t(state.iterations()) * int64_t(2 * a.pixels.size() * sizeof(float)));
 }
 BENCHMARK(BM_CopyFrame)->Unit(benchmark::kMicrosecond);

@@ -25,7 +25,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const io::Node root = io::parse_config(project::dic_schema(), text, "fuzz.toml");
       (void)project::DicSpec::from_config(root, "/nonexistent");
     }
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
   return 0;
 }

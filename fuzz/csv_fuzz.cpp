@@ -10,7 +10,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const io::Table t = io::read_csv(file);
     for (const auto& c : t.columns) (void)t.values(c, file.string());
     (void)t.column("step", file.string());
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
   return 0;
 }

@@ -17,7 +17,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const auto file = fuzz::write(fuzz::scratch(project::kCheckpointFile), text);
       (void)project::read_checkpoint(file, "0123456789abcdef");
     }
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
   return 0;
 }

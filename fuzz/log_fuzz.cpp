@@ -21,16 +21,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       try {
         (void)t.numbers(c);
         (void)t.times(c);
-      } catch (const InputError&) {
-      }
+      } catch (const InputError&) {}
       (void)t.text(c);
     }
     (void)t.has_column("time");
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
   try {
     (void)io::time_from_file_name(std::string(text.substr(0, 64)));
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
   return 0;
 }

@@ -41,8 +41,7 @@ PyLaw make_law(const py::object& spec, const py::object& base) {
       try {
         const LoadedSpec s = load_spec(spec, schema(), base);
         return {project::LawSpec::from_config(s.root.section("law")).law()};
-      } catch (const InputError&) {
-      }
+      } catch (const InputError&) {}
     }
     throw;
   }
@@ -52,9 +51,11 @@ PyLaw make_law(const py::object& spec, const py::object& base) {
 py::array_t<double, py::array::c_style | py::array::forcecast> tensors(const py::object& a, const char* what) {
   auto t = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
   if (!t) throw py::error_already_set();
-  if (t.ndim() == 2 && t.shape(0) == 2 && t.shape(1) == 2) t = t.reshape({py::ssize_t(1), py::ssize_t(2), py::ssize_t(2)});
+  if (t.ndim() == 2 && t.shape(0) == 2 && t.shape(1) == 2)
+    t = t.reshape({py::ssize_t(1), py::ssize_t(2), py::ssize_t(2)});
   if (t.ndim() != 3 || t.shape(1) != 2 || t.shape(2) != 2)
-    throw InputError({what, 0, ""}, "not 2 × 2 tensors", py::str(a.attr("shape")).cast<std::string>(), "(2, 2) or (n, 2, 2)");
+    throw InputError({what, 0, ""}, "not 2 × 2 tensors", py::str(a.attr("shape")).cast<std::string>(),
+                     "(2, 2) or (n, 2, 2)");
   return t;
 }
 
@@ -68,7 +69,8 @@ py::tuple evaluate(const PyLaw& self, const py::object& F_in, const py::object& 
   if (has_Q) {
     Q = tensors(Q_in, "Q");
     if (Q.shape(0) != 1 && Q.shape(0) != n)
-      throw InputError({"Q", 0, ""}, "one material frame, or one per F", std::to_string(Q.shape(0)), "1 or " + std::to_string(n));
+      throw InputError({"Q", 0, ""}, "one material frame, or one per F", std::to_string(Q.shape(0)),
+                       "1 or " + std::to_string(n));
   }
   std::vector<double> P(std::size_t(n) * 4), A(tangent == "none" ? 0 : std::size_t(n) * 16);
   std::vector<double> lambda3(static_cast<std::size_t>(n));
@@ -104,7 +106,8 @@ py::tuple evaluate(const PyLaw& self, const py::object& F_in, const py::object& 
 
 void bind_law(py::module_& m) {
   using namespace py::literals;
-  py::class_<PyLaw>(m, "Law", "A material law from a spec's [law] table (dict or case/project file), evaluated at given F.")
+  py::class_<PyLaw>(m, "Law",
+                    "A material law from a spec's [law] table (dict or case/project file), evaluated at given F.")
       .def(py::init(&make_law), "spec"_a, py::kw_only(), "base"_a = py::none())
       .def_property_readonly("name", [](const PyLaw& l) { return l.law->name(); })
       .def_property(
@@ -122,7 +125,8 @@ void bind_law(py::module_& m) {
             for (auto item : values) {
               const std::string name = py::str(item.first);
               const auto it = std::find(names.begin(), names.end(), name);
-              if (it == names.end()) throw InputError({"coefficients", 0, name}, "no such coefficient of " + l.law->name(), name, "");
+              if (it == names.end())
+                throw InputError({"coefficients", 0, name}, "no such coefficient of " + l.law->name(), name, "");
               c(it - names.begin()) = item.second.cast<double>();
             }
             l.law->set_coefficients(c);

@@ -134,7 +134,7 @@ Identification identification_of(const project::IdentifyOutcome& o, const fs::pa
 }
 
 py::object identify(const py::object& spec, const py::object& out, bool resume, bool plots, const py::object& base,
-                     const py::object& progress, const py::object& log, bool check) {
+                    const py::object& progress, const py::object& log, bool check) {
   const std::string dir = path_string(out);
   const LoadedSpec s = load_spec(spec, project::identify_schema(), base);
   check_out_dir(dir);
@@ -172,9 +172,10 @@ py::object simulate(const py::object& spec, const py::object& out, const std::st
   Simulation r{dir, o.failures, per_test(dir, {"steps.csv", "newton.csv"})};
   py::object result = py::cast(std::move(r));
   if (check && !o.failures.empty())  // the CLI's line (apps/tricot/simulate.cpp)
-    raise_not_converged(fmt::format("{}: {}{}", s.name, o.failures.front(),
-                                    o.failures.size() > 1 ? fmt::format(" (and {} more tests)", o.failures.size() - 1) : ""),
-                        result);
+    raise_not_converged(
+        fmt::format("{}: {}{}", s.name, o.failures.front(),
+                    o.failures.size() > 1 ? fmt::format(" (and {} more tests)", o.failures.size() - 1) : ""),
+        result);
   return result;
 }
 
@@ -182,8 +183,8 @@ py::object simulate(const py::object& spec, const py::object& out, const std::st
 
 struct Experiment {
   std::string out;
-  py::dict tests;   ///< test → {"forces": forces.csv, "field": field.csv} (dicts of arrays)
-  py::object truth; ///< coefficient → true value (synth), or None
+  py::dict tests;    ///< test → {"forces": forces.csv, "field": field.csv} (dicts of arrays)
+  py::object truth;  ///< coefficient → true value (synth), or None
 };
 
 Experiment experiment_of(const fs::path& dir) {
@@ -277,7 +278,8 @@ py::dict dic_arrays(const dic::SequenceResult& r) {
       zncc[i] = k < t.zncc.size() ? t.zncc[k] : nan;
       status[i] = static_cast<std::int8_t>(k < t.status.size() ? t.status[k] : dic::PointStatus::not_computed);
       const bool strain = k < t.strain.size() && t.strain[k].valid;
-      exx[i] = strain ? t.strain[k].exx : nan, eyy[i] = strain ? t.strain[k].eyy : nan, exy[i] = strain ? t.strain[k].exy : nan;
+      exx[i] = strain ? t.strain[k].exx : nan, eyy[i] = strain ? t.strain[k].eyy : nan,
+      exy[i] = strain ? t.strain[k].exy : nan;
       sigma_u[i] = k < t.sigma.size() ? t.sigma[k].x() : nan;
       sigma_v[i] = k < t.sigma.size() ? t.sigma[k].y() : nan;
     }
@@ -305,7 +307,8 @@ py::dict dic_arrays(const dic::SequenceResult& r) {
 
 void bind_verbs(py::module_& m) {
   using namespace py::literals;
-  py::class_<Identification>(m, "Identification", "The result of tricot.identify (result.json, history.csv, fit_<test>.csv).")
+  py::class_<Identification>(m, "Identification",
+                             "The result of tricot.identify (result.json, history.csv, fit_<test>.csv).")
       .def_readonly("out", &Identification::out)
       .def_readonly("names", &Identification::names, "the identified coefficients")
       .def_readonly("parameters", &Identification::parameters, "J*, the coefficients found (array)")
@@ -334,7 +337,8 @@ void bind_verbs(py::module_& m) {
       .def_readonly("out", &Simulation::out)
       .def_readonly("failures", &Simulation::failures)
       .def_readonly("tests", &Simulation::tests, "test → {'steps': steps.csv, 'newton': newton.csv} as arrays");
-  py::class_<Experiment>(m, "Experiment", "An experiment folder (tricot.synth, tricot.experiment, tricot.read_experiment).")
+  py::class_<Experiment>(m, "Experiment",
+                         "An experiment folder (tricot.synth, tricot.experiment, tricot.read_experiment).")
       .def_readonly("out", &Experiment::out)
       .def_readonly("tests", &Experiment::tests, "test → {'forces': forces.csv, 'field': field.csv} as arrays")
       .def_readonly("truth", &Experiment::truth);
@@ -345,8 +349,8 @@ void bind_verbs(py::module_& m) {
       .def_readonly("warnings", &DicRun::warnings)
       .def_readonly("fields", &DicRun::fields, "frames × points arrays: x, y, u, v, zncc, status, exx, eyy, exy, ...");
 
-  m.def("identify", &identify, "spec"_a, "out"_a, py::kw_only(), "resume"_a = false, "plots"_a = true, "base"_a = py::none(),
-        "progress"_a = py::none(), "log"_a = py::none(), "check"_a = true,
+  m.def("identify", &identify, "spec"_a, "out"_a, py::kw_only(), "resume"_a = false, "plots"_a = true,
+        "base"_a = py::none(), "progress"_a = py::none(), "log"_a = py::none(), "check"_a = true,
         R"(tricot identify SPEC -o OUT [--resume]: Levenberg–Marquardt identification.
 
 spec: a project dict (the TOML file's tables) or the path of a project file; base: the folder a dict's
@@ -362,24 +366,30 @@ check=False.)");
         "log"_a = py::none(), "tricot synth SPEC -o OUT: a synthetic experiment. Returns an Experiment.");
   m.def("experiment", &experiment, "spec"_a, "out"_a, py::kw_only(), "base"_a = py::none(), "progress"_a = py::none(),
         "log"_a = py::none(),
-        "tricot experiment SPEC -o OUT: a lab's raw files (a lab dict or TOML path) into an experiment. Returns an Experiment.");
-  m.def("read_experiment", [](const py::object& dir) { return experiment_of(path_string(dir)); }, "dir"_a,
-        "An experiment folder's tables as arrays.");
+        "tricot experiment SPEC -o OUT: a lab's raw files (a lab dict or TOML path) into an experiment. Returns an "
+        "Experiment.");
+  m.def(
+      "read_experiment", [](const py::object& dir) { return experiment_of(path_string(dir)); }, "dir"_a,
+      "An experiment folder's tables as arrays.");
   m.def("dic", &dic, "images"_a, "out"_a, py::kw_only(), "spec"_a = py::none(), "subset"_a = py::none(),
         "step"_a = py::none(), "mode"_a = "", "roi"_a = py::none(), "resume"_a = false, "base"_a = py::none(),
         "progress"_a = py::none(), "log"_a = py::none(),
         "tricot dic [SPEC] IMAGE... -o OUT: DIC over image files (the keywords override the spec as the CLI's flags). "
         "Returns a DicRun whose fields are arrays (frames × points).");
-  m.def("to_toml", [](const py::object& spec) { return to_toml(spec); }, "spec"_a,
-        "The TOML text a spec dict is read as (the same reader as the CLI's files).");
-  m.def("print_config", [](const std::string& verb) {
-          if (verb == "simulate") return io::print_config(project::case_schema());
-          if (verb == "identify") return io::print_config(project::identify_schema());
-          if (verb == "synth") return io::print_config(project::synth_schema());
-          if (verb == "experiment") return io::print_config(project::lab_schema());
-          if (verb == "dic") return io::print_config(project::dic_schema());
-          throw InputError({"verb", 0, ""}, "no such verb", verb, "simulate, identify, synth, experiment or dic");
-        }, "verb"_a, "tricot VERB --print-config: the verb's fully commented default config.");
+  m.def(
+      "to_toml", [](const py::object& spec) { return to_toml(spec); }, "spec"_a,
+      "The TOML text a spec dict is read as (the same reader as the CLI's files).");
+  m.def(
+      "print_config",
+      [](const std::string& verb) {
+        if (verb == "simulate") return io::print_config(project::case_schema());
+        if (verb == "identify") return io::print_config(project::identify_schema());
+        if (verb == "synth") return io::print_config(project::synth_schema());
+        if (verb == "experiment") return io::print_config(project::lab_schema());
+        if (verb == "dic") return io::print_config(project::dic_schema());
+        throw InputError({"verb", 0, ""}, "no such verb", verb, "simulate, identify, synth, experiment or dic");
+      },
+      "verb"_a, "tricot VERB --print-config: the verb's fully commented default config.");
 }
 
 }  // namespace tricot::python

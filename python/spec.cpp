@@ -18,9 +18,9 @@ namespace {
 
 // tricot.Error and its subclasses; created once by register_errors (module lifetime: never freed).
 PyObject* error_base = nullptr;
-PyObject* config_error = nullptr;     // exit code 2
-PyObject* file_error = nullptr;       // exit code 3
-PyObject* not_converged = nullptr;    // exit code 4
+PyObject* config_error = nullptr;   // exit code 2
+PyObject* file_error = nullptr;     // exit code 3
+PyObject* not_converged = nullptr;  // exit code 4
 
 /// The CLI prints one line whatever a message holds (apps/tricot/main.cpp): the same here.
 std::string one_line(std::string s) {
@@ -68,7 +68,8 @@ Toml toml_of(const py::handle& v, const std::string& key) {
     toml::table t;
     for (auto item : v.cast<py::dict>()) {
       const std::string k = py::str(item.first).cast<std::string>();
-      std::visit([&](auto&& node) { t.insert_or_assign(k, std::move(node)); }, toml_of(item.second, key.empty() ? k : key + "." + k));
+      std::visit([&](auto&& node) { t.insert_or_assign(k, std::move(node)); },
+                 toml_of(item.second, key.empty() ? k : key + "." + k));
     }
     return t;
   }
@@ -111,7 +112,8 @@ LoadedSpec load_spec(const py::handle& spec, const io::SectionSpec& schema, cons
 
 void check_out_dir(const std::string& dir) {
   // As apps/tricot/out_dir.cpp's check, the keyword `out` in place of the flag -o.
-  if (dir.empty()) throw InputError({"out", 0, ""}, "empty output folder", "''", "a folder path (use . for this folder)");
+  if (dir.empty())
+    throw InputError({"out", 0, ""}, "empty output folder", "''", "a folder path (use . for this folder)");
   std::error_code ec;
   for (fs::path p = dir; !p.empty(); p = p.parent_path()) {
     const fs::file_status st = fs::status(p, ec);
@@ -136,10 +138,10 @@ void register_errors(py::module_& m) {
       "An error of tricot: str(e) is the CLI's one-line message (FILE:LINE: KEY: what is wrong (got VALUE, "
       "expected RANGE)); e.exit_code is the CLI's exit code; e.file, e.line, e.key where it is.",
       PyExc_Exception, nullptr);
-  config_error = PyErr_NewExceptionWithDoc("tricot.ConfigError", "Bad spec, config, argument or input value (exit code 2).",
-                                           error_base, nullptr);
-  file_error = PyErr_NewExceptionWithDoc("tricot.InputFileError", "An input file or folder missing or unreadable (exit code 3).",
-                                         error_base, nullptr);
+  config_error = PyErr_NewExceptionWithDoc(
+      "tricot.ConfigError", "Bad spec, config, argument or input value (exit code 2).", error_base, nullptr);
+  file_error = PyErr_NewExceptionWithDoc(
+      "tricot.InputFileError", "An input file or folder missing or unreadable (exit code 3).", error_base, nullptr);
   not_converged = PyErr_NewExceptionWithDoc(
       "tricot.NotConvergedError", "The run finished but did not converge (exit code 4); e.result holds what it found.",
       error_base, nullptr);

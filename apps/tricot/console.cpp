@@ -8,8 +8,7 @@
 
 namespace tricot::cli {
 
-Console::Console(bool verbose, bool quiet)
-    : verbose_(verbose), quiet_(quiet), tty_(isatty(fileno(stderr)) != 0) {}
+Console::Console(bool verbose, bool quiet) : verbose_(verbose), quiet_(quiet), tty_(isatty(fileno(stderr)) != 0) {}
 
 Console::~Console() { clear_line(); }
 
@@ -51,7 +50,8 @@ void Console::on_progress(const Progress& p) {
   if (quiet_) return;
   std::lock_guard lock(mutex_);
   if (!tty_ && !per_step_stage_.empty() && p.stage == per_step_stage_) {
-    if (!p.detail.empty()) std::fprintf(stderr, "%s: %s (%zu/%zu)\n", p.stage.c_str(), p.detail.c_str(), p.done, p.total);
+    if (!p.detail.empty())
+      std::fprintf(stderr, "%s: %s (%zu/%zu)\n", p.stage.c_str(), p.detail.c_str(), p.done, p.total);
     return;
   }
   const auto now = std::chrono::steady_clock::now();

@@ -25,8 +25,9 @@ struct DemoArgs {
 Runner add_demo(CLI::App& app) {
   auto args = std::make_shared<DemoArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "demo", "Run the main job on built-in data: the §4 campaign from images and load-cell logs to the knit's law "
-              "(--table1: the paper's Table 1)");
+      "demo",
+      "Run the main job on built-in data: the §4 campaign from images and load-cell logs to the knit's law "
+      "(--table1: the paper's Table 1)");
   cmd->footer(R"(
 The whole chain of the paper's Fig. 1 on the §4 campaign of the reference knit, 110 × 110 mm²
 (10 rig tests: 5 transverse settings pulled along the wale, 5 along the course):
@@ -48,9 +49,12 @@ stage ran are in DIR (experiment.toml, dic.toml, lab.toml, experiment/project.to
 Exit codes: 0 ok, 4 the identification (a Table 1 run) did not converge.
 )");
   cmd->add_option("-o,--out", args->out_dir, "Output folder")->capture_default_str();
-  cmd->add_flag("--table1", args->table1, "The paper's Table 1 and Fig. 10 (Mooney–Rivlin validation) instead of the chain");
-  cmd->add_flag("--full", args->full, "With --table1 (implied): also the robustness studies (starting points, noise, finite differences)");
-  cmd->add_flag("--small", args->small, "A reduced chain (2 tests, small images, 2 LM iterations), for the tests")->group("");
+  cmd->add_flag("--table1", args->table1,
+                "The paper's Table 1 and Fig. 10 (Mooney–Rivlin validation) instead of the chain");
+  cmd->add_flag("--full", args->full,
+                "With --table1 (implied): also the robustness studies (starting points, noise, finite differences)");
+  cmd->add_flag("--small", args->small, "A reduced chain (2 tests, small images, 2 LM iterations), for the tests")
+      ->group("");
   cmd->add_flag("-v,--verbose", args->verbose, "Log lines of the engines");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress lines");
   cmd->add_flag_callback(

@@ -109,21 +109,27 @@ ExitCode run_dic(const DicArgs& a) {
 
 Runner add_dic(CLI::App& app) {
   auto args = std::make_shared<DicArgs>();
-  CLI::App* cmd = app.add_subcommand("dic", "Digital image correlation over an image sequence (first image = reference)");
+  CLI::App* cmd =
+      app.add_subcommand("dic", "Digital image correlation over an image sequence (first image = reference)");
   cmd->footer(kFooter);
-  cmd->add_option("inputs", args->inputs, "[CONFIG.toml] IMAGE...: an optional config (see --print-config), then the images")
+  cmd->add_option("inputs", args->inputs,
+                  "[CONFIG.toml] IMAGE...: an optional config (see --print-config), then the images")
       ->required();
   cmd->add_option("-o,--out", args->out_dir, "Output folder")->required();
-  args->subset_given = cmd->add_option("--subset", args->subset, "Subset size in px, odd, 7 to 301 (overrides dic.subset_size; default 31)");
+  args->subset_given = cmd->add_option("--subset", args->subset,
+                                       "Subset size in px, odd, 7 to 301 (overrides dic.subset_size; default 31)");
   args->step_given = cmd->add_option("--step", args->step, "Grid step in px (overrides dic.step; default 10)")
                          ->check(CLI::Range(1, 1000));
-  cmd->add_option("--mode", args->flags.mode, "incremental, reference or auto (overrides dic.mode; default incremental)")
+  cmd->add_option("--mode", args->flags.mode,
+                  "incremental, reference or auto (overrides dic.mode; default incremental)")
       ->check(CLI::IsMember({"incremental", "reference", "auto"}));
-  cmd->add_option("--roi", args->flags.roi, "Region of interest X0,Y0,X1,Y1 in px (overrides dic.roi; default the whole image)");
+  cmd->add_option("--roi", args->flags.roi,
+                  "Region of interest X0,Y0,X1,Y1 in px (overrides dic.roi; default the whole image)");
   cmd->add_flag("-v,--verbose", args->verbose, "Log every frame (points ok, mean ZNCC, seeds, reference updates)");
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
-  cmd->add_flag("--resume", args->resume,
-                "Go on with a killed run into the same -o folder from its last complete frame (same config, flags, images)");
+  cmd->add_flag(
+      "--resume", args->resume,
+      "Go on with a killed run into the same -o folder from its last complete frame (same config, flags, images)");
   add_print_config(cmd, project::dic_schema);
   return [args]() {
     check_out_dir(args->out_dir);

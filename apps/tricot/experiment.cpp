@@ -57,7 +57,8 @@ Exit codes: 0 ok, 2 bad lab file or log, 3 file missing or unreadable.
 
 Runner add_experiment(CLI::App& app) {
   auto args = std::make_shared<ExperimentArgs>();
-  CLI::App* cmd = app.add_subcommand("experiment", "Turn a lab's images, load-cell log and specimen into an experiment");
+  CLI::App* cmd =
+      app.add_subcommand("experiment", "Turn a lab's images, load-cell log and specimen into an experiment");
   cmd->footer(kFooter);
   cmd->add_option("lab", args->file, "The lab file (TOML); see --print-config")->required();
   cmd->add_option("-o,--out", args->out_dir, "Output folder (the experiment)")->required();

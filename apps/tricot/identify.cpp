@@ -69,9 +69,9 @@ termination, message, wall_seconds, jacobian, and condition_number, least_identi
 restarts, truth and relative_error for a synthetic experiment), history.csv (iteration, objective,
 one column per coefficient), fit_<test>.csv, plots/history.png, plots/fit_<test>.png,
 report.html (the lab report: one self-contained page, figures embedded, prints to A4 PDF) with
-report.json (every number in it), and checkpoint.json, rewritten after every accepted LM step: `--resume` continues a killed run from it
-and reaches the same answer (on a finished run it does nothing). A run writes in DIR/.tricot-identify/
-and moves its files into DIR at the end, replacing the earlier run's.
+report.json (every number in it), and checkpoint.json, rewritten after every accepted LM step: `--resume`
+continues a killed run from it and reaches the same answer (on a finished run it does nothing). A run
+writes in DIR/.tricot-identify/ and moves its files into DIR at the end, replacing the earlier run's.
 
 Examples:
   tricot identify examples/uniaxial-mooney/project.toml -o out/identify
@@ -98,8 +98,10 @@ Runner add_identify(CLI::App& app) {
   cmd->add_flag("-q,--quiet", args->quiet, "No progress line");
   cmd->add_option("--kill-after", args->kill_after, "Testing aid: kill the run after N checkpoints")->group("");
   cmd->add_option("--kill-after-evaluations", args->kill_after_evaluations,
-                  "Testing aid: kill the run as it starts evaluation N")->group("");
-  cmd->add_flag("--kill-before-publish", args->kill_before_publish, "Testing aid: kill the run before publishing")->group("");
+                  "Testing aid: kill the run as it starts evaluation N")
+      ->group("");
+  cmd->add_flag("--kill-before-publish", args->kill_before_publish, "Testing aid: kill the run before publishing")
+      ->group("");
   add_print_config(cmd, project::identify_schema);
   return [args]() {
     // Under mpirun every rank builds the objective from the project; rank 0 runs LM and writes, the

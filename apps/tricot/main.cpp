@@ -12,7 +12,6 @@
 #include "tricot/mpi/world.hpp"
 #include "verbs.hpp"
 
-
 int tricot_cli_main(int argc, char** argv) {
   using namespace tricot;
   CLI::App app{
@@ -23,9 +22,10 @@ int tricot_cli_main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "tricot 0.1.0");
   const std::vector<std::pair<std::string, cli::Runner>> verbs = {
-      {"simulate", cli::add_simulate(app)}, {"identify", cli::add_identify(app)}, {"dic", cli::add_dic(app)},
-      {"synth", cli::add_synth(app)},       {"demo", cli::add_demo(app)},
-      {"experiment", cli::add_experiment(app)}, {"relax", cli::add_relax(app)}};
+      {"simulate", cli::add_simulate(app)}, {"identify", cli::add_identify(app)},
+      {"dic", cli::add_dic(app)},           {"synth", cli::add_synth(app)},
+      {"demo", cli::add_demo(app)},         {"experiment", cli::add_experiment(app)},
+      {"relax", cli::add_relax(app)}};
   // Under mpirun every rank parses the same command line: only rank 0 prints (issue 15).
   const bool prints = mpi::launcher_rank() == 0;
   try {

@@ -15,8 +15,8 @@ void check_out_dir(const std::string& dir) {
     const fs::file_status st = fs::status(p, ec);
     if (fs::exists(st)) {
       if (!fs::is_directory(st))
-        throw FileError({p.string(), 0, ""}, p == fs::path(dir) ? "the output folder is a file" : "not a folder",
-                        "", "a folder, or a path that does not exist yet");
+        throw FileError({p.string(), 0, ""}, p == fs::path(dir) ? "the output folder is a file" : "not a folder", "",
+                        "a folder, or a path that does not exist yet");
       break;
     }
     if (p == p.parent_path()) break;

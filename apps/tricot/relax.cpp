@@ -44,12 +44,15 @@ Runner add_relax(CLI::App& app) {
   cmd->add_option("-o,--out", a->out_dir, "Output folder")->required();
   cmd->add_option("--time", a->spec.time_column, "Time column (s); default time");
   cmd->add_option("--force", a->spec.force_column, "Force column (N); default force");
-  cmd->add_option("--crosshead", a->spec.crosshead_column, "Cross-head column; default none (the hold starts at the peak)");
+  cmd->add_option("--crosshead", a->spec.crosshead_column,
+                  "Cross-head column; default none (the hold starts at the peak)");
   cmd->add_option("--max-terms", a->spec.options.max_terms, "Prony terms tried, 1 to 3; default 3");
   cmd->add_option("--skip", a->spec.options.skip_s, "Seconds left out after the hold begins; default 0");
-  a->tare_given = cmd->add_option("--tare", a->tare, "Force at rest, N; default: the mean before the ramp (0 without cross-head)");
+  a->tare_given =
+      cmd->add_option("--tare", a->tare, "Force at rest, N; default: the mean before the ramp (0 without cross-head)");
   a->duration_given = cmd->add_option("--duration", a->duration, "Duration of a test to judge, s");
-  cmd->add_option("--tolerance", a->spec.options.quasi_static_tolerance, "Largest viscous excess of a quasi-static test; default 0.05");
+  cmd->add_option("--tolerance", a->spec.options.quasi_static_tolerance,
+                  "Largest viscous excess of a quasi-static test; default 0.05");
   cmd->add_flag("-q,--quiet", a->quiet, "No summary");
   return [a]() {
     check_out_dir(a->out_dir);

@@ -41,7 +41,8 @@ std::vector<std::pair<std::string, double>> identified_parameters(const std::str
     throw FileError({path, 0, ""}, std::string("not a JSON file: ") + e.what());
   }
   if (!j.contains("parameters") || !j["parameters"].is_object())
-    throw InputError({path, 0, "parameters"}, "no \"parameters\" object", "", "a result.json written by tricot identify");
+    throw InputError({path, 0, "parameters"}, "no \"parameters\" object", "",
+                     "a result.json written by tricot identify");
   std::vector<std::pair<std::string, double>> out;
   for (const auto& [name, value] : j["parameters"].items()) {
     if (!value.is_number()) throw InputError({path, 0, "parameters." + name}, "not a number", value.dump(), "a number");
@@ -99,8 +100,7 @@ Exit codes: 0 ok, 2 bad command line or case file, 3 case file missing or unread
 Runner add_simulate(CLI::App& app) {
   auto args = std::make_shared<SimulateArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "simulate",
-      "Run the finite-element models of the tests in CASE.toml (plane-stress membrane, quarter specimen)");
+      "simulate", "Run the finite-element models of the tests in CASE.toml (plane-stress membrane, quarter specimen)");
   cmd->footer(kFooter);
   cmd->add_option("case", args->case_file, "The case file (TOML); see --print-config")->required();
   cmd->add_option("-o,--out", args->out_dir, "Output folder: one sub-folder per test")->required();
@@ -120,9 +120,14 @@ Runner add_simulate(CLI::App& app) {
   return [args]() {
     check_out_dir(args->out_dir);
     Console console(args->verbose, args->quiet);
-    project::SimulationRequest request{args->out_dir, args->only_test, !args->no_vtu, args->vtu_every,
+    project::SimulationRequest request{args->out_dir,
+                                       args->only_test,
+                                       !args->no_vtu,
+                                       args->vtu_every,
                                        args->vtu_ascii ? io::VtuFormat::ascii : io::VtuFormat::binary,
-                                       args->case_file, {}, {}};
+                                       args->case_file,
+                                       {},
+                                       {}};
     project::SimulationOutcome o;
     if (args->law.empty()) {
       o = project::run_simulation(io::read_config(project::case_schema(), args->case_file), request, console.log());
@@ -135,8 +140,9 @@ Runner add_simulate(CLI::App& app) {
       o = project::run_simulation(spec, request, console.log());
     }
     if (!o.failures.empty())  // one line (docs/design.md): the first failure, and how many more
-      std::fprintf(stderr, "tricot: error: %s: %s%s\n", args->case_file.c_str(), o.failures.front().c_str(),
-                   o.failures.size() > 1 ? (" (and " + std::to_string(o.failures.size() - 1) + " more tests)").c_str() : "");
+      std::fprintf(
+          stderr, "tricot: error: %s: %s%s\n", args->case_file.c_str(), o.failures.front().c_str(),
+          o.failures.size() > 1 ? (" (and " + std::to_string(o.failures.size() - 1) + " more tests)").c_str() : "");
     return o.failures.empty() ? ExitCode::ok : ExitCode::not_converged;
   };
 }

@@ -30,10 +30,7 @@ std::string format_number(double v) {
   return b;
 }
 
-InputError::InputError(Location where, const std::string& problem, const std::string& got,
-                       const std::string& expected)
-    : std::runtime_error(format_error(where, problem, got, expected)),
-      where_(std::move(where)),
-      problem_(problem) {}
+InputError::InputError(Location where, const std::string& problem, const std::string& got, const std::string& expected)
+    : std::runtime_error(format_error(where, problem, got, expected)), where_(std::move(where)), problem_(problem) {}
 
 }  // namespace tricot

@@ -81,8 +81,8 @@ Mat2 log_spd(const Mat2& U, Mat4* J_logU_U) {
     const Vec4 ds = dd2 / (m * m) - 2 * d2 / (m * m * m) * dm;
     const Vec4 dlndet = Vec4(b, -U(1, 0), -U(0, 1), a) / detU;
     const Vec4 dg = dG / m * ds - G / (m * m) * dm;
-    *J_logU_U = 0.5 * I * dlndet.transpose() + flatten(D) * dg.transpose() +
-                g * (Mat4::Identity() - I * dm.transpose());
+    *J_logU_U =
+        0.5 * I * dlndet.transpose() + flatten(D) * dg.transpose() + g * (Mat4::Identity() - I * dm.transpose());
   }
   return logU;
 }
@@ -93,8 +93,7 @@ Mat2 green_lagrange(const Mat2& F, Mat4* J_E_F) {
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)
         for (int k = 0; k < 2; ++k)
-          for (int l = 0; l < 2; ++l)
-            (*J_E_F)(2 * i + j, 2 * k + l) = 0.5 * ((j == l) * F(k, i) + (i == l) * F(k, j));
+          for (int l = 0; l < 2; ++l) (*J_E_F)(2 * i + j, 2 * k + l) = 0.5 * ((j == l) * F(k, i) + (i == l) * F(k, j));
   }
   return 0.5 * (F.transpose() * F - Mat2::Identity());
 }

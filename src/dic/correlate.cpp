@@ -19,9 +19,11 @@ void DicOptions::validate() const {
     throw InputError(Location{"", 0, key}, "out of range", got, expected);
   };
   if (step < 1 || step > 1000) bad("dic.step", std::to_string(step), "1 to 1000 px");
-  if (search_radius < 1 || search_radius > 10000) bad("dic.search_radius", std::to_string(search_radius), "1 to 10000 px");
+  if (search_radius < 1 || search_radius > 10000)
+    bad("dic.search_radius", std::to_string(search_radius), "1 to 10000 px");
   if (max_seeds < 1 || max_seeds > 1000) bad("dic.max_seeds", std::to_string(max_seeds), "1 to 1000");
-  if (!(prefilter_sigma >= 0 && prefilter_sigma <= 5)) bad("dic.prefilter_sigma", std::to_string(prefilter_sigma), "0 to 5 px");
+  if (!(prefilter_sigma >= 0 && prefilter_sigma <= 5))
+    bad("dic.prefilter_sigma", std::to_string(prefilter_sigma), "0 to 5 px");
   if (batch < 1 || batch > 4096) bad("dic.batch", std::to_string(batch), "1 to 4096");
   if (!(seed_min_zncc >= 0 && seed_min_zncc <= 1)) bad("dic.seed_min_zncc", std::to_string(seed_min_zncc), "0 to 1");
   if (threads < 0 || threads > 1024) bad("dic.threads", std::to_string(threads), "0 to 1024");
@@ -97,7 +99,8 @@ class Propagation {
 #pragma omp parallel for schedule(dynamic, 1)
       for (int t = 0; t < static_cast<int>(tasks.size()); ++t) {
         const auto [k, parent] = tasks[t];
-        out[t] = icgn(reference_, current_, centres_[k], shift_shape(result_.points[parent].p, centres_[k] - centres_[parent]), options_.icgn);
+        out[t] = icgn(reference_, current_, centres_[k],
+                      shift_shape(result_.points[parent].p, centres_[k] - centres_[parent]), options_.icgn);
       }
       for (std::size_t t = 0; t < tasks.size(); ++t) {
         claimed[tasks[t].first] = 0;
@@ -216,7 +219,8 @@ PairResult correlate_pair(const Frame& ref, const Frame& cur, const std::vector<
     PointMatch m;
     if (!has_texture(ref, centres[k], o.icgn)) {
       m = icgn(ref, cur, centres[k], Shape::Zero(), o.icgn);  // reports no_texture or out_of_image
-    } else if (const SeedGuess g = seed_guess(ref, cur, centres[k], o.icgn.subset_size, o.search_radius, predicted); g.found) {
+    } else if (const SeedGuess g = seed_guess(ref, cur, centres[k], o.icgn.subset_size, o.search_radius, predicted);
+               g.found) {
       m = icgn(ref, cur, centres[k], g.p, o.icgn);
       if (m.status != PointStatus::ok) {  // the satellites' gradient may mislead: try the rigid shift
         const PointMatch rigid = icgn(ref, cur, centres[k], translation(g.p(0), g.p(6)), o.icgn);
@@ -279,7 +283,8 @@ PairResult correlate_pair(const Frame& ref, const Frame& cur, const std::vector<
   for (const PointMatch& m : r.points)
     if (m.status == PointStatus::ok) ++r.ok, sum += m.zncc;
   r.mean_zncc = r.ok ? sum / r.ok : 0;
-  r.message = std::to_string(r.ok) + "/" + std::to_string(n) + " points ok" + (message.empty() ? "" : " (" + message + ")");
+  r.message =
+      std::to_string(r.ok) + "/" + std::to_string(n) + " points ok" + (message.empty() ? "" : " (" + message + ")");
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

@@ -79,8 +79,10 @@ std::vector<GridPoint> make_grid(const Roi& roi, int width, int height, int subs
     throw InputError(where, "region of interest lies outside the image", box(bx0, by0, bx1, by1),
                      "within 0,0," + std::to_string(width - 1) + "," + std::to_string(height - 1));
   const int M = subset_size / 2;
-  const int x_lo = std::max(M, static_cast<int>(std::ceil(bx0))), x_hi = std::min(width - 1 - M, static_cast<int>(std::floor(bx1)));
-  const int y_lo = std::max(M, static_cast<int>(std::ceil(by0))), y_hi = std::min(height - 1 - M, static_cast<int>(std::floor(by1)));
+  const int x_lo = std::max(M, static_cast<int>(std::ceil(bx0))),
+            x_hi = std::min(width - 1 - M, static_cast<int>(std::floor(bx1)));
+  const int y_lo = std::max(M, static_cast<int>(std::ceil(by0))),
+            y_hi = std::min(height - 1 - M, static_cast<int>(std::floor(by1)));
   std::vector<GridPoint> points;
   for (int y = y_lo, j = 0; y <= y_hi; y += step, ++j)
     for (int x = x_lo, i = 0; x <= x_hi; x += step, ++i)

@@ -29,11 +29,14 @@ const char* to_string(PointStatus s) {
 
 void IcgnOptions::validate() const {
   auto bad = [](const char* key, const std::string& got, const std::string& expected,
-                const char* problem = "out of range") { throw InputError(Location{"", 0, key}, problem, got, expected); };
+                const char* problem = "out of range") {
+    throw InputError(Location{"", 0, key}, problem, got, expected);
+  };
   if (subset_size < 7 || subset_size > 301 || subset_size % 2 == 0)
     bad("dic.subset_size", std::to_string(subset_size), "an odd number of px from 7 to 301",
         subset_size >= 7 && subset_size <= 301 ? "must be odd" : "out of range");
-  if (max_iterations < 1 || max_iterations > 1000) bad("dic.max_iterations", std::to_string(max_iterations), "1 to 1000");
+  if (max_iterations < 1 || max_iterations > 1000)
+    bad("dic.max_iterations", std::to_string(max_iterations), "1 to 1000");
   if (!(tolerance > 0) || !std::isfinite(tolerance)) bad("dic.tolerance", std::to_string(tolerance), "> 0 px");
   if (!(min_zncc >= 0 && min_zncc <= 1)) bad("dic.min_zncc", std::to_string(min_zncc), "0 to 1");
   if (!(min_texture >= 0 && min_texture < 1)) bad("dic.min_texture", std::to_string(min_texture), "0 to 1");
@@ -53,19 +56,17 @@ Mat6 warp_matrix(const Shape& p) {
   const double a = p(0), b = 1 + p(1), c = p(2), d = 0.5 * p(3), e = p(4), f = 0.5 * p(5);
   const double g = p(6), s = p(7), t = 1 + p(8), k = 0.5 * p(9), q = p(10), r = 0.5 * p(11);
   Mat6 M;
-  M << b * b + 2 * a * d, 2 * b * c + 2 * a * e, c * c + 2 * a * f, 2 * a * b, 2 * a * c, a * a,
-      b * s + a * k + g * d, b * t + c * s + a * q + g * e, c * t + a * r + g * f, a * s + g * b, a * t + g * c, a * g,
-      s * s + 2 * g * k, 2 * s * t + 2 * g * q, t * t + 2 * g * r, 2 * g * s, 2 * g * t, g * g,
-      d, e, f, b, c, a,
-      k, q, r, s, t, g,
-      0, 0, 0, 0, 0, 1;
+  M << b * b + 2 * a * d, 2 * b * c + 2 * a * e, c * c + 2 * a * f, 2 * a * b, 2 * a * c, a * a, b * s + a * k + g * d,
+      b * t + c * s + a * q + g * e, c * t + a * r + g * f, a * s + g * b, a * t + g * c, a * g, s * s + 2 * g * k,
+      2 * s * t + 2 * g * q, t * t + 2 * g * r, 2 * g * s, 2 * g * t, g * g, d, e, f, b, c, a, k, q, r, s, t, g, 0, 0,
+      0, 0, 0, 1;
   return M;
 }
 
 Shape shape_of(const Mat6& M) {
   Shape p;
-  p << M(3, 5), M(3, 3) - 1, M(3, 4), 2 * M(3, 0), M(3, 1), 2 * M(3, 2),
-       M(4, 5), M(4, 3), M(4, 4) - 1, 2 * M(4, 0), M(4, 1), 2 * M(4, 2);
+  p << M(3, 5), M(3, 3) - 1, M(3, 4), 2 * M(3, 0), M(3, 1), 2 * M(3, 2), M(4, 5), M(4, 3), M(4, 4) - 1, 2 * M(4, 0),
+      M(4, 1), 2 * M(4, 2);
   return p;
 }
 
@@ -123,10 +124,10 @@ struct Reference {
   int w_N = 0;
   double w_sigma = 0;
   double sw = 0;
-  double sw2 = 0;         ///< Σ w² (n when uniform)
-  MatP H2;                ///< Σ w² J Jᵀ (weighted only: the middle of the covariance sandwich)
-  std::vector<float> row; ///< g − f̄ over the warped subset, row-major (n values)
-  float fm = 0;           ///< f̄: subtracted from g too, so that the single-precision row sums stay well conditioned
+  double sw2 = 0;          ///< Σ w² (n when uniform)
+  MatP H2;                 ///< Σ w² J Jᵀ (weighted only: the middle of the covariance sandwich)
+  std::vector<float> row;  ///< g − f̄ over the warped subset, row-major (n values)
+  float fm = 0;            ///< f̄: subtracted from g too, so that the single-precision row sums stay well conditioned
   MatP H;
   VecP sum_J, sum_fJ;
   Eigen::LDLT<MatP> H_ldlt;
@@ -310,7 +311,8 @@ inline float spline_value(const float* origin, int stride, double X, double Y) {
 inline void spline_row(const float* origin, int stride, double X0, double Y0, double ax, double ay, int N, float fm,
                        float* __restrict h) {
   const double bx = std::floor(X0), by = std::floor(Y0);
-  const float* const base = origin + (static_cast<std::ptrdiff_t>(by) - 1) * stride + (static_cast<std::ptrdiff_t>(bx) - 1);
+  const float* const base =
+      origin + (static_cast<std::ptrdiff_t>(by) - 1) * stride + (static_cast<std::ptrdiff_t>(bx) - 1);
   const float x0 = static_cast<float>(X0 - bx), y0 = static_cast<float>(Y0 - by);
   const float fax = static_cast<float>(ax), fay = static_cast<float>(ay);
   const int M = N / 2;
@@ -331,7 +333,8 @@ inline void spline_row(const float* origin, int stride, double X0, double Y0, do
                 wy2 = (-3.0f * ty3 + 3.0f * ty2 + 3.0f * ty + 1.0f) * s6, wy3 = ty3 * s6;
     const int o = iy * stride + ix;
     const float r0 = wx0 * base[o] + wx1 * base[o + 1] + wx2 * base[o + 2] + wx3 * base[o + 3];
-    const float r1 = wx0 * base[o + stride] + wx1 * base[o + stride + 1] + wx2 * base[o + stride + 2] + wx3 * base[o + stride + 3];
+    const float r1 =
+        wx0 * base[o + stride] + wx1 * base[o + stride + 1] + wx2 * base[o + stride + 2] + wx3 * base[o + stride + 3];
     const int o2 = o + 2 * stride, o3 = o + 3 * stride;
     const float r2 = wx0 * base[o2] + wx1 * base[o2 + 1] + wx2 * base[o2 + 2] + wx3 * base[o2 + 3];
     const float r3 = wx0 * base[o3] + wx1 * base[o3 + 1] + wx2 * base[o3 + 2] + wx3 * base[o3 + 3];
@@ -498,8 +501,8 @@ PointMatch icgn_order(const Frame& ref, const Frame& cur, const Vec2& c, const S
       out.status = PointStatus::diverged;
       return out;
     }
-    double norm2 = dP(0) * dP(0) + dP(6) * dP(6) +
-                   half * half * (dP(1) * dP(1) + dP(2) * dP(2) + dP(7) * dP(7) + dP(8) * dP(8));
+    double norm2 =
+        dP(0) * dP(0) + dP(6) * dP(6) + half * half * (dP(1) * dP(1) + dP(2) * dP(2) + dP(7) * dP(7) + dP(8) * dP(8));
     if constexpr (NP == 12)
       norm2 += 0.25 * half * half * half * half *
                (dP.template segment<3>(3).squaredNorm() + dP.template segment<3>(9).squaredNorm());

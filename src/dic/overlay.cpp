@@ -30,7 +30,8 @@ void OverlayOptions::validate() const {
     throw InputError(Location{"", 0, key}, "out of range", got, expected);
   };
   if (panels.empty()) bad("output.panels", "none", "at least one panel");
-  if (panel_width < 100 || panel_width > 10000) bad("output.panel_width", std::to_string(panel_width), "100 to 10000 px");
+  if (panel_width < 100 || panel_width > 10000)
+    bad("output.panel_width", std::to_string(panel_width), "100 to 10000 px");
   if (!(opacity >= 0 && opacity <= 1)) bad("output.opacity", std::to_string(opacity), "0 to 1");
   if (!(zncc_floor >= 0 && zncc_floor < 1)) bad("output.zncc_floor", std::to_string(zncc_floor), "0 to 1");
 }
@@ -139,7 +140,8 @@ cv::Mat panel(const cv::Mat& base, double scale, OverlayField field, const std::
   }
   // the colour bar between its two end values, right-aligned, as wide as the title leaves room for
   const std::string lo_text = number(lo), hi_text = number(hi);
-  const int hi_w = cv::getTextSize(hi_text, font, 0.5, 1, &bl).width, lo_w = cv::getTextSize(lo_text, font, 0.5, 1, &bl).width;
+  const int hi_w = cv::getTextSize(hi_text, font, 0.5, 1, &bl).width,
+            lo_w = cv::getTextSize(lo_text, font, 0.5, 1, &bl).width;
   const int bar_x1 = out.cols - hi_w - 16;
   const int bar_w = std::min(240, bar_x1 - (8 + title_w + 16 + lo_w + 6));
   if (bar_w >= 30) {
@@ -175,7 +177,8 @@ image::RgbImage draw_overlay(const image::Image& current, const std::vector<Grid
   }
   cv::cvtColor(sheet, sheet, cv::COLOR_BGR2RGB);
   image::RgbImage out(sheet.cols, sheet.rows);
-  for (int y = 0; y < sheet.rows; ++y) std::copy_n(sheet.ptr<std::uint8_t>(y), 3 * sheet.cols, &out.rgb[3 * std::size_t(y) * sheet.cols]);
+  for (int y = 0; y < sheet.rows; ++y)
+    std::copy_n(sheet.ptr<std::uint8_t>(y), 3 * sheet.cols, &out.rgb[3 * std::size_t(y) * sheet.cols]);
   return out;
 }
 

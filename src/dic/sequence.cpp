@@ -68,12 +68,12 @@ struct SequenceTracker::State {
   std::vector<std::array<int, 4>> neighbours;
   std::shared_ptr<const Frame> ref, prev;  ///< the current reference image r and the previous image
   int r = 0;
-  int next = 1;                             ///< the frame the next add() correlates
-  std::vector<Vec2> ref_x;                  ///< positions in image r
-  std::vector<Vec2> ref_sigma;              ///< σ of those positions (px), 0 in image 0
-  std::vector<char> alive;                  ///< the point has a position in image r
-  std::vector<PointStatus> dead;            ///< what a point that is not alive reports: why frame 0 rejected it, or lost
-  std::vector<std::optional<Shape>> last;   ///< starting shapes for the next frame
+  int next = 1;                            ///< the frame the next add() correlates
+  std::vector<Vec2> ref_x;                 ///< positions in image r
+  std::vector<Vec2> ref_sigma;             ///< σ of those positions (px), 0 in image 0
+  std::vector<char> alive;                 ///< the point has a position in image r
+  std::vector<PointStatus> dead;           ///< what a point that is not alive reports: why frame 0 rejected it, or lost
+  std::vector<std::optional<Shape>> last;  ///< starting shapes for the next frame
   std::vector<std::optional<Shape>> fixed_last;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 
@@ -94,7 +94,8 @@ struct SequenceTracker::State {
       g[a] = guesses[k];
       any_guess |= g[a].has_value();
     }
-    PairResult compact_result = correlate_pair(*ref, cur, c, nb, o.dic, any_guess ? g : std::vector<std::optional<Shape>>{});
+    PairResult compact_result =
+        correlate_pair(*ref, cur, c, nb, o.dic, any_guess ? g : std::vector<std::optional<Shape>>{});
     PairResult out = compact_result;
     out.points.assign(n, PointMatch{});
     for (std::size_t a = 0; a < full.size(); ++a) out.points[full[a]] = compact_result.points[a];
@@ -124,7 +125,8 @@ SequenceTracker::SequenceTracker(const image::Image& reference, std::vector<Grid
   f0.sigma.assign(n, Vec2::Zero());
   // The texture test reads every reference subset: in parallel (issue 16), then the statuses in order.
   std::vector<char> textured(n);
-#pragma omp parallel for schedule(dynamic, 64) num_threads(s.o.dic.threads > 0 ? std::min(s.o.dic.threads, omp_get_num_procs()) : omp_get_max_threads())
+#pragma omp parallel for schedule(dynamic, 64) \
+    num_threads(s.o.dic.threads > 0 ? std::min(s.o.dic.threads, omp_get_num_procs()) : omp_get_max_threads())
   for (int k = 0; k < n; ++k) textured[k] = has_texture(*s.ref, g[k].x, s.o.dic.icgn);
   for (int k = 0; k < n; ++k) {
     s.ref_x[k] = f0.x[k] = g[k].x;
@@ -283,8 +285,8 @@ const SequenceResult& SequenceTracker::result() {
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - s.start).count();
   const TrackedFrame& last = r.frames.back();
   r.termination = last.ok > 0 || s.next == 1 ? SequenceTermination::completed : SequenceTermination::all_lost;
-  r.message = std::to_string(s.next) + " frames, " + to_string(s.o.mode) + " mode; " +
-              std::to_string(last.ok) + "/" + std::to_string(r.grid.size()) + " points ok in the last frame";
+  r.message = std::to_string(s.next) + " frames, " + to_string(s.o.mode) + " mode; " + std::to_string(last.ok) + "/" +
+              std::to_string(r.grid.size()) + " points ok in the last frame";
   if (r.termination == SequenceTermination::all_lost) r.message += " (every point was lost)";
   return r;
 }
@@ -437,7 +439,8 @@ SequenceTracker::SequenceTracker(const image::Image& reference, const image::Ima
   for (PointStatus& st : f.status) st = in.get<PointStatus>();
   f.strain.resize(n);
   for (StrainPoint& e : f.strain) {
-    e.F(0, 0) = in.get<double>(), e.F(0, 1) = in.get<double>(), e.F(1, 0) = in.get<double>(), e.F(1, 1) = in.get<double>();
+    e.F(0, 0) = in.get<double>(), e.F(0, 1) = in.get<double>(), e.F(1, 0) = in.get<double>(),
+           e.F(1, 1) = in.get<double>();
     e.exx = in.get<double>(), e.eyy = in.get<double>(), e.exy = in.get<double>();
     e.valid = in.get<char>() != 0;
   }

@@ -37,7 +37,8 @@ std::vector<StrainPoint> green_lagrange(const std::vector<GridPoint>& grid, cons
   // Grid indices → point, a dense table over the grid's bounding box (−1 where there is no point).
   int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
   if (!grid.empty()) i0 = i1 = grid[0].i, j0 = j1 = grid[0].j;
-  for (const GridPoint& g : grid) i0 = std::min(i0, g.i), i1 = std::max(i1, g.i), j0 = std::min(j0, g.j), j1 = std::max(j1, g.j);
+  for (const GridPoint& g : grid)
+    i0 = std::min(i0, g.i), i1 = std::max(i1, g.i), j0 = std::min(j0, g.j), j1 = std::max(j1, g.j);
   const long long width = i1 - i0 + 1;
   std::vector<int> index(static_cast<std::size_t>(std::max(0LL, width * (j1 - j0 + 1))), -1);
   for (int k = 0; k < static_cast<int>(grid.size()); ++k) index[(grid[k].j - j0) * width + (grid[k].i - i0)] = k;

@@ -57,7 +57,7 @@ DofMap make_dof_map(const TestModel& test) {
     return d;
   }
   const double W = m.X.row(0).maxCoeff();
-  for (int n : m.left) d.eq[2 * n] = -1;    // symmetry: u_x = 0
+  for (int n : m.left) d.eq[2 * n] = -1;        // symmetry: u_x = 0
   for (int n : m.bottom) d.eq[2 * n + 1] = -1;  // symmetry: u_y = 0
   for (size_t i = 0; i < m.top.size(); ++i) {
     const int n = m.top[i];

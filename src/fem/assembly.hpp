@@ -26,13 +26,13 @@ struct Load {
 /// d·grip + c·guide; a force-controlled grip makes every top u_y share one equation (`master`),
 /// which keeps the edge straight and carries the quarter's share F/2 of the force.
 struct DofMap {
-  std::vector<int> eq;           ///< per node dof: its equation, or −1 when prescribed
+  std::vector<int> eq;  ///< per node dof: its equation, or −1 when prescribed
   int equations = 0;
-  int master = -1;               ///< the shared grip u_y (force control), else −1
-  std::vector<char> grip;        ///< per node dof: u = d (top u_y, displacement control)
-  std::vector<double> guide;     ///< per node dof: u = guide·c (1 on the side edge, X/W on a pantograph clamp)
-  std::vector<int> top_y;        ///< u_y dofs of the top edge (the grip reaction)
-  std::vector<int> right_x;      ///< u_x dofs of the right edge (the guide reaction)
+  int master = -1;            ///< the shared grip u_y (force control), else −1
+  std::vector<char> grip;     ///< per node dof: u = d (top u_y, displacement control)
+  std::vector<double> guide;  ///< per node dof: u = guide·c (1 on the side edge, X/W on a pantograph clamp)
+  std::vector<int> top_y;     ///< u_y dofs of the top edge (the grip reaction)
+  std::vector<int> right_x;   ///< u_x dofs of the right edge (the guide reaction)
   /// Per node dof: stiffness of a tie (N/mm; a free dof with a spring t·(u − c·guide)), else 0. The
   /// guide's ties anchor at c (guide = 1), the clips' at c·X/W or 0.
   std::vector<double> tie;
@@ -62,17 +62,17 @@ double tie_anchor(const DofMap& dofs, int k, const Load& load);
 
 /// Everything one assembly returns.
 struct Assembled {
-  Eigen::VectorXd f;               ///< internal force at every node dof (N)
-  Eigen::SparseMatrix<double> K;   ///< free-free tangent ∂R_f/∂z, fixed pattern
-  Eigen::VectorXd g_grip, g_guide; ///< ∂R_f/∂d and ∂R_f/∂c at fixed z (K_fp times the load pattern)
-  Eigen::VectorXd h_top;           ///< ∂(Σ_top f_y)/∂z, for the force sensitivity
+  Eigen::VectorXd f;                ///< internal force at every node dof (N)
+  Eigen::SparseMatrix<double> K;    ///< free-free tangent ∂R_f/∂z, fixed pattern
+  Eigen::VectorXd g_grip, g_guide;  ///< ∂R_f/∂d and ∂R_f/∂c at fixed z (K_fp times the load pattern)
+  Eigen::VectorXd h_top;            ///< ∂(Σ_top f_y)/∂z, for the force sensitivity
   /// ∂R_f/∂u_s: free equations × node dofs, non-zero in the columns of series dofs (DofMap::series),
   /// for the predictor of an increment of the boundary series.
   Eigen::SparseMatrix<double> K_fs;
-  Eigen::MatrixXd df_dc;           ///< ∂f/∂c_k at every node dof (when asked)
-  bool symmetric = true;           ///< every element tangent symmetric: Cholesky applies
+  Eigen::MatrixXd df_dc;  ///< ∂f/∂c_k at every node dof (when asked)
+  bool symmetric = true;  ///< every element tangent symmetric: Cholesky applies
   ElementStatus status = ElementStatus::ok;
-  int element = -1;                ///< the first bad element when status is not ok
+  int element = -1;  ///< the first bad element when status is not ok
   double min_detF = 1;
 };
 
@@ -103,7 +103,7 @@ class Assembler {
   /// Per element: (local i, local j, index into K_fs.valuePtr()) of a free row and a series column.
   std::vector<std::vector<std::array<int, 3>>> series_entries_;
   Eigen::SparseMatrix<double> pattern_fs_;
-  int D_ = 0;                             ///< element dofs
+  int D_ = 0;  ///< element dofs
   Eigen::SparseMatrix<double> pattern_;
   // Serial or threaded, decided by timing one of each (see assemble()).
   mutable int threaded_ = -1, probes_ = 0;

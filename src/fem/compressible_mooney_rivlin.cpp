@@ -24,7 +24,9 @@ Jet operator*(const Jet& a, const Jet& b) {
   return {a.v * b.v, a.v * b.g + b.v * a.g, a.v * b.h + b.v * a.h + a.g * b.g.transpose() + b.g * a.g.transpose()};
 }
 // f(a) from f, f′, f″ at a.v.
-Jet apply(const Jet& a, double f, double df, double d2f) { return {f, df * a.g, df * a.h + d2f * a.g * a.g.transpose()}; }
+Jet apply(const Jet& a, double f, double df, double d2f) {
+  return {f, df * a.g, df * a.h + d2f * a.g * a.g.transpose()};
+}
 Jet power(const Jet& a, double p) {
   return apply(a, std::pow(a.v, p), p * std::pow(a.v, p - 1), p * (p - 1) * std::pow(a.v, p - 2));
 }
@@ -80,7 +82,8 @@ int var(int M, int J) { return M == J ? 2 * M : 1; }  // C_MJ → index in v
 
 }  // namespace
 
-CompressibleMooneyRivlin::CompressibleMooneyRivlin(std::vector<MooneyRivlinTerm> terms, double kappa, Kinematics kinematics)
+CompressibleMooneyRivlin::CompressibleMooneyRivlin(std::vector<MooneyRivlinTerm> terms, double kappa,
+                                                   Kinematics kinematics)
     : terms_(std::move(terms)), kappa_(kappa), kinematics_(kinematics) {
   MooneyRivlin check(terms_);  // the terms' own checks (material.terms, material.values)
   if (!(kappa > 0) || !std::isfinite(kappa))
@@ -102,8 +105,8 @@ Eigen::VectorXd CompressibleMooneyRivlin::coefficients() const {
 
 void CompressibleMooneyRivlin::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != static_cast<Eigen::Index>(terms_.size()) + 1)
-    throw InputError(Location{"", 0, "material"}, "wrong number of Mooney–Rivlin coefficients", std::to_string(c.size()),
-                     std::to_string(terms_.size() + 1));
+    throw InputError(Location{"", 0, "material"}, "wrong number of Mooney–Rivlin coefficients",
+                     std::to_string(c.size()), std::to_string(terms_.size() + 1));
   std::vector<MooneyRivlinTerm> t = terms_;
   for (size_t k = 0; k < t.size(); ++k) t[k].C = c(static_cast<Eigen::Index>(k));
   *this = CompressibleMooneyRivlin(std::move(t), c(c.size() - 1), kinematics_);

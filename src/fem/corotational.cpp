@@ -16,7 +16,8 @@ void check(double D11, double D22, double D12, double D66) {
   const std::array<std::pair<const char*, double>, 4> c = {
       {{"material.D11", D11}, {"material.D22", D22}, {"material.D12", D12}, {"material.D66", D66}}};
   for (const auto& [key, v] : c)
-    if (!std::isfinite(v)) throw InputError(Location{"", 0, key}, "not a finite number", std::to_string(v), "finite N/mm");
+    if (!std::isfinite(v))
+      throw InputError(Location{"", 0, key}, "not a finite number", std::to_string(v), "finite N/mm");
   if (!(D11 > 0)) throw InputError(Location{"", 0, "material.D11"}, "out of range", std::to_string(D11), "> 0 N/mm");
   if (!(D22 > 0)) throw InputError(Location{"", 0, "material.D22"}, "out of range", std::to_string(D22), "> 0 N/mm");
   if (!(D66 > 0)) throw InputError(Location{"", 0, "material.D66"}, "out of range", std::to_string(D66), "> 0 N/mm");
@@ -61,14 +62,12 @@ CorotationalOrthotropic CorotationalOrthotropic::isotropic_plane_stress(double E
   return {Dp, Dp, nu * Dp, E / (2 * (1 + nu))};
 }
 
-Eigen::VectorXd CorotationalOrthotropic::coefficients() const {
-  return Eigen::Vector4d(D11_, D22_, D12_, D66_);
-}
+Eigen::VectorXd CorotationalOrthotropic::coefficients() const { return Eigen::Vector4d(D11_, D22_, D12_, D66_); }
 
 void CorotationalOrthotropic::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != 4)
-    throw InputError(Location{"", 0, "material"}, "wrong number of corotational coefficients",
-                     std::to_string(c.size()), "4 (D11, D22, D12, D66)");
+    throw InputError(Location{"", 0, "material"}, "wrong number of corotational coefficients", std::to_string(c.size()),
+                     "4 (D11, D22, D12, D66)");
   check(c(0), c(1), c(2), c(3));
   D11_ = c(0);
   D22_ = c(1);

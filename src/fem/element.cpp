@@ -148,8 +148,8 @@ namespace {
 //   A^{ik}(j, l) = A(2i+j, 2k+l): dense NN × NN products that vectorize, accumulated over the points
 //   and interleaved into K once per element. Where A is major-symmetric, K^{10} = (K^{01})ᵀ.
 template <int NN>
-ElementStatus response(const ElementGeometry& g, const ElementVector& ue, const Law& law,
-                       const Mat2& Q, const LawRequest& req, LawOutput& lo, ElementResponse& out) {
+ElementStatus response(const ElementGeometry& g, const ElementVector& ue, const Law& law, const Mat2& Q,
+                       const LawRequest& req, LawOutput& lo, ElementResponse& out) {
   constexpr int D = 2 * NN;
   using NodeMat = Eigen::Matrix<double, NN, 2, Eigen::RowMajor>;  // (a, i) -> dof 2a+i
   using Block = Eigen::Matrix<double, NN, NN>;
@@ -223,9 +223,8 @@ ElementStatus response(const ElementGeometry& g, const ElementVector& ue, const 
 
 }  // namespace
 
-ElementStatus element_response(const ElementGeometry& g, const ElementVector& ue, const Law& law,
-                               const Mat2& Q, const LawRequest& request, LawOutput& scratch,
-                               ElementResponse& out) {
+ElementStatus element_response(const ElementGeometry& g, const ElementVector& ue, const Law& law, const Mat2& Q,
+                               const LawRequest& request, LawOutput& scratch, ElementResponse& out) {
   switch (g.nodes) {
     case 3: return response<3>(g, ue, law, Q, request, scratch, out);
     case 4: return response<4>(g, ue, law, Q, request, scratch, out);

@@ -44,8 +44,7 @@ inline FabricKinematics fabric_kinematics(const LawInput& in, bool tangent) {
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)
         for (int kk = 0; kk < 2; ++kk)
-          for (int l = 0; l < 2; ++l)
-            k.J_Em_F(2 * i + j, 2 * kk + l) = 0.5 * (Q(l, i) * G(kk, j) + G(kk, i) * Q(l, j));
+          for (int l = 0; l < 2; ++l) k.J_Em_F(2 * i + j, 2 * kk + l) = 0.5 * (Q(l, i) * G(kk, j) + G(kk, i) * Q(l, j));
   }
   return k;
 }
@@ -94,6 +93,5 @@ inline void fabric_stress(const LawInput& in, const FabricKinematics& k, const F
 inline Mat2 fabric_basis(const LawInput& in, const FabricKinematics& k, const Mat2& T_c) {
   return k.R * in.Q * T_c * in.Q.transpose();
 }
-
 
 }  // namespace tricot::fem::detail

@@ -17,8 +17,10 @@ namespace tricot::fem {
 
 void GeometryMeshOptions::validate() const {
   if (!(size >= 0) || !std::isfinite(size))
-    throw InputError(Location{"", 0, "mesh.size"}, "out of range", format_number(size), ">= 0 mm (0 = the .geo's sizes)");
-  if (order != 1 && order != 2) throw InputError(Location{"", 0, "mesh.order"}, "out of range", std::to_string(order), "1 or 2");
+    throw InputError(Location{"", 0, "mesh.size"}, "out of range", format_number(size),
+                     ">= 0 mm (0 = the .geo's sizes)");
+  if (order != 1 && order != 2)
+    throw InputError(Location{"", 0, "mesh.order"}, "out of range", std::to_string(order), "1 or 2");
 }
 
 namespace {
@@ -109,8 +111,8 @@ Mesh from_model(const std::string& source, const std::string& key) {
     gmsh::model::mesh::getElements(types, tags, nodes, 2, entity);
     for (size_t i = 0; i < types.size(); ++i) {
       if (!from_gmsh(types[i]))
-        bad("Gmsh writes " + gmsh_type_name(types[i]) + " elements, which tricot does not take", gmsh_type_name(types[i]),
-            "T3 (2), T6 (9), Q4 (3) or Q8 (16)");
+        bad("Gmsh writes " + gmsh_type_name(types[i]) + " elements, which tricot does not take",
+            gmsh_type_name(types[i]), "T3 (2), T6 (9), Q4 (3) or Q8 (16)");
       if (gmsh_type && *gmsh_type != types[i])
         bad("the mesh mixes element types", gmsh_type_name(*gmsh_type) + " and " + gmsh_type_name(types[i]),
             "one type (recombine all surfaces, or none)");
@@ -196,7 +198,8 @@ Mesh from_model(const std::string& source, const std::string& key) {
 void require_file(const std::string& path, const std::string& key) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    throw FileError(Location{path, 0, key}, "mesh file not found or not a file", "\"" + path + "\"", "an existing .msh or .geo file");
+    throw FileError(Location{path, 0, key}, "mesh file not found or not a file", "\"" + path + "\"",
+                    "an existing .msh or .geo file");
 }
 
 // Runs `body` in a fresh Gmsh session; Gmsh's own errors become a FileError naming the file.
@@ -214,8 +217,7 @@ Mesh with_gmsh(const std::string& path, const std::string& key, Body body) {
     std::string last;
     try {
       gmsh::logger::getLastError(last);
-    } catch (...) {
-    }
+    } catch (...) {}
     if (!last.empty()) why = last;
     throw FileError(Location{path, 0, key}, "Gmsh cannot read it: " + why);
   } catch (const std::string& why) {  // libgmsh's API throws its last error as a string

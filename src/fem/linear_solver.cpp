@@ -79,7 +79,8 @@ std::vector<int> order_blocks(Eigen::SparseMatrix<double>& C, bool nested) {
     std::vector<int> order(nb), cparent(nb), cmember(nb);
     cholmod_common common;
     cholmod_start(&common);
-    const bool ok = cholmod_nested_dissection(&A, nullptr, 0, order.data(), cparent.data(), cmember.data(), &common) > 0;
+    const bool ok =
+        cholmod_nested_dissection(&A, nullptr, 0, order.data(), cparent.data(), cmember.data(), &common) > 0;
     cholmod_finish(&common);
     if (ok) {
       for (int k = 0; k < nb; ++k) perm[order[k]] = k;
@@ -124,8 +125,8 @@ inline V8 columns1(const V8& m) { return __builtin_shuffle(m, I8{2, 3, 2, 3, 6, 
 // rows 2I, 2I + 1. L(R, I) and U(I, R)ᵀ in block column I's entries p (row block Li[p]) at Lx + 8 p and
 // Ux + 8 p, each column-major (m00 m10 m01 m11); Dinv: D's inverses, column-major.
 template <int M>
-void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx, const double* Ux,
-                          const double* Dinv, double* Y, Eigen::Index m) {
+void block_ldu_substitute(int nb, const int* Lp, const int* Li, const double* Lx, const double* Ux, const double* Dinv,
+                          double* Y, Eigen::Index m) {
   using Row = Eigen::Matrix<double, 1, M>;
   using RowMap = Eigen::Map<Row>;
   auto row = [&](Eigen::Index r) { return RowMap(Y + r * m); };
@@ -318,7 +319,7 @@ bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& K, bool symmetri
 // fails the factorization (UMFPACK then pivots).
 bool LinearSolver::factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K) {
   constexpr double kTinyPivot = 1e-10;  // growth beyond 1e10 would cost the sensitivities their digits
-  if (!K.isCompressed()) {  // the maps below index K's arrays directly (the assembler's K is compressed)
+  if (!K.isCompressed()) {              // the maps below index K's arrays directly (the assembler's K is compressed)
     Eigen::SparseMatrix<double> compressed = K;
     compressed.makeCompressed();
     return factorize_simplicial_lu(compressed);
@@ -513,9 +514,10 @@ std::string LinearSolver::description() const {
   }
   char line[256];
   std::snprintf(line, sizeof line, "%s; %sUMFPACK LU, %s ordering, for non-symmetric tangents; %ld unknowns", what,
-                !block_lu_                ? ""
-                : uses_nested_dissection() ? "2 x 2 node-block simplicial LU without pivoting on a block nested-dissection ordering, else "
-                                        : "2 x 2 node-block simplicial LU without pivoting on a block AMD ordering, else ",
+                !block_lu_ ? ""
+                : uses_nested_dissection()
+                    ? "2 x 2 node-block simplicial LU without pivoting on a block nested-dissection ordering, else "
+                    : "2 x 2 node-block simplicial LU without pivoting on a block AMD ordering, else ",
                 n_ >= kLuMetisFrom ? "METIS" : "AMD", static_cast<long>(n_));
   return line;
 }

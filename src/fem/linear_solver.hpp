@@ -4,9 +4,9 @@
 // definite); SolveOptions::linear_solver picks one, or lets the size pick (LinearSolverKind::automatic,
 // crossover measured in bench/linear_solver_benchmark.cpp). Non-symmetric tangents: with the Eigen
 // backend, and under `automatic` below kBlockLuBelow unknowns, a simplicial LU without pivoting on 2 × 2
-// node blocks, ordered by blocks (AMD, or nested dissection at mid sizes; the tangent's pattern is symmetric, so L and Uᵀ have the block
-// LDLᵀ's pattern); UMFPACK LU for the larger ones, with an explicit CHOLMOD kind, where a pivot of that
-// LU is tiny, or where LDLᵀ breaks down.
+// node blocks, ordered by blocks (AMD, or nested dissection at mid sizes; the tangent's pattern is
+// symmetric, so L and Uᵀ have the block LDLᵀ's pattern); UMFPACK LU for the larger ones, with an
+// explicit CHOLMOD kind, where a pivot of that LU is tiny, or where LDLᵀ breaks down.
 // The ordering and symbolic analysis are done once per simulation (the pattern is fixed); each
 // factorization is numeric only, and the matrix handed to it is filled through a precomputed map.
 #pragma once
@@ -86,13 +86,16 @@ class LinearSolver {
   LinearSolverKind kind() const { return kind_; }
   /// One line naming the factorization, its ordering and the size, e.g. for a --verbose log.
   std::string description() const;
-  /// Entries of the simplicial LU's L, U and D (its 2 × 2 blocks, padding included) after its first factorization (else 0), for benchmarks.
-  Eigen::Index lu_nonzeros() const { return simplicial_lu_ ? 8 * static_cast<Eigen::Index>(simplicial_lu_->Lp.back()) + 4 * simplicial_lu_->blocks : 0; }
+  /// Entries of the simplicial LU's L, U and D (its 2 × 2 blocks, padding included) after its first
+  /// factorization (else 0), for benchmarks.
+  Eigen::Index lu_nonzeros() const {
+    return simplicial_lu_ ? 8 * static_cast<Eigen::Index>(simplicial_lu_->Lp.back()) + 4 * simplicial_lu_->blocks : 0;
+  }
 
   double seconds = 0;  ///< wall time in numeric factorizations
   int factorizations = 0;
-  int ldlt_fallbacks = 0;  ///< supernodal LLᵀ factorizations that met a non-positive pivot (then LDLᵀ)
-  int lu_fallbacks = 0;    ///< symmetric tangents that LDLᵀ could not factorize (then LU)
+  int ldlt_fallbacks = 0;           ///< supernodal LLᵀ factorizations that met a non-positive pivot (then LDLᵀ)
+  int lu_fallbacks = 0;             ///< symmetric tangents that LDLᵀ could not factorize (then LU)
   int simplicial_lu_fallbacks = 0;  ///< non-symmetric tangents whose simplicial LU met a tiny pivot (then UMFPACK)
 
  private:
@@ -102,7 +105,8 @@ class LinearSolver {
   Eigen::Index n_ = 0;
   bool block_lu_ = false;  ///< non-symmetric tangents try the block LU first (else UMFPACK directly)
   bool uses_nested_dissection() const {
-    return block_ordering == BlockOrdering::by_size ? nested_dissection(n_) : block_ordering == BlockOrdering::nested_dissection;
+    return block_ordering == BlockOrdering::by_size ? nested_dissection(n_)
+                                                    : block_ordering == BlockOrdering::nested_dissection;
   }
   /// The symmetric backend's ordering and symbolic analysis, at the first symmetric tangent (a law
   /// whose tangents are never symmetric, e.g. the response surface, never pays for it).
@@ -131,7 +135,7 @@ class LinearSolver {
   bool factorize_simplicial_lu(const Eigen::SparseMatrix<double>& K);
   struct SimplicialLu {
     int blocks = 0;
-    std::vector<int> pos;  // equation → its row in the padded, permuted system (2 · block + slot)
+    std::vector<int> pos;                     // equation → its row in the padded, permuted system (2 · block + slot)
     std::vector<int> Ap, Ai;                  // B's upper block triangle by block columns
     std::vector<int> upper_from, lower_from;  // per block entry 4 sources in K's values (nnz: 0, nnz + 1: 1)
     std::vector<int> parent, Lp, Li, Lnz, flag, pattern;  // elimination tree, L's block columns, workspace

@@ -75,9 +75,10 @@ const std::vector<int>& Mesh::boundary(const std::string& name, const std::strin
   std::string list;
   for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
   const std::string near = closest_name(name, names);
-  throw InputError(Location{"", 0, key},
-                   "no boundary of the mesh is named '" + name + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)"),
-                   "\"" + name + "\"", names.empty() ? "a named boundary (the mesh has none)" : "one of: " + list);
+  throw InputError(
+      Location{"", 0, key},
+      "no boundary of the mesh is named '" + name + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)"),
+      "\"" + name + "\"", names.empty() ? "a named boundary (the mesh has none)" : "one of: " + list);
 }
 
 void check_mesh(const Mesh& mesh, const std::string& source) {
@@ -111,7 +112,8 @@ void check_mesh(const Mesh& mesh, const std::string& source) {
   const int first = root(mesh.connectivity[0][0]);
   for (int e = 0; e < ne; ++e)
     if (root(mesh.connectivity[e][0]) != first)
-      bad("the mesh is in more than one piece: element " + std::to_string(e) + " shares no node, directly or through others, with element 0",
+      bad("the mesh is in more than one piece: element " + std::to_string(e) +
+              " shares no node, directly or through others, with element 0",
           "", "one connected specimen");
 }
 

@@ -97,17 +97,20 @@ std::vector<std::pair<int, double>> TestModel::tie_stiffness(size_t i) const {
   for (int n : nodes) in[n] = 1;
   const std::vector<Side> sides = boundary_sides(mesh, in);
   if (sides.empty())
-    throw InputError(Location{"", 0, key + ".tie"}, "test '" + name + "': the boundary '" + c.boundary +
-                         "' has no length to tie (points only)", format_number(c.tie), "a boundary along element sides");
+    throw InputError(Location{"", 0, key + ".tie"},
+                     "test '" + name + "': the boundary '" + c.boundary + "' has no length to tie (points only)",
+                     format_number(c.tie), "a boundary along element sides");
   // Arc length along the line, when the tie ends (else the whole boundary is tied: s = 0, s_end = ∞).
   double s_end = INFINITY;
   std::map<int, double> s;
   if (c.tie_end) {
     s = arc_lengths(mesh, sides, *c.tie_end, s_end);
     if (s.empty())
-      throw InputError(Location{"", 0, key + ".tie_end"}, "test '" + name + "': a tie that ends needs the boundary '" +
-                           c.boundary + "' to be one open line", "[" + format_number((*c.tie_end)(0)) + ", " +
-                           format_number((*c.tie_end)(1)) + "]", "a boundary without branches or loops, or no tie_end");
+      throw InputError(
+          Location{"", 0, key + ".tie_end"},
+          "test '" + name + "': a tie that ends needs the boundary '" + c.boundary + "' to be one open line",
+          "[" + format_number((*c.tie_end)(0)) + ", " + format_number((*c.tie_end)(1)) + "]",
+          "a boundary without branches or loops, or no tie_end");
   }
   auto at = [&](int n) { return s.empty() ? 0.0 : s.at(n); };
   auto taper = [&](double x) { return c.tie_taper > 0 ? std::clamp((s_end - x) / c.tie_taper, 0.0, 1.0) : 1.0; };
@@ -139,7 +142,8 @@ std::vector<std::pair<int, double>> TestModel::tie_stiffness(size_t i) const {
     for (int q = 0; q < 3; ++q) {
       const double xi = -1 + 0.5 * (xi_end + 1) * (g[q] + 1), dxi = 0.5 * (xi_end + 1) * w[q];
       const double f = c.tie * taper(s0 + 0.5 * (xi + 1) * (s1 - s0)) * 0.5 * L * dxi;
-      const double N_first = d.m >= 0 ? 0.5 * xi * (xi - 1) : 0.5 * (1 - xi), N_last = d.m >= 0 ? 0.5 * xi * (xi + 1) : 0.5 * (1 + xi);
+      const double N_first = d.m >= 0 ? 0.5 * xi * (xi - 1) : 0.5 * (1 - xi),
+                   N_last = d.m >= 0 ? 0.5 * xi * (xi + 1) : 0.5 * (1 + xi);
       share[first] += f * N_first, share[last] += f * N_last;
       if (d.m >= 0) share[d.m] += f * (1 - xi * xi);
     }
@@ -165,11 +169,11 @@ void TestModel::validate_conditions() const {
           format_number(loads[k]) + " after " + format_number(loads[k - 1]), "strictly increasing labels");
   }
   // The quarter's own conditions do not apply to a model of any mesh.
-  if (control != GripControl::displacement || side != SideEdge::free || !guide.empty() ||
-      guide_gap != 0 || guide_setting_steps != 0 || guide_tie_stiffness != 0 || guide_taper != 0 ||
-      grip_tie_stiffness != 0 || grip_taper != 0 || grip_follows_guide)
-    bad("test.conditions", "boundary conditions per named boundary replace the quarter model's grip and guide",
-        "both", "conditions, or the quarter's grip and guide");
+  if (control != GripControl::displacement || side != SideEdge::free || !guide.empty() || guide_gap != 0 ||
+      guide_setting_steps != 0 || guide_tie_stiffness != 0 || guide_taper != 0 || grip_tie_stiffness != 0 ||
+      grip_taper != 0 || grip_follows_guide)
+    bad("test.conditions", "boundary conditions per named boundary replace the quarter model's grip and guide", "both",
+        "conditions, or the quarter's grip and guide");
   for (size_t i = 0; i < conditions.size(); ++i) {
     const BoundaryCondition& c = conditions[i];
     const std::string key = "test.conditions[" + std::to_string(i) + "]";
@@ -177,20 +181,25 @@ void TestModel::validate_conditions() const {
     if (c.component != 0 && c.component != 1)
       bad(key + ".component", "not a component", std::to_string(c.component), "0 (x) or 1 (y)");
     if (!c.values.empty() && c.values.size() != loads.size())
-      bad(key + ".values", "the series on boundary '" + c.boundary + "' has " + std::to_string(c.values.size()) +
-              " values for " + std::to_string(loads.size()) + " steps",
-          std::to_string(c.values.size()) + " values", "one per step (" + std::to_string(loads.size()) + "), or none (fixed)");
+      bad(key + ".values",
+          "the series on boundary '" + c.boundary + "' has " + std::to_string(c.values.size()) + " values for " +
+              std::to_string(loads.size()) + " steps",
+          std::to_string(c.values.size()) + " values",
+          "one per step (" + std::to_string(loads.size()) + "), or none (fixed)");
     for (size_t k = 0; k < c.values.size(); ++k)
       if (!std::isfinite(c.values[k]))
-        bad(key + ".values", "step " + std::to_string(k + 1) + " is not a finite displacement", format_number(c.values[k]), "mm");
+        bad(key + ".values", "step " + std::to_string(k + 1) + " is not a finite displacement",
+            format_number(c.values[k]), "mm");
     if (c.proportional && c.values.empty())
       bad(key + ".proportional", "a proportional condition needs its values", "true", "values per step (mm per mm)");
-    if (!(c.tie >= 0) || !std::isfinite(c.tie)) bad(key + ".tie", "out of range", format_number(c.tie), ">= 0 N/mm per mm");
+    if (!(c.tie >= 0) || !std::isfinite(c.tie))
+      bad(key + ".tie", "out of range", format_number(c.tie), ">= 0 N/mm per mm");
     if (c.tie == 0 && (c.tie_end || c.tie_taper != 0))
       bad(key + ".tie", "tie_end and tie_taper need a tie", "0", "> 0 N/mm per mm");
     if (!(c.tie_taper >= 0) || !std::isfinite(c.tie_taper))
       bad(key + ".tie_taper", "out of range", format_number(c.tie_taper), ">= 0 mm");
-    if (c.tie_taper > 0 && !c.tie_end) bad(key + ".tie_taper", "a taper needs the tie's end", format_number(c.tie_taper), "tie_end");
+    if (c.tie_taper > 0 && !c.tie_end)
+      bad(key + ".tie_taper", "a taper needs the tie's end", format_number(c.tie_taper), "tie_end");
     if (c.tie_end && !c.tie_end->allFinite()) bad(key + ".tie_end", "not a finite point", "", "[x, y] in mm");
     if (c.tie > 0) tie_stiffness(i);
   }
@@ -209,7 +218,8 @@ void TestModel::validate() const {
     throw InputError(Location{"", 0, key}, who + problem, got, expected);
   };
   if (name.empty()) throw InputError(Location{"", 0, "test.name"}, "empty test name", "\"\"", "a name");
-  if (!std::isfinite(material_angle)) bad("test.material_angle", "not a finite angle", format_number(material_angle), "degrees");
+  if (!std::isfinite(material_angle))
+    bad("test.material_angle", "not a finite angle", format_number(material_angle), "degrees");
 
   // Mesh: non-empty, consistent connectivity, four edges, no element inverted in the reference state.
   const int n = mesh.nodes();
@@ -255,7 +265,8 @@ void TestModel::validate() const {
       bad("test.loads",
           k == 0 ? "the first load must be > 0"
                  : "loads must increase strictly (step " + std::to_string(k + 1) + " goes backwards)",
-          format_number(loads[k]) + (k == 0 ? "" : " after " + format_number(prev)), "strictly increasing values > 0 (force control; displacement control takes any path)");
+          format_number(loads[k]) + (k == 0 ? "" : " after " + format_number(prev)),
+          "strictly increasing values > 0 (force control; displacement control takes any path)");
   }
 
   // Guide: one value, or one per step; only with a guided side edge.
@@ -271,7 +282,8 @@ void TestModel::validate() const {
   }
   const double H = mesh.X.row(1).maxCoeff();
   if (!std::isfinite(guide_gap) || guide_gap < 0 || !(guide_gap < H))
-    bad("test.guide_gap", "out of range", format_number(guide_gap), ">= 0 and < the half height " + format_number(H) + " mm");
+    bad("test.guide_gap", "out of range", format_number(guide_gap),
+        ">= 0 and < the half height " + format_number(H) + " mm");
   if (guide_gap > 0 && side != SideEdge::guide)
     bad("test.guide_gap", "a guide gap needs a guide (side = guide)", format_number(guide_gap), "0");
   if (guide_setting_steps < 0 || guide_setting_steps > 1000)
@@ -291,7 +303,8 @@ void TestModel::validate() const {
   if (!std::isfinite(grip_tie_stiffness) || grip_tie_stiffness < 0 || (grip_tie_stiffness > 0 && !grip_holds_x))
     bad("test.grip_tie_stiffness", "out of range (clip ties need grip_holds_x)", format_number(grip_tie_stiffness),
         ">= 0 N/mm per mm");
-  if (!std::isfinite(grip_taper) || grip_taper < 0 || !(grip_taper < W) || (grip_taper > 0 && !(grip_tie_stiffness > 0)))
+  if (!std::isfinite(grip_taper) || grip_taper < 0 || !(grip_taper < W) ||
+      (grip_taper > 0 && !(grip_tie_stiffness > 0)))
     bad("test.grip_taper", "out of range (a taper needs clip ties)", format_number(grip_taper),
         ">= 0 and < the half width " + format_number(W) + " mm, with grip_tie_stiffness > 0");
   if (grip_follows_guide && (side != SideEdge::guide || !grip_holds_x))

@@ -66,7 +66,8 @@ MooneyRivlin::MooneyRivlin(std::vector<MooneyRivlinTerm> terms) : terms_(std::mo
     const auto& t = terms_[k];
     const std::string name = term_name(t);
     if (t.i < 0 || t.i > 9 || t.j < 0 || t.j > 9 || (t.i == 0 && t.j == 0))
-      throw InputError(Location{"", 0, "material.terms"}, "bad Mooney–Rivlin exponents of term " + std::to_string(k + 1),
+      throw InputError(Location{"", 0, "material.terms"},
+                       "bad Mooney–Rivlin exponents of term " + std::to_string(k + 1),
                        "(" + std::to_string(t.i) + ", " + std::to_string(t.j) + ")", "0–9 each, not both 0");
     if (!std::isfinite(t.C))
       throw InputError(Location{"", 0, "material.values"}, name + " is not a finite number", std::to_string(t.C),
@@ -137,7 +138,8 @@ void MooneyRivlin::evaluate(const LawInput& in, const LawRequest& req, LawOutput
       for (int j = 0; j < 2; ++j)
         for (int k = 0; k < 2; ++k)
           for (int l = 0; l < 2; ++l)
-            A(2 * i + j, 2 * k + l) += 2 * beta * (FCi(i, l) * FCi(k, j) + B(i, k) * Ci(l, j)) + (i == k ? S(l, j) : 0.0);
+            A(2 * i + j, 2 * k + l) +=
+                2 * beta * (FCi(i, l) * FCi(k, j) + B(i, k) * Ci(l, j)) + (i == k ? S(l, j) : 0.0);
   }
   if (req.sensitivities) {
     out.dP_dc.resize(terms_.size());
@@ -155,8 +157,7 @@ std::vector<MooneyRivlinTerm> paper_mooney_rivlin_terms() {
 }
 
 // docs/theory.md §5 closed forms, principal stretches (λ1, λ2, λ3) with λ1λ2λ3 = 1.
-double mooney_rivlin_nominal_stress(const std::vector<MooneyRivlinTerm>& terms, HomogeneousMode mode,
-                                    double lambda) {
+double mooney_rivlin_nominal_stress(const std::vector<MooneyRivlinTerm>& terms, HomogeneousMode mode, double lambda) {
   const double l = lambda;
   switch (mode) {
     case HomogeneousMode::uniaxial: {

@@ -41,8 +41,8 @@ Eigen::VectorXd NeoHookean::coefficients() const {
 
 void NeoHookean::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != 2)
-    throw InputError(Location{"", 0, "material"}, "wrong number of neo-Hookean coefficients",
-                     std::to_string(c.size()), "2");
+    throw InputError(Location{"", 0, "material"}, "wrong number of neo-Hookean coefficients", std::to_string(c.size()),
+                     "2");
   if (!young_poisson_) {
     check(c(0), c(1));
     mu_ = c(0);
@@ -74,7 +74,8 @@ void NeoHookean::evaluate(const LawInput& in, const LawRequest& req, LawOutput& 
         for (int l = 0; l < 2; ++l) {
           Mat2 dF = Mat2::Zero();
           dF(k, l) = 1;
-          out.A.col(2 * k + l) = flatten(mu * dF + (mu - lam * lnJ) * Fit * dF.transpose() * Fit + lam * Fit(k, l) * Fit);
+          out.A.col(2 * k + l) =
+              flatten(mu * dF + (mu - lam * lnJ) * Fit * dF.transpose() * Fit + lam * Fit(k, l) * Fit);
         }
     out.dP_dc.clear();
     if (req.sensitivities) out.dP_dc = {F - Fit, lnJ * Fit};
@@ -91,9 +92,9 @@ void NeoHookean::evaluate(const LawInput& in, const LawRequest& req, LawOutput& 
     s += ds;
     if (std::abs(ds) <= 1e-15 * std::max(1.0, std::abs(s))) break;
   }
-  const double t = std::exp(s);          // C33 = λ3²
-  const double lnJ = 0.5 * (lnJ2 + s);   // ln of the 3-D volume ratio
-  const double h = mu * t + 0.5 * lam;   // ∂g/∂s
+  const double t = std::exp(s);         // C33 = λ3²
+  const double lnJ = 0.5 * (lnJ2 + s);  // ln of the 3-D volume ratio
+  const double h = mu * t + 0.5 * lam;  // ∂g/∂s
   const Mat2 Fit = F.inverse().transpose();
   out.P = mu * (F - t * Fit);
   out.lambda3 = std::sqrt(t);

@@ -129,11 +129,19 @@ void ReferenceFabric::evaluate(const LawInput& in, const LawRequest& req, LawOut
   if (req.sensitivities) {
     // ∂T/∂c_k is diagonal: (∂F_C/∂c_k, ∂F_W/∂c_k); then ∂P/∂c_k = R Q ∂T/∂c_k Qᵀ.
     const double s3 = n.s * n.s * n.s / 3;
-    const std::array<Vec2, kCoefficients> dF = {
-        Vec2(eC, 0),        Vec2(n.LC.d_k, 0), Vec2(n.LC.d_e0, 0), Vec2(n.LC.d_s, 0),
-        Vec2(0, eW),        Vec2(0, n.LW.d_k), Vec2(0, n.LW.d_e0), Vec2(0, n.LW.d_s),
-        Vec2(s3, s3),       Vec2(eW, eC),
-        Vec2(-n.JC.d_k, -n.JW.d_k), Vec2(-n.JC.d_e0, -n.JW.d_e0), Vec2(-n.JC.d_s, -n.JW.d_s)};
+    const std::array<Vec2, kCoefficients> dF = {Vec2(eC, 0),
+                                                Vec2(n.LC.d_k, 0),
+                                                Vec2(n.LC.d_e0, 0),
+                                                Vec2(n.LC.d_s, 0),
+                                                Vec2(0, eW),
+                                                Vec2(0, n.LW.d_k),
+                                                Vec2(0, n.LW.d_e0),
+                                                Vec2(0, n.LW.d_s),
+                                                Vec2(s3, s3),
+                                                Vec2(eW, eC),
+                                                Vec2(-n.JC.d_k, -n.JW.d_k),
+                                                Vec2(-n.JC.d_e0, -n.JW.d_e0),
+                                                Vec2(-n.JC.d_s, -n.JW.d_s)};
     out.dP_dc.resize(kCoefficients);
     for (int i = 0; i < kCoefficients; ++i) out.dP_dc[i] = detail::fabric_basis(in, k, dF[i].asDiagonal());
   } else {

@@ -22,14 +22,16 @@ RegionLaws::RegionLaws(std::vector<std::unique_ptr<Law>> laws, std::vector<std::
 }
 
 RegionLaws::RegionLaws(const RegionLaws& other)
-    : Law(other), prefixes_(other.prefixes_), law_of_region_(other.law_of_region_), offset_(other.offset_), count_(other.count_) {
+    : Law(other), prefixes_(other.prefixes_), law_of_region_(other.law_of_region_), offset_(other.offset_),
+      count_(other.count_) {
   for (const auto& l : other.laws_) laws_.push_back(l->clone());
 }
 
 std::vector<std::string> RegionLaws::coefficient_names() const {
   std::vector<std::string> names;
   for (size_t r = 0; r < laws_.size(); ++r)
-    for (const std::string& n : laws_[r]->coefficient_names()) names.push_back(prefixes_[r].empty() ? n : prefixes_[r] + "." + n);
+    for (const std::string& n : laws_[r]->coefficient_names())
+      names.push_back(prefixes_[r].empty() ? n : prefixes_[r] + "." + n);
   return names;
 }
 

@@ -87,9 +87,11 @@ void check_monomials(const std::vector<Monomial>& list, const char* force) {
     const Monomial& m = list[i];
     const std::string got = std::string(force) + " monomial (" + std::to_string(m.p) + ", " + std::to_string(m.q) + ")";
     if (m.p < 0 || m.q < 0 || m.p + m.q == 0)
-      throw InputError(Location{"", 0, std::string("material.") + force}, "bad exponents", got, "p >= 0, q >= 0, p + q >= 1");
+      throw InputError(Location{"", 0, std::string("material.") + force}, "bad exponents", got,
+                       "p >= 0, q >= 0, p + q >= 1");
     if (std::find(list.begin(), list.begin() + i, m) != list.begin() + i)
-      throw InputError(Location{"", 0, std::string("material.") + force}, "repeated monomial", got, "each (p, q) once per force");
+      throw InputError(Location{"", 0, std::string("material.") + force}, "repeated monomial", got,
+                       "each (p, q) once per force");
   }
 }
 
@@ -122,10 +124,9 @@ ResponseSurface::ResponseSurface(std::vector<Monomial> course, std::vector<Monom
 
 ResponseSurface ResponseSurface::separable(int nC, int mC, int nW, int mW, double G_s) {
   if (nC < 0 || mC < 0 || nW < 0 || mW < 0)
-    throw InputError(Location{"", 0, "material.orders"}, "negative polynomial order",
-                     std::to_string(nC) + ", " + std::to_string(mC) + ", " + std::to_string(nW) + ", " +
-                         std::to_string(mW),
-                     ">= 0");
+    throw InputError(
+        Location{"", 0, "material.orders"}, "negative polynomial order",
+        std::to_string(nC) + ", " + std::to_string(mC) + ", " + std::to_string(nW) + ", " + std::to_string(mW), ">= 0");
   std::vector<Monomial> course, wale;
   std::vector<std::string> names;
   for (int i = 1; i <= nC; ++i) course.push_back({i, 0}), names.push_back("a" + std::to_string(i));

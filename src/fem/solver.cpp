@@ -20,7 +20,8 @@ void SolveOptions::validate() const {
     throw InputError(Location{"", 0, key}, "out of range", got, expected);
   };
   if (!(tolerance > 0) || !std::isfinite(tolerance)) bad("solver.tolerance", std::to_string(tolerance), "> 0");
-  if (max_iterations < 1 || max_iterations > 200) bad("solver.max_iterations", std::to_string(max_iterations), "1 to 200");
+  if (max_iterations < 1 || max_iterations > 200)
+    bad("solver.max_iterations", std::to_string(max_iterations), "1 to 200");
   if (max_cutbacks < 0 || max_cutbacks > 30) bad("solver.max_cutbacks", std::to_string(max_cutbacks), "0 to 30");
 }
 
@@ -116,7 +117,8 @@ class Simulation {
   double reference_force(const Load& L) const;
   bool factorize(Failure& fail);
   bool newton(const Load& from, const Load& to, StepResult& step, Failure& fail);
-  bool iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Failure& fail, int max_iterations, bool chord = false);
+  bool iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Failure& fail, int max_iterations,
+               bool chord = false);
   bool warm_step(const Load& to, const Eigen::VectorXd& z_start, StepResult& step);
   Eigen::VectorXd warm_state(const StepResult& previous) const;
   bool solve_step(const Load& target, StepResult& step, Failure& fail);
@@ -137,12 +139,12 @@ class Simulation {
   detail::Assembler assembler_;
   detail::LinearSolver linear_solver_;
   int coefficient_count_;
-  Assembled assembled_;           // the last assembly
+  Assembled assembled_;          // the last assembly
   bool factor_current_ = false;  // the factorization is of assembled_.K (else of an earlier, nearby state)
   bool tangent_fresh_ = false;   // assembled_.K is the tangent at the last evaluated state (else at an earlier one)
-  Eigen::VectorXd u_;     // node displacements of the last assembly
-  Eigen::VectorXd z_;     // converged unknowns
-  Load load_;             // converged load
+  Eigen::VectorXd u_;            // node displacements of the last assembly
+  Eigen::VectorXd z_;            // converged unknowns
+  Load load_;                    // converged load
   /// Converged states before z_ (newest last, at most kHistory), for the predictor's curvature.
   struct State {
     Load load;
@@ -226,9 +228,7 @@ Eigen::VectorXd Simulation::free_residual(const Load& L) const {
 // The force that Newton's tolerance is relative to. A displacement path may come back toward zero (a
 // lab record's unloading, or a boundary series), where the reactions vanish: there the largest reaction
 // of the run's converged states sets the scale.
-double Simulation::reference_force(const Load& L) const {
-  return std::max({reaction_norm(L), peak_reaction_, 1e-12});
-}
+double Simulation::reference_force(const Load& L) const { return std::max({reaction_norm(L), peak_reaction_, 1e-12}); }
 
 double Simulation::reaction_norm(const Load& L) const {
   double s = dofs_.master >= 0 ? 0.25 * L.F * L.F : 0.0;
@@ -262,7 +262,8 @@ std::string Simulation::describe_largest_residual(const Eigen::VectorXd& R) cons
 
 std::string Simulation::describe_element_failure() const {
   if (assembled_.status == ElementStatus::inverted)
-    return "element " + std::to_string(assembled_.element) + " inverted (det F = " + fmt("%.3g", assembled_.min_detF) + ")";
+    return "element " + std::to_string(assembled_.element) + " inverted (det F = " + fmt("%.3g", assembled_.min_detF) +
+           ")";
   return "the law returned a non-finite value in element " + std::to_string(assembled_.element);
 }
 
@@ -292,8 +293,9 @@ std::string Simulation::ellipticity_note(int element) const {
   if (!(worst.min_eigenvalue < 0)) return {};
   return "; in the last converged state the law is not strongly elliptic in element " + std::to_string(element) +
          " (smallest acoustic eigenvalue " + fmt("%.3g", worst.min_eigenvalue) + " N/mm, direction " +
-         fmt("%.0f", worst.angle_deg) + "°, at E11 " + fmt("%.3f", E_worst(0, 0)) + ", E22 " + fmt("%.3f", E_worst(1, 1)) +
-         ", E12 " + fmt("%.3f", E_worst(0, 1)) + " in the material axes): the membrane localises there";
+         fmt("%.0f", worst.angle_deg) + "°, at E11 " + fmt("%.3f", E_worst(0, 0)) + ", E22 " +
+         fmt("%.3f", E_worst(1, 1)) + ", E12 " + fmt("%.3f", E_worst(0, 1)) +
+         " in the material axes): the membrane localises there";
 }
 
 // One (sub)step from the converged state at `from` to `to` (docs/theory.md §4). On entry assembled_ holds a tangent
@@ -381,7 +383,8 @@ bool Simulation::newton(const Load& from, const Load& to, StepResult& step, Fail
 // load path (Newton's method) each iteration assembles and factorizes the tangent: there the chord
 // steps saved 8 % of a 24 874-dof rig test's time (47 factorizations instead of 62, but 91 iterations
 // instead of 61).
-bool Simulation::iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Failure& fail, int max_iterations, bool chord) {
+bool Simulation::iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Failure& fail, int max_iterations,
+                         bool chord) {
   Eigen::VectorXd R = free_residual(to);
   double r = R.norm(), r_before = INFINITY;  // ‖R‖ before the last iteration
   for (int it = 0;; ++it) {
@@ -389,7 +392,7 @@ bool Simulation::iterate(Eigen::VectorXd z, const Load& to, StepResult& step, Fa
     if (options_.keep_residuals) step.residuals.push_back(r);
     if (reporter_.log)
       reporter_.info("  iteration " + std::to_string(it) + ": |R| = " + fmt("%.3e", r) + " (relative " +
-                fmt("%.3e", r / ref) + ")");
+                     fmt("%.3e", r / ref) + ")");
     if (r <= options_.tolerance * ref) break;
     if (it == max_iterations) {
       fail.why = "residual " + fmt("%.3g", r / ref) + " (relative) after " + std::to_string(it) +
@@ -455,7 +458,8 @@ bool Simulation::set_transverse_dimension(Failure& fail, std::string& where, std
     StepResult scratch;
     Load to;
     to.c = test_.guide[0] * i / n;
-    if (reporter_.log) reporter_.info("setting the transverse dimension: increment " + std::to_string(i) + "/" + std::to_string(n));
+    if (reporter_.log)
+      reporter_.info("setting the transverse dimension: increment " + std::to_string(i) + "/" + std::to_string(n));
     if (!solve_step(to, scratch, fail)) {
       where = "setting the transverse dimension (increment " + std::to_string(i) + " of " + std::to_string(n) +
               ", guide " + fmt("%.6g", to.c) + " mm) failed after " + std::to_string(scratch.cutbacks) + " cutbacks";
@@ -570,8 +574,8 @@ bool Simulation::add_sensitivities(SimulationResult& result) {
     Failure fail;
     if (!step_sensitivities(step, fail)) {
       result.termination = SolveTermination::not_converged;
-      result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) + ": sensitivities: " +
-                       (fail.why.empty() ? "the converged state cannot be evaluated" : fail.why);
+      result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) +
+                       ": sensitivities: " + (fail.why.empty() ? "the converged state cannot be evaluated" : fail.why);
       return false;
     }
   }
@@ -614,12 +618,13 @@ SimulationResult Simulation::run() {
   Failure fail;
   const SimulationResult* warm = options_.warm_start;
   // Without sensitivities a nearby law's states start Newton further off than the load path's predictor.
-  if (warm && (!warm->usable() || warm->steps.size() != n || warm->steps.front().du_dc.cols() != options_.warm_start_dc.size()))
+  if (warm &&
+      (!warm->usable() || warm->steps.size() != n || warm->steps.front().du_dc.cols() != options_.warm_start_dc.size()))
     warm = nullptr;
   // The reference state's tangent starts the first predictor (a warm start needs none).
   if (!evaluate(z_, load_) || (!warm && !factorize(fail))) {
-    result.termination = assembled_.status != ElementStatus::ok ? SolveTermination::invalid_state
-                                                        : SolveTermination::not_converged;
+    result.termination =
+        assembled_.status != ElementStatus::ok ? SolveTermination::invalid_state : SolveTermination::not_converged;
     result.message = "test '" + test_.name + "': the reference state cannot be solved: " +
                      (assembled_.status != ElementStatus::ok ? describe_element_failure() : fail.why);
   }
@@ -639,7 +644,8 @@ SimulationResult Simulation::run() {
   for (size_t k = 0; k < n && result.usable(); ++k) {
     StepResult step;
     step.load = test_.loads[k];
-    if (reporter_.log) reporter_.info("step " + std::to_string(k + 1) + "/" + std::to_string(n) + ", load " + fmt("%.6g", step.load));
+    if (reporter_.log)
+      reporter_.info("step " + std::to_string(k + 1) + "/" + std::to_string(n) + ", load " + fmt("%.6g", step.load));
     bool warm_done = false;
     if (warm) {  // from this run's last state, moved by the warm run's increment to the step: that
       // increment's error is the change over one step of the two runs' difference, far smaller than the
@@ -658,22 +664,21 @@ SimulationResult Simulation::run() {
     }
     if (options_.sensitivities && !step_sensitivities(step, fail)) {
       result.termination = SolveTermination::not_converged;
-      result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) + ": sensitivities: " +
-                       (fail.why.empty() ? "the converged state cannot be evaluated" : fail.why);
+      result.message = "test '" + test_.name + "': step " + std::to_string(k + 1) +
+                       ": sensitivities: " + (fail.why.empty() ? "the converged state cannot be evaluated" : fail.why);
       break;
     }
     record(load_, step);
     result.steps.push_back(std::move(step));
     const StepResult& s = result.steps.back();
     reporter_.report({"simulate " + test_.name, k + 1, n,
-                 "step " + std::to_string(k + 1) + "/" + std::to_string(n) + ", " + std::to_string(s.iterations) +
-                     " Newton iterations, " + std::to_string(s.cutbacks) + " cutbacks"});
+                      "step " + std::to_string(k + 1) + "/" + std::to_string(n) + ", " + std::to_string(s.iterations) +
+                          " Newton iterations, " + std::to_string(s.cutbacks) + " cutbacks"});
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   result.factorization_seconds = linear_solver_.seconds;
   result.factorizations = linear_solver_.factorizations;
-  if (result.usable())
-    result.message = "test '" + test_.name + "': " + std::to_string(n) + " steps converged";
+  if (result.usable()) result.message = "test '" + test_.name + "': " + std::to_string(n) + " steps converged";
   return result;
 }
 

@@ -164,7 +164,8 @@ const Law& unwrapped(const Law& law) {
   return w ? w->inner() : law;
 }
 
-WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool sensitivities, LawOutput& at_Ft) const {
+WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool sensitivities,
+                                 LawOutput& at_Ft) const {
   const Mat2& F = in.F;
   WrinkleState st;
   // Taut: both principal values of S = P Fᵀ tensile (det S > 0, tr S > 0), or S at rest to round-off

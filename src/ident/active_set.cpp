@@ -70,7 +70,8 @@ bool release_held(const Box& box, const Eigen::VectorXd& x, const Eigen::VectorX
     else keep.push_back(k);
   }
   held = std::move(keep);
-  if (!released.empty()) reporter.info("identify: released from its bound (f decreases into the box): " + joined(released));
+  if (!released.empty())
+    reporter.info("identify: released from its bound (f decreases into the box): " + joined(released));
   return !released.empty();
 }
 

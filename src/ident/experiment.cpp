@@ -22,7 +22,8 @@ void TestData::validate() const {
   const int n = steps();
   if (n == 0) fail("loads", "no steps");
   for (int k = 0; k < n; ++k) {
-    if (!std::isfinite(loads[k])) fail("loads", "non-finite load at step " + std::to_string(k), format_number(loads[k]));
+    if (!std::isfinite(loads[k]))
+      fail("loads", "non-finite load at step " + std::to_string(k), format_number(loads[k]));
     // Any finite path: a lab record's holds and unloading (issue 29); the model's control says
     // whether it must increase (fem::TestModel::validate).
   }
@@ -37,7 +38,8 @@ void TestData::validate() const {
   per_step(edge_force, "edge_force");
   per_step(step_weight, "step_weight");
   for (int k = 0; k < static_cast<int>(step_weight.size()); ++k)
-    if (!(step_weight[k] >= 0)) fail("step_weight", "negative weight at step " + std::to_string(k), format_number(step_weight[k]), ">= 0");
+    if (!(step_weight[k] >= 0))
+      fail("step_weight", "negative weight at step " + std::to_string(k), format_number(step_weight[k]), ">= 0");
 
   const int m = point_count();
   if (m > 0 || u.size() > 0 || v.size() > 0) {
@@ -47,12 +49,10 @@ void TestData::validate() const {
     for (int id : point_ids)
       if (!seen.insert(id).second) fail("point_ids", "duplicate point id", std::to_string(id));
     for (int p = 0; p < m; ++p)
-      if (!points.col(p).allFinite())
-        fail("points", "non-finite position of point " + std::to_string(point_ids[p]));
+      if (!points.col(p).allFinite()) fail("points", "non-finite position of point " + std::to_string(point_ids[p]));
     auto field = [&](const Eigen::MatrixXd& F, const char* f) {
       if (F.rows() != n || F.cols() != m)
-        fail(f, "steps × points values expected",
-             std::to_string(F.rows()) + "×" + std::to_string(F.cols()),
+        fail(f, "steps × points values expected", std::to_string(F.rows()) + "×" + std::to_string(F.cols()),
              std::to_string(n) + "×" + std::to_string(m));
       for (int p = 0; p < m; ++p)
         for (int k = 0; k < n; ++k)
@@ -66,7 +66,9 @@ void TestData::validate() const {
       field(sigma_u, "sigma_u");
       field(sigma_v, "sigma_v");
       for (const auto* S : {&sigma_u, &sigma_v})
-        if (!(S->minCoeff() > 0)) fail(S == &sigma_u ? "sigma_u" : "sigma_v", "a per-point sigma must be > 0", format_number(S->minCoeff()), "> 0");
+        if (!(S->minCoeff() > 0))
+          fail(S == &sigma_u ? "sigma_u" : "sigma_v", "a per-point sigma must be > 0", format_number(S->minCoeff()),
+               "> 0");
     }
   }
   for (auto [s, f] : {std::pair{sigma.edge_displacement, "sigma.edge_displacement"},

@@ -19,8 +19,8 @@ const char* to_string(GroupKind k) {
   return "?";
 }
 
-const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, int test,
-                                      const Eigen::VectorXd& y_exp, double weight, double sigma) {
+const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, int test, const Eigen::VectorXd& y_exp,
+                                      double weight, double sigma) {
   const Location where{"", 0, "data." + name};
   if (y_exp.size() == 0) throw InputError(where, "empty data group");
   if (!y_exp.allFinite()) throw InputError(where, "non-finite data");
@@ -36,11 +36,13 @@ const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, i
   g.size = static_cast<int>(y_exp.size());
   g.weight = weight;
   g.sigma = sigma > 0 && !fixed_;
-  g.scale = fixed_ ? 1.0 : sigma > 0 ? sigma : std::sqrt(y_exp.squaredNorm() / g.size);  // docs/theory.md §2 [choice]: RMS
-  if (!(g.scale > 0))
-    throw InputError(where, "all data are zero, so the group has no scale: give its sigma");
+  g.scale = fixed_      ? 1.0
+            : sigma > 0 ? sigma
+                        : std::sqrt(y_exp.squaredNorm() / g.size);  // docs/theory.md §2 [choice]: RMS
+  if (!(g.scale > 0)) throw InputError(where, "all data are zero, so the group has no scale: give its sigma");
   if (!std::isfinite(g.scale))  // the sum of squares overflowed: the group would silently weigh 0
-    throw InputError(where, "the group's RMS overflows", "largest |value| " + format_number(y_exp.cwiseAbs().maxCoeff()),
+    throw InputError(where, "the group's RMS overflows",
+                     "largest |value| " + format_number(y_exp.cwiseAbs().maxCoeff()),
                      "values whose squares sum to a finite number");
   const Eigen::Index n0 = measured_.size();
   measured_.conservativeResize(n0 + g.size);
@@ -58,10 +60,12 @@ const DataGroup& ScaledResiduals::add(const std::string& name, GroupKind kind, i
   const Location where{"", 0, "data." + name};
   if (fixed_) throw InputError(where, "a σ per value and fixed weights do not mix", "fixed weights", "scaled groups");
   if (sigma_per_value.size() != y_exp.size())
-    throw InputError(where, "one sigma per value", std::to_string(sigma_per_value.size()), std::to_string(y_exp.size()));
+    throw InputError(where, "one sigma per value", std::to_string(sigma_per_value.size()),
+                     std::to_string(y_exp.size()));
   for (Eigen::Index i = 0; i < sigma_per_value.size(); ++i)
     if (!(sigma_per_value(i) > 0) || !std::isfinite(sigma_per_value(i)))
-      throw InputError(where, "sigma of value " + std::to_string(i) + " out of range", format_number(sigma_per_value(i)), "> 0");
+      throw InputError(where, "sigma of value " + std::to_string(i) + " out of range",
+                       format_number(sigma_per_value(i)), "> 0");
   const double rms = std::sqrt(sigma_per_value.squaredNorm() / double(sigma_per_value.size()));
   add(name, kind, test, y_exp, weight, rms);
   DataGroup& g = groups_.back();
@@ -94,8 +98,10 @@ Eigen::VectorXd ScaledResiduals::sigma_variance() const {
 
 void ScaledResiduals::weight_rows(const DataGroup& g, const Eigen::VectorXd& omega) {
   const Location where{"", 0, "data." + g.name};
-  if (omega.size() != g.size) throw InputError(where, "one weight per value", std::to_string(omega.size()), std::to_string(g.size));
-  if (!omega.allFinite() || !(omega.minCoeff() >= 0)) throw InputError(where, "row weights out of range", "", "finite, >= 0");
+  if (omega.size() != g.size)
+    throw InputError(where, "one weight per value", std::to_string(omega.size()), std::to_string(g.size));
+  if (!omega.allFinite() || !(omega.minCoeff() >= 0))
+    throw InputError(where, "row weights out of range", "", "finite, >= 0");
   factor_.segment(g.offset, g.size).array() *= omega.array().sqrt();
   row_weight_.segment(g.offset, g.size).array() *= omega.array();
 }

@@ -60,8 +60,8 @@ IdentifiabilityReport identifiability(const Eigen::MatrixXd& S, const Eigen::Vec
   for (const auto& rows : rows_of_test)
     for (int i : rows)
       if (i < 0 || i >= S.rows())
-        throw InputError(Location{"", 0, "identifiability.rows"}, "a test's row is outside the Jacobian", std::to_string(i),
-                         "0 to " + std::to_string(S.rows() - 1));
+        throw InputError(Location{"", 0, "identifiability.rows"}, "a test's row is outside the Jacobian",
+                         std::to_string(i), "0 to " + std::to_string(S.rows() - 1));
   const Eigen::VectorXd D = relative_units(J, scale);
   const Eigen::MatrixXd A = S * D.asDiagonal();
   const Eigen::MatrixXd M = A.transpose() * A;
@@ -98,8 +98,9 @@ DesignSuggestion suggest_test(const Eigen::MatrixXd& S, const Eigen::VectorXd& J
     throw InputError(Location{"", 0, "design.candidates"}, "no candidate test", "0", "at least one");
   for (const auto& c : candidates)
     if (c.S.cols() != S.cols())
-      throw InputError(Location{"", 0, "design.candidates"}, "candidate '" + c.name + "' has the wrong number of columns",
-                       std::to_string(c.S.cols()), std::to_string(S.cols()));
+      throw InputError(Location{"", 0, "design.candidates"},
+                       "candidate '" + c.name + "' has the wrong number of columns", std::to_string(c.S.cols()),
+                       std::to_string(S.cols()));
   if (S.cols() != J.size() || scale.size() != J.size())
     throw InputError(Location{"", 0, "design.jacobian"}, "the Jacobian's columns, J and scale disagree",
                      std::to_string(S.cols()) + ", " + std::to_string(J.size()) + ", " + std::to_string(scale.size()),

@@ -68,9 +68,9 @@ std::vector<double> IdentifyResult::std_error() const {
 
 namespace {
 
-
 void check(bool ok, const char* field, double got, const std::string& expected) {
-  if (!ok) throw InputError(Location{"", 0, std::string("identify.") + field}, "out of range", format_number(got), expected);
+  if (!ok)
+    throw InputError(Location{"", 0, std::string("identify.") + field}, "out of range", format_number(got), expected);
 }
 
 }  // namespace
@@ -88,8 +88,8 @@ void IdentifyOptions::validate() const {
         initial_trust_region_radius, "(0, 1e16]");
   check(barrier_growth >= 0 && barrier_growth < 1, "barrier_growth", barrier_growth, "[0, 1)");
   if (start && resume_from)
-    throw InputError(Location{"", 0, "identify.start"}, "a start point and a checkpoint to resume from",
-                     "one of them", "both");
+    throw InputError(Location{"", 0, "identify.start"}, "a start point and a checkpoint to resume from", "one of them",
+                     "both");
   jacobian_options().validate();
 }
 
@@ -220,7 +220,7 @@ LmSolve lm_solve(const Problem& problem, const IdentifyOptions& options, const R
   if (!summary.iterations.empty() && !monitor.stopped_by_step_test)
     state.iterations = base + summary.iterations.back().iteration;
   if (monitor.stopped_by_step_test) x = state.x;  // Ceres may have moved on to the trial
-  if (monitor.held_changed) {  // LM goes on from the accepted point with the new active set
+  if (monitor.held_changed) {                     // LM goes on from the accepted point with the new active set
     out.x = state.x;
     out.held_changed = true;
     return out;
@@ -285,7 +285,8 @@ IdentifyResult result_of(const Problem& problem, const IdentifyOptions& options,
   result.skipped_evaluations = state.skipped_evaluations;
   result.restarts = state.restarts;
   result.history = std::move(state.history);
-  result.wall_seconds = state.wall_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  result.wall_seconds =
+      state.wall_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }
 
@@ -319,8 +320,8 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
     resumed = true;
   } else if (options.start) {
     if (options.start->size() != n)
-      throw InputError(Location{"", 0, "identify.start"}, "one start value per parameter", std::to_string(n) + " values",
-                       std::to_string(options.start->size()));
+      throw InputError(Location{"", 0, "identify.start"}, "one start value per parameter",
+                       std::to_string(n) + " values", std::to_string(options.start->size()));
     state.x = options.start->cwiseQuotient(scales);
   } else {
     state.x.resize(n);
@@ -410,7 +411,8 @@ IdentifyResult identify(const Problem& problem, const IdentifyOptions& options, 
       break;
     }
     if (state.restarts >= options.max_restarts) {
-      finish(Termination::unstable, "the stability test still lowers f after " + std::to_string(state.restarts) + " restarts");
+      finish(Termination::unstable,
+             "the stability test still lowers f after " + std::to_string(state.restarts) + " restarts");
       break;
     }
     if (state.iterations >= options.max_iterations) {

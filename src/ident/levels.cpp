@@ -94,8 +94,9 @@ IdentifyResult corrected_level(const Problem& coarse, const Problem& fine, const
     }
     c = step.parameters, e = next;
     r.history.push_back({r.iterations, e.objective(), c, 0});
-    reporter.report({"identify", static_cast<std::size_t>(r.iterations), 0,
-                     "corrected coarse model: f = " + format_number(e.objective()) + ", largest change " + format_number(change)});
+    reporter.report(
+        {"identify", static_cast<std::size_t>(r.iterations), 0,
+         "corrected coarse model: f = " + format_number(e.objective()) + ", largest change " + format_number(change)});
     if (change < options.delta) {
       r.termination = Termination::step_below_delta;
       r.message = "a corrected-model step changed no coefficient by more than delta = " + format_number(options.delta) +
@@ -135,8 +136,8 @@ LevelsResult identify_by_levels(const std::vector<const Problem*>& levels, const
     const auto& a = p->parameters();
     const auto& b = levels.front()->parameters();
     if (a.size() != b.size() || !std::equal(a.begin(), a.end(), b.begin(), same))
-      throw InputError(where, "levels that identify different parameters", "the same names, scales and bounds on every level",
-                       "different ones");
+      throw InputError(where, "levels that identify different parameters",
+                       "the same names, scales and bounds on every level", "different ones");
   }
   LevelsResult out;
   for (size_t level = 0; level < levels.size(); ++level) {

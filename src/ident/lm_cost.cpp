@@ -15,8 +15,8 @@ bool LmCost::Evaluate(double const* const* parameters, double* residuals, double
   Eigen::Map<Eigen::VectorXd>(residuals, e->r.size()) = e->r;
   if (want_jacobian) {
     ++state_.jacobian_evaluations;
-    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-        jacobians[0], e->r.size(), n) = e->jacobian * scales_.asDiagonal();  // ∂r/∂x = ∂r/∂J · scale
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(jacobians[0], e->r.size(), n) =
+        e->jacobian * scales_.asDiagonal();  // ∂r/∂x = ∂r/∂J · scale
   }
   return true;
 }

@@ -106,7 +106,7 @@ void Monitor::update_active_set(bool accepted) {
     reason.reset();
     held_changed = true;
   }
-  if (reason) return;  // LM stops here: the KKT test follows
+  if (reason) return;                                // LM stops here: the KKT test follows
   const Eigen::VectorXd& before = cost_.last_trial;  // the rejected step's candidate
   if (!accepted && before.size() != n) return;
   std::vector<Eigen::Index> candidates;
@@ -134,7 +134,8 @@ void Monitor::update_active_set(bool accepted) {
 void Monitor::report(int iteration, const ceres::IterationSummary& s) const {
   std::string detail = "f = " + format_number(state_.objective);
   if (s.iteration > 0 && !s.step_is_successful) detail += " (step rejected)";
-  for (size_t k = 0; k < names_.size(); ++k) detail += ", " + names_[k] + " = " + format_number(scales_(k) * state_.x(k));
+  for (size_t k = 0; k < names_.size(); ++k)
+    detail += ", " + names_[k] + " = " + format_number(scales_(k) * state_.x(k));
   reporter_.report({"identify", static_cast<size_t>(iteration), static_cast<size_t>(options_.max_iterations), detail});
 }
 

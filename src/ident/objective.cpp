@@ -2,7 +2,6 @@
 // steps, scale them by eq. (1); the Jacobian from the FE sensitivities.
 #include "tricot/ident/objective.hpp"
 
-
 #include <Eigen/LU>
 #include <algorithm>
 #include <atomic>
@@ -17,7 +16,6 @@
 namespace tricot::ident {
 
 namespace {
-
 
 void check_weight(double w, const char* key) {
   if (!(w >= 0) || !std::isfinite(w)) throw InputError(Location{"", 0, key}, "out of range", format_number(w), ">= 0");
@@ -101,9 +99,9 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
   validate(parameters_);  // the caller's check (project: IdentificationSpec::validate); trusted in release
 #endif
 
-  after_ = options_.sensitivities_after &&
-           std::all_of(models_.begin(), models_.end(),
-                       [](const fem::TestModel& m) { return m.mesh.dofs() < fem::kSensitivitiesAfterBelow; });
+  after_ = options_.sensitivities_after && std::all_of(models_.begin(), models_.end(), [](const fem::TestModel& m) {
+             return m.mesh.dofs() < fem::kSensitivitiesAfterBelow;
+           });
 
   // The evaluation order: the largest nominal strains first, ² summed over the pull (grip
   // displacement over the quarter's height) and across it (guide over the quarter's width); a
@@ -113,7 +111,8 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
     const fem::TestModel& m = models_[t];
     const double W = m.mesh.X.row(0).maxCoeff() - m.mesh.X.row(0).minCoeff();
     const double H = m.mesh.X.row(1).maxCoeff() - m.mesh.X.row(1).minCoeff();
-    const double pull = m.control == fem::GripControl::displacement && !m.loads.empty() && H > 0 ? m.loads.back() / H : 0;
+    const double pull =
+        m.control == fem::GripControl::displacement && !m.loads.empty() && H > 0 ? m.loads.back() / H : 0;
     double across = 0;
     for (double g : m.guide) across = std::max(across, W > 0 ? std::abs(g) / W : 0.0);
     stretch[t] = pull * pull + across * across;
@@ -162,7 +161,8 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
     }
     if (d.step_weight.empty()) continue;
     // The test's per-step weights, on every row of that step (field groups: step-major, docs/theory.md §2).
-    const Eigen::Map<const Eigen::VectorXd> omega(d.step_weight.data(), static_cast<Eigen::Index>(d.step_weight.size()));
+    const Eigen::Map<const Eigen::VectorXd> omega(d.step_weight.data(),
+                                                  static_cast<Eigen::Index>(d.step_weight.size()));
     for (size_t gi = first_group; gi < data_.groups().size(); ++gi) {
       const DataGroup& g = data_.groups()[gi];
       const int per_step = g.size / d.steps();
@@ -177,9 +177,9 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
                      std::string("a <test>.") + kForceScale + " for every test with force data",
                      "one test at least (one per direction) without a force scale: its specimen is the reference");
   if (data_.size() == 0)
-    throw InputError(Location{"", 0, "data"}, "no data selected",
-                     "", "edge displacement (force control), edge force (displacement control) or field data "
-                         "with a weight > 0");
+    throw InputError(Location{"", 0, "data"}, "no data selected", "",
+                     "edge displacement (force control), edge force (displacement control) or field data "
+                     "with a weight > 0");
 }
 
 double Objective::force_scale(const Eigen::VectorXd& J, int test) const {
@@ -196,7 +196,7 @@ std::unique_ptr<fem::Law> Objective::law_at(const Eigen::VectorXd& J) const {
 }
 
 std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool jacobian,
-                                                 const std::vector<int>& tests) const {
+                                                  const std::vector<int>& tests) const {
   const int T = static_cast<int>(models_.size());
   std::vector<TestValues> values(T);
   std::unique_ptr<fem::Law> law;
@@ -235,8 +235,7 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
   std::atomic<int> first_failed{T};
   const auto failed = [&first_failed](int t) {
     int current = first_failed.load();
-    while (t < current && !first_failed.compare_exchange_weak(current, t)) {
-    }
+    while (t < current && !first_failed.compare_exchange_weak(current, t)) {}
   };
   const int threads = thread_team(options_.threads);
   const int K = static_cast<int>(run.size());

@@ -39,13 +39,14 @@ std::vector<fem::Location> locate_points(const fem::TestModel& model, const Test
     }
   }
   if (outside > 0)
-    throw InputError(Location{d.source, 0, "experiment." + d.name + ".points"},
-                     std::to_string(outside) + " of " + std::to_string(d.point_count()) +
-                         " points are outside the specimen mesh; the first is id " +
-                         std::to_string(d.point_ids[first]) + " at (" + format_number(d.points(0, first)) + ", " +
-                         format_number(d.points(1, first)) + ") mm",
-                     "", model.has_conditions() ? "points within the test's mesh, in its frame (mm)"
-                                                : "points within the quarter model's mesh (x >= 0, y >= 0 from the axes of symmetry)");
+    throw InputError(
+        Location{d.source, 0, "experiment." + d.name + ".points"},
+        std::to_string(outside) + " of " + std::to_string(d.point_count()) +
+            " points are outside the specimen mesh; the first is id " + std::to_string(d.point_ids[first]) + " at (" +
+            format_number(d.points(0, first)) + ", " + format_number(d.points(1, first)) + ") mm",
+        "",
+        model.has_conditions() ? "points within the test's mesh, in its frame (mm)"
+                               : "points within the quarter model's mesh (x >= 0, y >= 0 from the axes of symmetry)");
   return at;
 }
 
@@ -58,8 +59,8 @@ bool predict(const fem::TestModel& model, const TestData& d, const std::vector<f
   const std::vector<int>& coefficient_ = jacobian ? *coefficients : none;
   const int K = d.steps(), m = d.point_count(), n = static_cast<int>(coefficient_.size());
   if (static_cast<int>(sim.steps.size()) != K) {
-    message = "test " + d.name + ": the FE returned " + std::to_string(sim.steps.size()) + " of " +
-              std::to_string(K) + " steps";
+    message = "test " + d.name + ": the FE returned " + std::to_string(sim.steps.size()) + " of " + std::to_string(K) +
+              " steps";
     return false;
   }
   const bool force_control = model.control == fem::GripControl::force;
@@ -111,8 +112,8 @@ bool predict(const fem::TestModel& model, const TestData& d, const std::vector<f
         const auto l = deformed->locate(d.points.col(p));
         if (!l) {
           message = "test " + d.name + ": point " + std::to_string(d.point_ids[p]) + " at (" +
-                    format_number(d.points(0, p)) + ", " + format_number(d.points(1, p)) + ") mm is outside the deformed mesh of step " +
-                    std::to_string(k - 1);
+                    format_number(d.points(0, p)) + ", " + format_number(d.points(1, p)) +
+                    ") mm is outside the deformed mesh of step " + std::to_string(k - 1);
           return false;
         }
         at = *l;

@@ -28,9 +28,11 @@ void validate(const std::vector<Parameter>& parameters) {
     if (!seen.insert(p.name).second) fail("", "listed twice", p.name, "each coefficient once");
     if (!std::isfinite(p.start)) fail("start", "start value must be finite", format_number(p.start), "a number");
     if (!(p.scale >= 0) || !std::isfinite(p.scale)) fail("scale", "out of range", format_number(p.scale), ">= 0");
-    if (!(p.lower < p.upper)) fail("lower", "lower bound not below upper bound", format_number(p.lower), "< " + format_number(p.upper));
+    if (!(p.lower < p.upper))
+      fail("lower", "lower bound not below upper bound", format_number(p.lower), "< " + format_number(p.upper));
     if (p.start < p.lower || p.start > p.upper)
-      fail("start", "start value outside the bounds", format_number(p.start), "[" + format_number(p.lower) + ", " + format_number(p.upper) + "]");
+      fail("start", "start value outside the bounds", format_number(p.start),
+           "[" + format_number(p.lower) + ", " + format_number(p.upper) + "]");
     if (p.start == 0 && p.scale == 0)
       fail("scale", "a zero start value needs an explicit scale (LM works in J/scale)", "0", "> 0");
   }
@@ -46,8 +48,8 @@ void JacobianOptions::validate() const {
     throw InputError(Location{"", 0, "identify.threads"}, "out of range", std::to_string(threads), "0 to 1024");
 }
 
-Evaluation evaluate(const Problem& problem, const Eigen::VectorXd& J, bool jacobian,
-                    const JacobianOptions& options, const Evaluation* base) {
+Evaluation evaluate(const Problem& problem, const Eigen::VectorXd& J, bool jacobian, const JacobianOptions& options,
+                    const Evaluation* base) {
   if (options.mode == JacobianMode::exact || !jacobian) {
     Evaluation e = problem.evaluate(J, jacobian);
     e.evaluations = std::max(e.evaluations, 1);

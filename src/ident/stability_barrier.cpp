@@ -20,7 +20,8 @@ namespace tricot::ident {
 namespace {
 
 void check(bool ok, const char* field, double got, const std::string& expected) {
-  if (!ok) throw InputError(Location{"", 0, std::string("stability.") + field}, "out of range", format_number(got), expected);
+  if (!ok)
+    throw InputError(Location{"", 0, std::string("stability.") + field}, "out of range", format_number(got), expected);
 }
 
 }  // namespace
@@ -54,11 +55,13 @@ StabilizedObjective::StabilizedObjective(const Objective& objective, StabilityBa
   const auto names = rs->coefficient_names();
   for (int k = 0; k < objective.law_parameters(); ++k)  // the force scales after them have no barrier
     coefficient_.push_back(static_cast<int>(
-        std::find(names.begin(), names.end(), objective.parameters()[static_cast<std::size_t>(k)].name) - names.begin()));
+        std::find(names.begin(), names.end(), objective.parameters()[static_cast<std::size_t>(k)].name) -
+        names.begin()));
   const int nx = static_cast<int>(std::floor((options_.eC_max - options_.eC_min) / options_.step + 1e-9)) + 1;
   const int ny = static_cast<int>(std::floor((options_.eW_max - options_.eW_min) / options_.step + 1e-9)) + 1;
   for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j) grid_.emplace_back(options_.eC_min + i * options_.step, options_.eW_min + j * options_.step);
+    for (int j = 0; j < ny; ++j)
+      grid_.emplace_back(options_.eC_min + i * options_.step, options_.eW_min + j * options_.step);
   // A_i = ∂(F_C, F_W)/∂ε of the law with coefficient i alone at 1: central differences of a C¹
   // piecewise polynomial (truncation O(h²) away from 0, O(h) on the compression kink at 0).
   constexpr double h = 1e-7;
@@ -196,8 +199,9 @@ Eigen::VectorXd StabilizedObjective::barrier(const Eigen::VectorXd& J, Eigen::Ma
       for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(coefficient_.size()); ++k) {
         const Mat2& b = basis_[g][static_cast<std::size_t>(coefficient_[static_cast<std::size_t>(k)])];
         // ∂A11/∂J_k = b11, ∂A22/∂J_k = b22, ∂det A/∂J_k = b11 a22 + a11 b22 − b12 a21 − a12 b21.
-        const double d = m == 0 ? b(0, 0) : m == 1 ? b(1, 1)
-                                                   : b(0, 0) * a(1, 1) + a(0, 0) * b(1, 1) - b(0, 1) * a(1, 0) - a(0, 1) * b(1, 0);
+        const double d = m == 0   ? b(0, 0)
+                         : m == 1 ? b(1, 1)
+                                  : b(0, 0) * a(1, 1) + a(0, 0) * b(1, 1) - b(0, 1) * a(1, 0) - a(0, 1) * b(1, 0);
         (*jacobian)(row + m, k) = -w * d / margins[m];
       }
     }

@@ -40,8 +40,8 @@ Eq9Error eq9_error(const std::vector<SurfacePoint>& points, const std::function<
                      std::to_string(points.size()) + " points", "at least one point with F != 0");
   if (e.points_practical == 0)
     throw InputError(Location{"", 0, "eq9.practical"}, "the practical domain holds no experimental point",
-                     "course [" + format_number(practical.eC_min) + ", " + format_number(practical.eC_max) + "] x wale [" +
-                         format_number(practical.eW_min) + ", " + format_number(practical.eW_max) + "]",
+                     "course [" + format_number(practical.eC_min) + ", " + format_number(practical.eC_max) +
+                         "] x wale [" + format_number(practical.eW_min) + ", " + format_number(practical.eW_max) + "]",
                      "a domain that meets the data (course [" + format_number(cmin) + ", " + format_number(cmax) +
                          "], wale [" + format_number(wmin) + ", " + format_number(wmax) + "])");
   e.whole = sum / e.points_whole;
@@ -52,19 +52,17 @@ Eq9Error eq9_error(const std::vector<SurfacePoint>& points, const std::function<
 std::optional<TestSurfacePoints> test_surface_points(const fem::TestModel& model, const TestData& data, int nearest) {
   constexpr double kAngleTol = 1e-9;  // degrees: the two pulls are exactly 0 or 90 in a project
   TestSurfacePoints out;
-  if (std::abs(model.material_angle) <= kAngleTol)
-    out.force = SurfaceForce::wale;
-  else if (std::abs(model.material_angle - 90) <= kAngleTol)
-    out.force = SurfaceForce::course;
-  else
-    return std::nullopt;
+  if (std::abs(model.material_angle) <= kAngleTol) out.force = SurfaceForce::wale;
+  else if (std::abs(model.material_angle - 90) <= kAngleTol) out.force = SurfaceForce::course;
+  else return std::nullopt;
   const int n = data.point_count();
   if (data.edge_force.empty() || data.field_kind != FieldKind::cumulative || n < 3 || data.u.rows() != data.steps())
     return std::nullopt;
   // The points nearest the centre (the quarter model's origin).
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return data.points.col(a).norm() < data.points.col(b).norm(); });
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return data.points.col(a).norm() < data.points.col(b).norm(); });
   const int m = std::clamp(nearest, 3, n);
   Eigen::MatrixXd A(m, 3);
   for (int i = 0; i < m; ++i) A.row(i) << 1, data.points(0, order[i]), data.points(1, order[i]);
@@ -106,13 +104,16 @@ Restriction restrict_to_domain(const std::vector<fem::TestModel>& models, const 
     const TestData& data = experiment.tests[t];
     const auto p = test_surface_points(models[t], data, nearest);
     if (!p || p->points.empty())
-      throw InputError(key, "test '" + data.name + "' has no centre strains to restrict by",
-                       "material_angle " + format_number(models[t].material_angle),
-                       "a test pulled along wale (0) or course (90) with a grip force and a cumulative field of >= 3 points");
+      throw InputError(
+          key, "test '" + data.name + "' has no centre strains to restrict by",
+          "material_angle " + format_number(models[t].material_angle),
+          "a test pulled along wale (0) or course (90) with a grip force and a cumulative field of >= 3 points");
     const bool course_pulled = p->force == SurfaceForce::course;
     const auto pulled_of = [&](const SurfacePoint& q) { return course_pulled ? q.eC : q.eW; };
-    RestrictedTest r{data.name, data.steps(), 0, course_pulled ? p->points[0].eW : p->points[0].eC, pulled_of(p->points[0])};
-    const double held_min = course_pulled ? domain.eW_min : domain.eC_min, held_max = course_pulled ? domain.eW_max : domain.eC_max;
+    RestrictedTest r{data.name, data.steps(), 0, course_pulled ? p->points[0].eW : p->points[0].eC,
+                     pulled_of(p->points[0])};
+    const double held_min = course_pulled ? domain.eW_min : domain.eC_min,
+                 held_max = course_pulled ? domain.eW_max : domain.eC_max;
     const double pulled_max = course_pulled ? domain.eC_max : domain.eW_max;
     if (r.held >= held_min && r.held <= held_max)
       while (r.kept < r.steps && pulled_of(p->points[r.kept]) <= pulled_max) r.pulled = pulled_of(p->points[r.kept++]);

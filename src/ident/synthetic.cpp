@@ -62,7 +62,8 @@ Sigma rms_fraction(const TestData& d, double fraction) {
   s.edge_displacement = fraction * rms(d.edge_displacement.data(), d.edge_displacement.size());
   s.edge_force = fraction * rms(d.edge_force.data(), d.edge_force.size());
   const double su = rms(d.u.data(), d.u.size()), sv = rms(d.v.data(), d.v.size());
-  s.field = fraction * std::sqrt((su * su * d.u.size() + sv * sv * d.v.size()) / std::max<Eigen::Index>(1, d.u.size() + d.v.size()));
+  s.field = fraction * std::sqrt((su * su * d.u.size() + sv * sv * d.v.size()) /
+                                 std::max<Eigen::Index>(1, d.u.size() + d.v.size()));
   return s;
 }
 

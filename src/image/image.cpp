@@ -35,17 +35,20 @@ LoadedImage load_image(const std::filesystem::path& path) {
     char head[8] = {};
     in.read(head, 8);
     const auto n = static_cast<std::size_t>(in.gcount());
-    const auto starts = [&](const char* magic, std::size_t len) { return n >= len && std::memcmp(head, magic, len) == 0; };
+    const auto starts = [&](const char* magic, std::size_t len) {
+      return n >= len && std::memcmp(head, magic, len) == 0;
+    };
     // Only the camera formats reach OpenCV: its other decoders (DICOM through GDCM, HDR, JPEG 2000, …)
     // pick files by signature and some abort the process on a malformed one (GDCM asserts: found by
     // the image fuzzer, issue 14).
-    const bool known = starts("\x89PNG\r\n\x1a\n", 8) || starts("II*\0", 4) || starts("MM\0*", 4) || starts("II+\0", 4) ||
-                       starts("MM\0+", 4) || starts("BM", 2) || starts("\xff\xd8\xff", 3) ||
+    const bool known = starts("\x89PNG\r\n\x1a\n", 8) || starts("II*\0", 4) || starts("MM\0*", 4) ||
+                       starts("II+\0", 4) || starts("MM\0+", 4) || starts("BM", 2) || starts("\xff\xd8\xff", 3) ||
                        (n >= 2 && head[0] == 'P' && head[1] >= '1' && head[1] <= '6');
     if (!known) {
       std::string bytes;
       for (std::size_t i = 0; i < n; ++i) bytes += (i ? " " : "") + std::to_string(static_cast<unsigned char>(head[i]));
-      throw file_error(path, "cannot decode image", "not a TIFF, PNG, BMP, JPEG or PNM file (first bytes " + bytes + ")",
+      throw file_error(path, "cannot decode image",
+                       "not a TIFF, PNG, BMP, JPEG or PNM file (first bytes " + bytes + ")",
                        "an 8- or 16-bit TIFF, PNG or BMP");
     }
     // A truncated PNG makes libpng print its own "libpng error" on stderr before OpenCV gives up: find
@@ -78,17 +81,34 @@ LoadedImage load_image(const std::filesystem::path& path) {
   if (out.was_colour) out.warning = path.string() + ": colour image converted to gray";
   double white = 1.0;
   switch (m.depth()) {
-    case CV_8U: out.bit_depth = 8; white = 255.0; break;
-    case CV_8S: out.bit_depth = 8; white = 127.0; break;
-    case CV_16U: out.bit_depth = 16; white = 65535.0; break;
-    case CV_16S: out.bit_depth = 16; white = 32767.0; break;
-    case CV_32F: out.bit_depth = 32; white = 1.0; break;
-    default: throw file_error(path, "unsupported pixel type", std::to_string(m.depth()), "8- or 16-bit integer or float");
+    case CV_8U:
+      out.bit_depth = 8;
+      white = 255.0;
+      break;
+    case CV_8S:
+      out.bit_depth = 8;
+      white = 127.0;
+      break;
+    case CV_16U:
+      out.bit_depth = 16;
+      white = 65535.0;
+      break;
+    case CV_16S:
+      out.bit_depth = 16;
+      white = 32767.0;
+      break;
+    case CV_32F:
+      out.bit_depth = 32;
+      white = 1.0;
+      break;
+    default:
+      throw file_error(path, "unsupported pixel type", std::to_string(m.depth()), "8- or 16-bit integer or float");
   }
   cv::Mat f;
   m.convertTo(f, CV_32F);
   out.image = Image(f.cols, f.rows, 0.0f, white);
-  for (int y = 0; y < f.rows; ++y) std::copy_n(f.ptr<float>(y), f.cols, out.image.pixels.data() + std::size_t(y) * f.cols);
+  for (int y = 0; y < f.rows; ++y)
+    std::copy_n(f.ptr<float>(y), f.cols, out.image.pixels.data() + std::size_t(y) * f.cols);
   for (float v : out.image.pixels)
     if (!std::isfinite(v)) throw file_error(path, "image has a pixel that is not a finite number");
   return out;
@@ -107,10 +127,8 @@ std::string encode_gray(const Image& img, const std::string& extension, int bits
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const double v = std::clamp(std::round(img.at(x, y) * scale), 0.0, top);
-      if (bits == 16)
-        m.at<std::uint16_t>(y, x) = static_cast<std::uint16_t>(v);
-      else
-        m.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(v);
+      if (bits == 16) m.at<std::uint16_t>(y, x) = static_cast<std::uint16_t>(v);
+      else m.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(v);
     }
   std::vector<uchar> buf;
   if (!cv::imencode(extension, m, buf)) throw std::runtime_error("cannot encode image as " + extension);

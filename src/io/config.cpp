@@ -21,7 +21,6 @@ std::string format_real(double x) {
   return s;
 }
 
-
 int line_of(const toml::node& n) { return static_cast<int>(n.source().begin.line); }
 
 std::string join(std::string_view a, std::string_view b) {
@@ -121,9 +120,7 @@ const Node& Node::section(std::string_view name) const {
   return it->second;
 }
 
-Node& Node::section(std::string_view name) {
-  return const_cast<Node&>(std::as_const(*this).section(name));
-}
+Node& Node::section(std::string_view name) { return const_cast<Node&>(std::as_const(*this).section(name)); }
 
 const std::vector<Node>& Node::array(std::string_view name) const {
   auto it = arrays_.find(name);
@@ -265,8 +262,8 @@ class NodeBuilder {
         for (std::size_t i = 0; i < a->size(); ++i) {
           r.push_back(number(k, (*a)[i], fmt::format("{}[{}]", key, i)));
           if (k.increasing && i > 0 && r[i] <= r[i - 1])
-            fail((*a)[i], fmt::format("{}[{}]", key, i), "must be larger than the value before it",
-                 format_real(r[i]), "> " + format_real(r[i - 1]));
+            fail((*a)[i], fmt::format("{}[{}]", key, i), "must be larger than the value before it", format_real(r[i]),
+                 "> " + format_real(r[i - 1]));
         }
         return r;
       }
@@ -319,7 +316,9 @@ void print_section(std::string& out, const SectionSpec& s, const std::string& pa
   if (!path.empty()) {
     out += "\n";
     print_comment(out, s.help);
-    if (s.array) print_comment(out, commented ? "(optional: uncomment, and repeat once per entry)" : "(repeat this table once per entry)");
+    if (s.array)
+      print_comment(
+          out, commented ? "(optional: uncomment, and repeat once per entry)" : "(repeat this table once per entry)");
     out += lead + (s.array ? "[[" + path + "]]\n" : "[" + path + "]\n");
   } else if (!s.help.empty()) {
     print_comment(out, s.help);

@@ -177,7 +177,8 @@ bool run_gnuplot(const std::string& script, std::string* why) {
   close(fd);
   const bool written = ::write(sd, script.data(), script.size()) == static_cast<ssize_t>(script.size());
   close(sd);
-  const int rc = written ? std::system(fmt::format("gnuplot '{}' >'{}' 2>&1 </dev/null", script_name, log_name).c_str()) : -1;
+  const int rc =
+      written ? std::system(fmt::format("gnuplot '{}' >'{}' 2>&1 </dev/null", script_name, log_name).c_str()) : -1;
   std::remove(script_name);
   std::string output;
   {

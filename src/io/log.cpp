@@ -153,8 +153,8 @@ LogTable parse_log(std::string_view text, const std::string& file, const LogForm
     for (std::size_t i = 0; i < lines.size(); ++i)
       if (lines[i].number == format.header_line) header = i;
     if (header == lines.size())
-      throw InputError({file, format.header_line, "log.header_line"}, "the log has no such line", std::to_string(format.header_line),
-                       "1 to " + std::to_string(lines.size()));
+      throw InputError({file, format.header_line, "log.header_line"}, "the log has no such line",
+                       std::to_string(format.header_line), "1 to " + std::to_string(lines.size()));
   } else {
     std::vector<std::size_t> rows;  // indices of non-blank lines
     for (std::size_t i = 0; i < lines.size(); ++i)
@@ -178,13 +178,16 @@ LogTable parse_log(std::string_view text, const std::string& file, const LogForm
       }
       if (run > best) best = run, header = rows[r];
     }
-    if (header == lines.size() && !rows.empty() && std::none_of(shape.begin(), shape.end(), [](const auto& x) { return x.first; }))
+    if (header == lines.size() && !rows.empty() &&
+        std::none_of(shape.begin(), shape.end(), [](const auto& x) { return x.first; }))
       throw InputError({file, lines[rows.back()].number, ""}, "no data rows: every line is text (a header alone?)", "",
                        "rows of numbers below the header");
     if (header == lines.size())
-      throw InputError({file, 0, ""}, "no header row found",
-                       "", std::string("a row of column names followed by rows of numbers separated by ") +
-                               (d == '\t' ? "tabs" : d == ';' ? "';'" : "','"));
+      throw InputError(
+          {file, 0, ""}, "no header row found", "",
+          std::string("a row of column names followed by rows of numbers separated by ") + (d == '\t'  ? "tabs"
+                                                                                            : d == ';' ? "';'"
+                                                                                                       : "','"));
   }
   for (std::size_t i = 0; i < header; ++i) t.metadata.emplace_back(lines[i].text);
   t.columns = split_cells(lines[header].text, d);
@@ -198,8 +201,8 @@ LogTable parse_log(std::string_view text, const std::string& file, const LogForm
     if (blank(lines[i].text)) continue;
     split_cells(lines[i].text, d, cells);
     if (cells.size() > nc)
-      throw InputError({file, lines[i].number, ""}, "more cells than the header has columns", std::to_string(cells.size()),
-                       std::to_string(nc));
+      throw InputError({file, lines[i].number, ""}, "more cells than the header has columns",
+                       std::to_string(cells.size()), std::to_string(nc));
     const std::size_t row = t.lines.size();
     for (std::size_t c = 0; c < nc; ++c) {
       const std::string_view cell = c < cells.size() ? cells[c] : std::string_view{};
@@ -220,7 +223,8 @@ LogTable parse_log(std::string_view text, const std::string& file, const LogForm
       if (blank(lines[i].text)) continue;
       split_cells(lines[i].text, d, cells);
       for (std::size_t c = 0; c < nc; ++c)
-        if (first_text[c] != std::string::npos) t.text_[c].emplace_back(c < cells.size() ? cells[c] : std::string_view{});
+        if (first_text[c] != std::string::npos)
+          t.text_[c].emplace_back(c < cells.size() ? cells[c] : std::string_view{});
     }
   if (t.lines.empty()) throw InputError({file, lines[header].number, ""}, "the log has a header but no data rows");
   return t;
@@ -282,7 +286,8 @@ std::vector<double> LogTable::times(std::string_view name) const {
   for (std::size_t r = 1; r < t.size(); ++r)
     if (!(t[r] > t[r - 1]))
       throw InputError({file, lines[r], columns[c]}, t[r] < t[r - 1] ? "time goes backwards" : "time repeats",
-                       format_number(t[r]), "> " + format_number(t[r - 1]) + " (line " + std::to_string(lines[r - 1]) + ")");
+                       format_number(t[r]),
+                       "> " + format_number(t[r - 1]) + " (line " + std::to_string(lines[r - 1]) + ")");
   return t;
 }
 

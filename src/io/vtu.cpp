@@ -61,8 +61,8 @@ class ArrayWriter {
 
   // As text, `per_line` values a line (a tuple, or a cell's nodes).
   template <class T>
-  void write(std::string& out, const char* type, const std::string& name, int components,
-             const std::vector<T>& values, int per_line = 0) const {
+  void write(std::string& out, const char* type, const std::string& name, int components, const std::vector<T>& values,
+             int per_line = 0) const {
     if (per_line == 0) per_line = components;
     out += fmt::format("        <DataArray type=\"{}\" Name=\"{}\"", type, name);
     if (components > 1) out += fmt::format(" NumberOfComponents=\"{}\"", components);
@@ -139,8 +139,8 @@ std::string to_vtu(const VtuGrid& g, VtuFormat format) {
   if (!g.field_data.empty()) {
     out += "    <FieldData>\n";
     for (const auto& f : g.field_data) {
-      out += fmt::format("      <DataArray type=\"Float64\" Name=\"{}\" NumberOfTuples=\"{}\" format=\"ascii\">", f.name,
-                         f.values.size());
+      out += fmt::format("      <DataArray type=\"Float64\" Name=\"{}\" NumberOfTuples=\"{}\" format=\"ascii\">",
+                         f.name, f.values.size());
       for (double v : f.values) out += " " + number(v);
       out += " </DataArray>\n";
     }

@@ -76,8 +76,8 @@ PronyFit fit_terms(const std::vector<double>& s, const std::vector<double>& f) {
   for (int i = 0; i < M; ++i) x[1 + i] = c[1 + i], x[1 + M + i] = std::log(tau0[i]);
   ceres::Problem problem;
   for (std::size_t k = 0; k < s.size(); ++k)
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PronyResidual<M>, 1, 1 + 2 * M>(new PronyResidual<M>{s[k], f[k]}),
-                             nullptr, x);
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<PronyResidual<M>, 1, 1 + 2 * M>(new PronyResidual<M>{s[k], f[k]}), nullptr, x);
   ceres::Solver::Options o;
   o.linear_solver_type = ceres::DENSE_QR;
   o.max_num_iterations = 200;
@@ -92,7 +92,8 @@ PronyFit fit_terms(const std::vector<double>& s, const std::vector<double>& f) {
   fit.converged = summary.IsSolutionUsable();
   fit.relaxed_N = x[0];
   for (int i = 0; i < M; ++i) fit.terms.push_back({x[1 + i], std::exp(x[1 + M + i])});
-  std::sort(fit.terms.begin(), fit.terms.end(), [](const PronyTerm& a, const PronyTerm& b) { return a.tau_s < b.tau_s; });
+  std::sort(fit.terms.begin(), fit.terms.end(),
+            [](const PronyTerm& a, const PronyTerm& b) { return a.tau_s < b.tau_s; });
   const double n = static_cast<double>(s.size());
   fit.rss = 2 * summary.final_cost;
   fit.rms_N = std::sqrt(fit.rss / n);
@@ -105,10 +106,12 @@ PronyFit fit_terms(const std::vector<double>& s, const std::vector<double>& f) {
 
 void check_series(const std::string& file, const char* key, const std::vector<double>& v, std::size_t n) {
   if (v.size() != n)
-    throw InputError({file, 0, key}, "wrong length", std::to_string(v.size()), std::to_string(n) + " values, one per time");
+    throw InputError({file, 0, key}, "wrong length", std::to_string(v.size()),
+                     std::to_string(n) + " values, one per time");
   for (std::size_t i = 0; i < n; ++i)
     if (!std::isfinite(v[i]))
-      throw InputError({file, 0, key}, "not a finite number at index " + std::to_string(i), format_number(v[i]), "a finite number");
+      throw InputError({file, 0, key}, "not a finite number at index " + std::to_string(i), format_number(v[i]),
+                       "a finite number");
 }
 
 }  // namespace
@@ -143,8 +146,8 @@ RelaxationResult fit_relaxation(const std::vector<double>& time, const std::vect
   if (!crosshead.empty()) check_series(source, "log.crosshead", crosshead, n);
   for (std::size_t i = 1; i < n; ++i)
     if (!(time[i] > time[i - 1]))
-      throw InputError({source, 0, "log.time"}, "time does not increase at index " + std::to_string(i), format_number(time[i]),
-                       "> " + format_number(time[i - 1]));
+      throw InputError({source, 0, "log.time"}, "time does not increase at index " + std::to_string(i),
+                       format_number(time[i]), "> " + format_number(time[i - 1]));
 
   RelaxationResult r;
   // The hold: the cross-head at its largest travel, else from the force's peak to the end.
@@ -202,7 +205,8 @@ std::string RelaxationResult::brief_report() const {
 QuasiStatic quasi_static(const PronyFit& fit, double duration_s, double tolerance) {
   if (!(duration_s > 0) || !std::isfinite(duration_s))
     throw InputError({"", 0, "relax.duration_s"}, "out of range", format_number(duration_s), "> 0 s");
-  if (!(tolerance > 0)) throw InputError({"", 0, "relax.quasi_static_tolerance"}, "out of range", format_number(tolerance), "> 0");
+  if (!(tolerance > 0))
+    throw InputError({"", 0, "relax.quasi_static_tolerance"}, "out of range", format_number(tolerance), "> 0");
   auto excess = [&](double T) {
     double e = 0;
     for (const auto& t : fit.terms) e += t.amplitude_N / fit.relaxed_N * (t.tau_s / T) * -std::expm1(-T / t.tau_s);

@@ -62,7 +62,8 @@ QuarterField fold_sequence(const dic::SequenceResult& sequence, const dic::Physi
   if (images < 2) throw InputError({"", 0, "dic"}, "too few images for a field", std::to_string(images), "at least 2");
   if (kind == FieldKind::incremental && sequence.increments.size() + 1 != images)
     throw InputError({"", 0, "dic.fixed_point_fields"}, "the sequence has no fixed-point increments",
-                     std::to_string(sequence.increments.size()), std::to_string(images - 1) + " increments (fixed_point_fields = true)");
+                     std::to_string(sequence.increments.size()),
+                     std::to_string(images - 1) + " increments (fixed_point_fields = true)");
   std::vector<Vec2> x0;
   for (const auto& g : sequence.grid) x0.push_back(g.x);
   const FoldedPoints folded = fold_to_quarter(frame, geometry, x0);
@@ -112,7 +113,8 @@ std::vector<double> grip_from_field(const QuarterField& field, const SpecimenGeo
   std::vector<double> grip(std::size_t(field.u.rows()), 0.0);
   double yy = 0;
   for (const Vec2& X : field.X) yy += X(1) * X(1);
-  if (!(yy > 0)) throw InputError({"", 0, "dic"}, "no field point off the axis Y = 0: the grip's motion cannot be estimated");
+  if (!(yy > 0))
+    throw InputError({"", 0, "dic"}, "no field point off the axis Y = 0: the grip's motion cannot be estimated");
   for (Eigen::Index k = 0; k < field.v.rows(); ++k) {
     double vy = 0;
     for (std::size_t a = 0; a < field.X.size(); ++a) vy += field.v(k, Eigen::Index(a)) * field.X[a](1);
@@ -124,7 +126,8 @@ std::vector<double> grip_from_field(const QuarterField& field, const SpecimenGeo
 double scale_from_points(const Vec2& a_px, const Vec2& b_px, double distance_mm) {
   if (!a_px.allFinite() || !b_px.allFinite() || (a_px - b_px).norm() == 0)
     throw InputError({"", 0, "physical.scale_points"}, "the two points must be distinct and finite",
-                     fmt::format("({}, {}) and ({}, {}) px", a_px(0), a_px(1), b_px(0), b_px(1)), "two distinct pixels");
+                     fmt::format("({}, {}) and ({}, {}) px", a_px(0), a_px(1), b_px(0), b_px(1)),
+                     "two distinct pixels");
   if (!(distance_mm > 0) || !std::isfinite(distance_mm))
     throw InputError({"", 0, "physical.scale_distance_mm"}, "out of range", format_number(distance_mm), "> 0 mm");
   return distance_mm / (a_px - b_px).norm();

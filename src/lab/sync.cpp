@@ -18,10 +18,12 @@ constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 void check_series(const std::string& file, const std::string& key, const std::vector<double>& v, std::size_t n) {
   if (v.size() != n)
-    throw InputError({file, 0, key}, "wrong length", std::to_string(v.size()), std::to_string(n) + " values, one per time");
+    throw InputError({file, 0, key}, "wrong length", std::to_string(v.size()),
+                     std::to_string(n) + " values, one per time");
   for (std::size_t i = 0; i < n; ++i)
     if (!std::isfinite(v[i]))
-      throw InputError({file, 0, key}, "not a finite number at index " + std::to_string(i), format_number(v[i]), "a finite number");
+      throw InputError({file, 0, key}, "not a finite number at index " + std::to_string(i), format_number(v[i]),
+                       "a finite number");
 }
 
 void check_times(const std::string& file, const std::string& key, const std::vector<double>& t) {
@@ -154,7 +156,6 @@ double log_step(const LoadLog& log) {
   return dt[dt.size() / 2];
 }
 
-
 /// The grip motion of a constant-speed test seen in the images: rest until t0, constant speed until
 /// t1 (+inf when the images end during the motion), both hinges of the frames (docs/theory.md §1).
 struct MotionModel {
@@ -193,12 +194,20 @@ MotionModel fit_motion(const ImageTimes& images, double fraction) {
   };
   for (int sweep = 0; sweep < 4; ++sweep) {
     MotionModel trial = m;
-    m.t0 = golden_minimum([&](double t0) { trial.t0 = t0; return rss(trial); },
-                          std::max(images.time.front(), m.t0 - frame), std::min(m.t1, m.t0 + frame), 1e-7 * frame);
+    m.t0 = golden_minimum(
+        [&](double t0) {
+          trial.t0 = t0;
+          return rss(trial);
+        },
+        std::max(images.time.front(), m.t0 - frame), std::min(m.t1, m.t0 + frame), 1e-7 * frame);
     if (std::isfinite(m.t1)) {
       trial = m;
-      m.t1 = golden_minimum([&](double t1) { trial.t1 = t1; return rss(trial); }, std::max(m.t0, m.t1 - frame),
-                            std::min(images.time.back(), m.t1 + frame), 1e-7 * frame);
+      m.t1 = golden_minimum(
+          [&](double t1) {
+            trial.t1 = t1;
+            return rss(trial);
+          },
+          std::max(m.t0, m.t1 - frame), std::min(images.time.back(), m.t1 + frame), 1e-7 * frame);
     }
   }
   return m;
@@ -233,7 +242,8 @@ const char* to_string(SyncMethod m) {
 }
 
 std::vector<double> frame_times(int count, double fps, double start_s) {
-  if (!(fps > 0) || !std::isfinite(fps)) throw InputError({"", 0, "images.fps"}, "out of range", format_number(fps), "> 0 images/s");
+  if (!(fps > 0) || !std::isfinite(fps))
+    throw InputError({"", 0, "images.fps"}, "out of range", format_number(fps), "> 0 images/s");
   if (count < 1) throw InputError({"", 0, "images.count"}, "out of range", std::to_string(count), "≥ 1");
   if (!std::isfinite(start_s)) throw InputError({"", 0, "images.start_s"}, "not a finite time", format_number(start_s));
   std::vector<double> t(static_cast<std::size_t>(count));
@@ -249,12 +259,11 @@ void LoadLog::validate() const {
   if (has_crosshead()) check_series(source, "log.crosshead", crosshead, time.size());
 }
 
-std::string ImageTimes::name(std::size_t k) const {
-  return k < names.size() ? names[k] : "frame " + std::to_string(k);
-}
+std::string ImageTimes::name(std::size_t k) const { return k < names.size() ? names[k] : "frame " + std::to_string(k); }
 
 void ImageTimes::validate() const {
-  if (time.size() < 3) throw InputError({"", 0, "images.time"}, "too few images", std::to_string(time.size()), "at least 3");
+  if (time.size() < 3)
+    throw InputError({"", 0, "images.time"}, "too few images", std::to_string(time.size()), "at least 3");
   check_times("", "images.time", time);
   check_series("", "images.grip", grip, time.size());
 }
@@ -263,7 +272,8 @@ void SyncOptions::validate() const {
   auto bad = [](const char* key, double v, const char* expected) {
     throw InputError({"", 0, key}, "out of range", format_number(v), expected);
   };
-  if (clock_offset_s && !std::isfinite(*clock_offset_s)) bad("sync.clock_offset_s", *clock_offset_s, "a finite number of seconds");
+  if (clock_offset_s && !std::isfinite(*clock_offset_s))
+    bad("sync.clock_offset_s", *clock_offset_s, "a finite number of seconds");
   if (tare_N && !std::isfinite(*tare_N)) bad("sync.tare_N", *tare_N, "a finite force");
   if (!(max_offset_s > 0) || !std::isfinite(max_offset_s)) bad("sync.max_offset_s", max_offset_s, "> 0 s");
   if (!(exposure_s >= 0) || !std::isfinite(exposure_s)) bad("sync.exposure_s", exposure_s, "≥ 0 s");
@@ -331,8 +341,9 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
     }
     const double lo = std::max(-options.max_offset_s, r.lag_s[ib] - h);
     const double hi = std::min(options.max_offset_s, r.lag_s[ib] + h);
-    r.clock_offset_s =
-        golden_minimum([&](double d) { return -std::abs(crosshead_correlation(log, images, d, options.crosshead_degree)); }, lo, hi, 1e-6);
+    r.clock_offset_s = golden_minimum(
+        [&](double d) { return -std::abs(crosshead_correlation(log, images, d, options.crosshead_degree)); }, lo, hi,
+        1e-6);
     r.peak_correlation = crosshead_correlation(log, images, r.clock_offset_s, options.crosshead_degree);
     if (ib == 0 || ib + 1 == r.lag_s.size()) r.termination = SyncTermination::at_search_limit;
     r.message = "cross-head correlated with the grip motion";
@@ -383,7 +394,8 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
       sum += log.force[i], ++r.tare_samples;
     if (r.tare_samples == 0)
       throw InputError({log.source, 0, "log.force"}, "no force at rest before the motion starts in the log",
-                       "onset at " + format_number(r.motion_onset_log_s) + " s", "a log that starts at rest, or sync.tare_N");
+                       "onset at " + format_number(r.motion_onset_log_s) + " s",
+                       "a log that starts at rest, or sync.tare_N");
     r.tare_N = sum / r.tare_samples;
   }
 
@@ -424,7 +436,8 @@ std::string SyncResult::brief_report() const {
   if (method == SyncMethod::onset) s += fmt::format(", R² = {:.6f}", peak_correlation);
   s += "), tare " + format_number(tare_N) + " N";
   s += tare_given ? " (given)" : fmt::format(" from {} samples", tare_samples);
-  if (termination == SyncTermination::at_search_limit) s += "; at the edge of the search range (raise sync.max_offset_s)";
+  if (termination == SyncTermination::at_search_limit)
+    s += "; at the edge of the search range (raise sync.max_offset_s)";
   return s;
 }
 

@@ -47,8 +47,9 @@ void refuse_duplicated_tasks(int world_size) {
   if (world_size != 1 || tasks <= 1) return;
   const std::string n = std::to_string(tasks);
   throw InputError(Location{"", 0, "mpi"},
-                   "Slurm started " + n + " tasks of tricot and no MPI world joins them: each would run the whole "
-                   "identification into the same folder",
+                   "Slurm started " + n +
+                       " tasks of tricot and no MPI world joins them: each would run the whole "
+                       "identification into the same folder",
                    "SLURM_STEP_NUM_TASKS=" + n + ", 1 MPI process",
                    "mpirun -np " + n + " inside the allocation, srun --mpi=pmix -n " + n + ", or one task: srun -n 1");
 }

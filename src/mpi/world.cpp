@@ -256,17 +256,18 @@ std::exception_ptr gather_ready(int size) {
 
 struct World::Impl {
   bool initialized = false;
-  bool ready = false;    // rank 0: the ready messages were gathered
+  bool ready = false;  // rank 0: the ready messages were gathered
   std::shared_ptr<RankSplit> split;
 };
 
 std::string Traffic::brief_report() const {
   char line[400];
-  std::snprintf(line, sizeof line,
-                "mpi: %d rounds (%d with the Jacobian), %.3g MB received (largest message %.3g kB), %.3g kB sent; "
-                "rank 0: %.3g s in MPI calls (waits included), %.3g s on its own tests, %.3g s overhead beyond the slowest rank",
-                rounds, jacobian_rounds, bytes_received / 1e6, largest_message / 1e3, bytes_sent / 1e3, mpi_seconds,
-                local_seconds, overhead_seconds);
+  std::snprintf(
+      line, sizeof line,
+      "mpi: %d rounds (%d with the Jacobian), %.3g MB received (largest message %.3g kB), %.3g kB sent; "
+      "rank 0: %.3g s in MPI calls (waits included), %.3g s on its own tests, %.3g s overhead beyond the slowest rank",
+      rounds, jacobian_rounds, bytes_received / 1e6, largest_message / 1e3, bytes_sent / 1e3, mpi_seconds,
+      local_seconds, overhead_seconds);
   return line;
 }
 
@@ -284,7 +285,9 @@ World::World() : impl_(std::make_shared<Impl>()) {
   if (provided < MPI_THREAD_SERIALIZED && size_ > 1) {
     if (rank_ == 0)
       std::fprintf(stderr, "tricot: error: %s\n",
-                   format_error({"mpi", 0, ""}, "this MPI library cannot be called from several threads", "", "MPI_THREAD_SERIALIZED").c_str());
+                   format_error({"mpi", 0, ""}, "this MPI library cannot be called from several threads", "",
+                                "MPI_THREAD_SERIALIZED")
+                       .c_str());
     MPI_Abort(MPI_COMM_WORLD, static_cast<int>(ExitCode::usage));
   }
   if (size_ == 1 && slurm_step_tasks() > 1) {  // each task its own world of one (a PMI it does not speak)
@@ -334,7 +337,8 @@ void World::serve(const std::function<const ident::Objective*()>& build) {
       const std::vector<double> command = receive<double>(0, kCommandTag, MPI_DOUBLE);
       if (command.size() < 2 || static_cast<int>(command[0]) == Command::stop) return;
       if (!objective) throw std::logic_error("asked to evaluate without an objective");
-      const Eigen::VectorXd J = Eigen::Map<const Eigen::VectorXd>(command.data() + 2, static_cast<Eigen::Index>(command.size() - 2));
+      const Eigen::VectorXd J =
+          Eigen::Map<const Eigen::VectorXd>(command.data() + 2, static_cast<Eigen::Index>(command.size() - 2));
       if (J.size() != static_cast<Eigen::Index>(objective->parameters().size()))
         throw std::logic_error("rank 0 sent " + std::to_string(J.size()) + " parameters");
       const bool jacobian = command[1] != 0;

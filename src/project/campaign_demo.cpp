@@ -53,7 +53,9 @@ struct CameraSetup {
   double centre_x() const { return 0.5 * (width - 1); }
   double centre_y() const { return 0.5 * (height - 1); }
 };
-CameraSetup camera(const CampaignDemoOptions& o) { return o.small ? CameraSetup{320, 256, 0.8} : CameraSetup{1280, 1024, 0.2}; }
+CameraSetup camera(const CampaignDemoOptions& o) {
+  return o.small ? CameraSetup{320, 256, 0.8} : CameraSetup{1280, 1024, 0.2};
+}
 
 int pull_steps(const CampaignDemoOptions& o) { return o.small ? 6 : 21; }
 int setting_steps(const CampaignDemoOptions& o) { return o.small ? 2 : 4; }
@@ -75,8 +77,9 @@ setting_steps = {}        # increments that set the transverse dimension before 
 }
 
 std::string test_lines(const CampaignTest& t, const CampaignDemoOptions& o) {
-  return fmt::format("kind = \"rig\"\nside = 110.0\npull = \"{}\"\ntransverse_strain = {}\npull_strain = {}\nsteps = {}\n",
-                     t.pull, io::to_toml(t.transverse_strain), io::to_toml(t.pull_strain), pull_steps(o));
+  return fmt::format(
+      "kind = \"rig\"\nside = 110.0\npull = \"{}\"\ntransverse_strain = {}\npull_strain = {}\nsteps = {}\n", t.pull,
+      io::to_toml(t.transverse_strain), io::to_toml(t.pull_strain), pull_steps(o));
 }
 
 // User + system CPU seconds of the process, every thread.
@@ -90,7 +93,8 @@ double cpu_seconds() {
 class Stage {
  public:
   Stage(const Log& log, std::string name, std::size_t total)
-      : log_(log), name_(std::move(name)), total_(total), wall0_(std::chrono::steady_clock::now()), cpu0_(cpu_seconds()) {
+      : log_(log), name_(std::move(name)), total_(total), wall0_(std::chrono::steady_clock::now()),
+        cpu0_(cpu_seconds()) {
     log_.reporter().report({name_, 0, total_, ""});
   }
   // A Log for the stage's pipeline: `count` says which engine reports count toward the stage's total
@@ -116,7 +120,8 @@ class Stage {
     done_by_.clear();
   }
   StageTime finish(const std::string& detail) {
-    StageTime t{name_, std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0_).count(), cpu_seconds() - cpu0_};
+    StageTime t{name_, std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0_).count(),
+                cpu_seconds() - cpu0_};
     log_.reporter().report({name_, total_ > 0 ? total_ : 1, total_ > 0 ? total_ : 1, detail});
     return t;
   }
@@ -131,7 +136,9 @@ class Stage {
   std::size_t finished_ = 0;
 };
 
-double number(const json& j, const char* key) { return j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN; }
+double number(const json& j, const char* key) {
+  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : NAN;
+}
 
 json read_json_file(const fs::path& f) { return json::parse(io::read_text(f)); }
 
@@ -142,8 +149,9 @@ struct DicQuality {
   int grid = 0, ok_last = 0, kept = 0;
   double mean_zncc = NAN, min_zncc = NAN;
 };
-std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& experiment, const std::vector<CampaignTest>& tests,
-                                    const CameraSetup& cam, const fs::path& plots, const Log& log) {
+std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& experiment,
+                                    const std::vector<CampaignTest>& tests, const CameraSetup& cam,
+                                    const fs::path& plots, const Log& log) {
   std::vector<DicQuality> q;
   const json sync = read_json_file(experiment / "sync.json");
   std::string panels;
@@ -171,9 +179,11 @@ std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& exp
     io::write_atomic(a, ok);
     io::write_atomic(b, lost);
     if (d.ok_last > 0) floor = std::min(floor, std::floor(100 * d.min_zncc) / 100);
-    panels += fmt::format("set title \"{} ({} of {} ok)\" noenhanced\nplot {} skip 1 using 1:2:3 with points pt 7 ps 0.6 palette",
-                          d.name, d.ok_last, d.grid, io::gnuplot_quote(a));
-    if (d.ok_last < d.grid) panels += fmt::format(", {} skip 1 using 1:2 with points pt 2 ps 0.8 lc rgb \"black\"", io::gnuplot_quote(b));
+    panels += fmt::format(
+        "set title \"{} ({} of {} ok)\" noenhanced\nplot {} skip 1 using 1:2:3 with points pt 7 ps 0.6 palette", d.name,
+        d.ok_last, d.grid, io::gnuplot_quote(a));
+    if (d.ok_last < d.grid)
+      panels += fmt::format(", {} skip 1 using 1:2 with points pt 2 ps 0.8 lc rgb \"black\"", io::gnuplot_quote(b));
     panels += "\n";
   }
   const std::string script = fmt::format(
@@ -196,7 +206,8 @@ constexpr double kPaperWhole[2] = {0.218, 0.313}, kPaperPractical[2] = {0.084, 0
 
 std::string campaign_experiment_toml(const CampaignDemoOptions& o) {
   const CameraSetup cam = camera(o);
-  std::string s = fmt::format(R"(# tricot demo (issue 13): the paper's §4 campaign of the reference knit, 110 × 110 mm², as a lab
+  std::string s = fmt::format(
+      R"(# tricot demo (issue 13): the paper's §4 campaign of the reference knit, 110 × 110 mm², as a lab
 # would record it: camera images (the knit's own stitches as tracers) and a load-cell log per test.
 # Each test sets its transverse dimension ({} increments, one image each), holds it ({} images), then
 # pulls in {} steps (one image each). Written by src/project/campaign_demo.cpp; rerun by hand with
@@ -245,9 +256,8 @@ crosshead = true
 crosshead_noise_mm = 0.001
 relaxation = false
 )",
-                              setting_steps(o), kHoldFrames, pull_steps(o), o.small ? 12 : 24, o.small ? 10 : 20,
-                              rig_table(o), io::to_toml(cam.mm_per_px), cam.width, cam.height, kHoldFrames,
-                              io::to_toml(kClockOffset), io::to_toml(kTare));
+      setting_steps(o), kHoldFrames, pull_steps(o), o.small ? 12 : 24, o.small ? 10 : 20, rig_table(o),
+      io::to_toml(cam.mm_per_px), cam.width, cam.height, kHoldFrames, io::to_toml(kClockOffset), io::to_toml(kTare));
   for (const auto& t : campaign_tests(o)) s += fmt::format("\n[[test]]\nname = \"{}\"\n{}", t.name(), test_lines(t, o));
   return s;
 }
@@ -272,8 +282,9 @@ order = "second"
 overlays = false
 increments = false
 )",
-                     o.small ? 21 : 31, o.small ? 20 : 90, std::floor(cam.centre_x() - half), std::floor(cam.centre_y() - half),
-                     std::ceil(cam.centre_x() + half), std::ceil(cam.centre_y() + half));
+                     o.small ? 21 : 31, o.small ? 20 : 90, std::floor(cam.centre_x() - half),
+                     std::floor(cam.centre_y() - half), std::ceil(cam.centre_x() + half),
+                     std::ceil(cam.centre_y() + half));
 }
 
 std::string campaign_lab_toml(const CampaignDemoOptions& o) {
@@ -335,7 +346,8 @@ type = "response_surface"
 
 [law.response_surface]
 preset = "paper14"
-coefficients = [0.39279, -0.000371527, 4.64332e-05, 0.000466978, 0.00083818, 0.00115181, 0.00620026, 0.0147041, 0.226856, -0.0025306, -0.00514861, 0, 0.00627933, 0.0119436]
+coefficients = [0.39279, -0.000371527, 4.64332e-05, 0.000466978, 0.00083818, 0.00115181, 0.00620026, 0.0147041,
+                0.226856, -0.0025306, -0.00514861, 0, 0.00627933, 0.0119436]
 shear_stiffness = 0.05
 
 {}
@@ -367,9 +379,9 @@ enabled = {}
               : "practical_course = [0.6, 1.0]\npractical_wale = [0.2, 0.4]",
       o.small ? "false" : "true");
   const std::pair<const char*, double> parameters[] = {
-      {"a1", 0.39279},     {"a2", 0.001},       {"a3", 0.001},     {"a4", 0.001},      {"a5", 0.001},
-      {"a6", 0.00115181},  {"b1", 0.00620026},  {"b2", 0.0147041}, {"c1", 0.226856},   {"c2", 0.0025306},
-      {"c3", 0.00514861},  {"c4", 0.00898148},  {"d1", 0.00627933}, {"d2", 0.0119436}};
+      {"a1", 0.39279},    {"a2", 0.001},      {"a3", 0.001},      {"a4", 0.001},    {"a5", 0.001},
+      {"a6", 0.00115181}, {"b1", 0.00620026}, {"b2", 0.0147041},  {"c1", 0.226856}, {"c2", 0.0025306},
+      {"c3", 0.00514861}, {"c4", 0.00898148}, {"d1", 0.00627933}, {"d2", 0.0119436}};
   for (const auto& [name, scale] : parameters) {
     s += fmt::format("\n[[parameter]]\nname = \"{}\"\nscale = {}\n", name, io::to_toml(scale));
     if (std::string(name) == "a6" || std::string(name) == "c4")
@@ -389,17 +401,19 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
   io::write_atomic(out / "lab.toml", campaign_lab_toml(o));
   io::write_atomic(out / "project-template.toml", campaign_project_template(o));
   const std::size_t frames = std::size_t(1 + setting_steps(o) + kHoldFrames + pull_steps(o));
-  log.print(fmt::format("tricot demo: the §4 campaign of the reference knit, 110 × 110 mm², {} tests × {} images of {} × {} px "
-                        "(knit texture), load-cell logs at 100 Hz (clock offset {} s, tare {} N) → DIC → experiment → "
-                        "identify paper14 → report, in {}",
-                        n, frames, cam.width, cam.height, kClockOffset, kTare, out.string()));
+  log.print(fmt::format(
+      "tricot demo: the §4 campaign of the reference knit, 110 × 110 mm², {} tests × {} images of {} × {} px "
+      "(knit texture), load-cell logs at 100 Hz (clock offset {} s, tare {} N) → DIC → experiment → "
+      "identify paper14 → report, in {}",
+      n, frames, cam.width, cam.height, kClockOffset, kTare, out.string()));
 
   // 1. Render: FE of every test with the reference knit, its images and its lab record.
   {
     Stage st(log, "1/5 render", n * frames);
     const io::Node root = io::read_config(synth_schema(), (out / "experiment.toml").string());
     synthesize(root, out / "raw", st.inner([](const Progress& p) { return p.stage.rfind("images ", 0) == 0; }));
-    result.stages.push_back(st.finish(fmt::format("{} images and {} lab logs in {}", n * frames, n, (out / "raw").string())));
+    result.stages.push_back(
+        st.finish(fmt::format("{} images and {} lab logs in {}", n * frames, n, (out / "raw").string())));
   }
 
   // 2. DIC of every test (tricot dic), incremental.
@@ -428,7 +442,8 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
         root, out / "experiment", st.inner([](const Progress& p) { return p.stage == "experiment"; }));
     double worst = 0;
     for (const auto& t : lab.tests) worst = std::max(worst, std::abs(t.sync.clock_offset_s - kClockOffset));
-    result.stages.push_back(st.finish(fmt::format("{} tests; clock offsets within {:.1f} ms of the truth", lab.tests.size(), 1e3 * worst)));
+    result.stages.push_back(
+        st.finish(fmt::format("{} tests; clock offsets within {:.1f} ms of the truth", lab.tests.size(), 1e3 * worst)));
   }
 
   // 4. Identification (tricot identify of the experiment's project.toml).
@@ -474,22 +489,31 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
         s2 += e * e, worst = std::max(worst, std::abs(e));
         peak = std::max(peak, std::abs(true_force[first + k].get<double>()));
       }
-      rows.push_back({number(s, "clock_offset_s"), 1e3 * (number(s, "clock_offset_s") - kClockOffset), number(s, "tare_N"),
-                      std::sqrt(s2 / double(std::max<std::size_t>(1, measured.size()))), worst, peak});
+      rows.push_back({number(s, "clock_offset_s"), 1e3 * (number(s, "clock_offset_s") - kClockOffset),
+                      number(s, "tare_N"), std::sqrt(s2 / double(std::max<std::size_t>(1, measured.size()))), worst,
+                      peak});
     }
     report::append(id, [&](report::Document& d) {
       using namespace report;
       d.title = "tricot demo: the §4 campaign from images and load-cell logs to the knit's law";
-      d.subtitle = fmt::format("{} tests of 110 × 110 mm² · {} images each of {} × {} px · paper14 · {}", n, frames, cam.width,
-                               cam.height, result.converged ? "converged" : "NOT converged");
+      d.subtitle = fmt::format("{} tests of 110 × 110 mm² · {} images each of {} × {} px · paper14 · {}", n, frames,
+                               cam.width, cam.height, result.converged ? "converged" : "NOT converged");
       {
         Section& s = d.section(kDic, "DIC quality per test");
-        s.paragraph(fmt::format("tricot dic, incremental, second-order subsets ({}; dic.toml) on every test's {} images. The "
-                                "points kept are those inside the specimen and measured in every image (the field of "
-                                "experiment/<test>/field.csv).",
-                                o.small ? "21 px subsets every 20 px" : "31 px subsets every 90 px", frames));
-        s.figure(fs::path("plots") / "dic_quality.png", "Every test's DIC points at its last frame, coloured by ZNCC; lost points as black crosses.");
-        NumericTable t{"Points per test", "test", {"grid", "ok at the last frame", "kept in the field", "mean ZNCC", "min ZNCC"}, {}, {}, 6, {}};
+        s.paragraph(
+            fmt::format("tricot dic, incremental, second-order subsets ({}; dic.toml) on every test's {} images. The "
+                        "points kept are those inside the specimen and measured in every image (the field of "
+                        "experiment/<test>/field.csv).",
+                        o.small ? "21 px subsets every 20 px" : "31 px subsets every 90 px", frames));
+        s.figure(fs::path("plots") / "dic_quality.png",
+                 "Every test's DIC points at its last frame, coloured by ZNCC; lost points as black crosses.");
+        NumericTable t{"Points per test",
+                       "test",
+                       {"grid", "ok at the last frame", "kept in the field", "mean ZNCC", "min ZNCC"},
+                       {},
+                       {},
+                       6,
+                       {}};
         t.column_digits = {4, 4, 4, 5, 4};
         for (const auto& q : quality) {
           t.labels.push_back(q.name);
@@ -499,18 +523,27 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
       }
       {
         Section& s = d.section(kSync, "Synchronisation of the load cell with the camera");
-        s.paragraph(fmt::format("The clock offset δ (log − camera) from the cross-head and the DIC grip motion over the last "
-                                "setting image, the {} hold images and the pull (set, hold, pull); the tare from the log "
-                                "before image 0. Truth: δ = {} s, tare {} N.",
-                                kHoldFrames, kClockOffset, kTare));
-        s.figure(fs::path("plots") / "sync.png", "Per test: the log's force (tare removed) with the image instants, and the criterion near its optimum.");
-        NumericTable t{"Clock offset, tare and force per test against the lab record's truth", "test",
-                       {"δ found (s)", "δ error (ms)", "tare (N)", "force RMS error (N)", "force max error (N)", "peak force (N)"},
-                       {}, {}, 6, {}};
+        s.paragraph(
+            fmt::format("The clock offset δ (log − camera) from the cross-head and the DIC grip motion over the last "
+                        "setting image, the {} hold images and the pull (set, hold, pull); the tare from the log "
+                        "before image 0. Truth: δ = {} s, tare {} N.",
+                        kHoldFrames, kClockOffset, kTare));
+        s.figure(
+            fs::path("plots") / "sync.png",
+            "Per test: the log's force (tare removed) with the image instants, and the criterion near its optimum.");
+        NumericTable t{
+            "Clock offset, tare and force per test against the lab record's truth",
+            "test",
+            {"δ found (s)", "δ error (ms)", "tare (N)", "force RMS error (N)", "force max error (N)", "peak force (N)"},
+            {},
+            {},
+            6,
+            {}};
         t.column_digits = {6, 3, 4, 3, 3, 4};
         for (std::size_t i = 0; i < n; ++i) {
           t.labels.push_back(tests[i].name());
-          t.rows.push_back({rows[i].offset, rows[i].error_ms, rows[i].tare, rows[i].force_rms, rows[i].force_max, rows[i].peak});
+          t.rows.push_back(
+              {rows[i].offset, rows[i].error_ms, rows[i].tare, rows[i].force_rms, rows[i].force_max, rows[i].peak});
         }
         s.table(std::move(t));
       }
@@ -518,11 +551,19 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
         Section& s = d.section(kEq9);
         NumericTable t4{"Table 4 (paper §4.3): the identification", "", {"value"}, {}, {}, 5, {}};
         t4.labels = {"objective f", "LM iterations", "evaluations", "wall time (s)", "condition number"};
-        t4.rows = {{number(res, "objective")}, {number(res, "iterations")}, {number(res, "evaluations")},
-                   {number(res, "wall_seconds")}, {outcome.result.uncertainty.condition_number}};
+        t4.rows = {{number(res, "objective")},
+                   {number(res, "iterations")},
+                   {number(res, "evaluations")},
+                   {number(res, "wall_seconds")},
+                   {outcome.result.uncertainty.condition_number}};
         s.table(std::move(t4));
-        NumericTable t5{"Table 5: eq. 9 error, this chain beside the paper (110 × 110 mm², 14 coefficients)", "force",
-                        {"whole", "paper whole", "practical", "paper practical"}, {}, {}, 3, {}};
+        NumericTable t5{"Table 5: eq. 9 error, this chain beside the paper (110 × 110 mm², 14 coefficients)",
+                        "force",
+                        {"whole", "paper whole", "practical", "paper practical"},
+                        {},
+                        {},
+                        3,
+                        {}};
         const char* forces[2] = {"course", "wale"};
         for (int f = 0; f < 2; ++f) {
           const json e = res.contains("eq9") && res["eq9"].contains(forces[f]) ? res["eq9"][forces[f]] : json::object();
@@ -532,8 +573,13 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
         s.table(std::move(t5));
       }
       {
-        NumericTable t{"Wall and CPU time per stage of the chain (CPU: user + system, every thread)", "stage",
-                       {"wall (s)", "CPU (s)"}, {}, {}, 4, {}};
+        NumericTable t{"Wall and CPU time per stage of the chain (CPU: user + system, every thread)",
+                       "stage",
+                       {"wall (s)", "CPU (s)"},
+                       {},
+                       {},
+                       4,
+                       {}};
         double wall = 0, cpu = 0;
         for (const auto& x : result.stages) {
           t.labels.push_back(x.name);
@@ -542,11 +588,14 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
         }
         t.labels.push_back("chain from images on disk (dic + sync + identify)");
         double chain_wall = 0, chain_cpu = 0;
-        for (std::size_t k = 1; k < result.stages.size(); ++k) chain_wall += result.stages[k].wall_s, chain_cpu += result.stages[k].cpu_s;
+        for (std::size_t k = 1; k < result.stages.size(); ++k)
+          chain_wall += result.stages[k].wall_s, chain_cpu += result.stages[k].cpu_s;
         t.rows.push_back({chain_wall, chain_cpu});
         t.labels.push_back("total, rendering included");
         t.rows.push_back({wall, cpu});
-        d.section(kTiming).note("The report stage's own time is in stages.json (it is written after this table).").table(std::move(t));
+        d.section(kTiming)
+            .note("The report stage's own time is in stages.json (it is written after this table).")
+            .table(std::move(t));
       }
     });
     result.stages.push_back(st.finish((id / "report.html").string()));

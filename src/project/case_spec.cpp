@@ -86,7 +86,9 @@ io::SectionSpec mesh_section() {
                 "edges are named left, bottom, top and right. Tests of kind = \"custom\" take this mesh or a\n"
                 "Gmsh mesh of any specimen (`file` or `geometry`; lengths in mm), whose physical curves and\n"
                 "points name the boundaries that [[test.boundary]] tables hold or pull.",
-                false, {}, {}};
+                false,
+                {},
+                {}};
   s.keys = {
       key("width", 110.0, "Full specimen width across the load (x), mm, > 0.", 0, 1e5),
       key("height", 110.0, "Full free length of the specimen between the grips (y), mm, > 0.", 0, 1e5),
@@ -123,7 +125,8 @@ io::SectionSpec mesh_section() {
 namespace {
 
 SectionSpec test_mesh_section() {
-  SectionSpec s{"mesh", "This test's own mesh: a non-zero (non-empty) value replaces the key of [mesh].", false, {}, {}};
+  SectionSpec s{
+      "mesh", "This test's own mesh: a non-zero (non-empty) value replaces the key of [mesh].", false, {}, {}};
   s.keys = {
       key("width", 0.0, "Full specimen width, mm; 0 = as in [mesh].", 0, 1e5),
       key("height", 0.0, "Full free length between the grips, mm; 0 = as in [mesh].", 0, 1e5),
@@ -139,35 +142,40 @@ SectionSpec test_mesh_section() {
 }  // namespace
 
 io::SectionSpec law_section() {
-  SectionSpec law{"law",
-                  "The material law (docs/theory.md §5). Forces are per unit reference width (N/mm): a knit's thickness\n"
-                  "has no meaning, so every modulus below is a membrane modulus (stress × thickness).",
-                  false, {}, {}};
-  law.keys = {key("type", std::string("mooney_rivlin"),
-                  "Which law: the table [law.<type>] below holds its coefficients; the other tables are ignored.",
-                  -kInf, kInf,
-                  {"mooney_rivlin", "neo_hookean", "corotational", "response_surface", "reference_fabric"}),
-              key("wrinkling", false,
-                  "Wrap the law in a tension-field membrane (docs/theory/fabric.md §8): where a principal\n"
-                  "stress would be compressive the membrane wrinkles and carries a uniaxial tension along the\n"
-                  "wrinkles (angle and wrinkle strain from zero traction across them), or is slack where no\n"
-                  "direction is stretched. Taut points keep the law as it is."),
-              key("residual_stiffness", fem::WrinklingOptions{}.residual_stiffness,
-                  "With wrinkling: the fraction η of the law kept in every state, so that wrinkled and slack\n"
-                  "points keep a small stiffness across the wrinkles (P = (1 − η) P_relaxed + η P_law), in\n"
-                  "[0, 0.5).",
-                  0, 0.5),
-              key("wrinkle_smoothing", fem::WrinklingOptions{}.smoothing,
-                  "With wrinkling: the width w (in wrinkle strain) of the smoothed taut/wrinkled switch, a C¹\n"
-                  "ramp that keeps the FE tangent continuous where a region sits on the switch; 0 = sharp.\n"
-                  "In [0, 0.1].",
-                  0, 0.1)};
+  SectionSpec law{
+      "law",
+      "The material law (docs/theory.md §5). Forces are per unit reference width (N/mm): a knit's thickness\n"
+      "has no meaning, so every modulus below is a membrane modulus (stress × thickness).",
+      false,
+      {},
+      {}};
+  law.keys = {
+      key("type", std::string("mooney_rivlin"),
+          "Which law: the table [law.<type>] below holds its coefficients; the other tables are ignored.", -kInf, kInf,
+          {"mooney_rivlin", "neo_hookean", "corotational", "response_surface", "reference_fabric"}),
+      key("wrinkling", false,
+          "Wrap the law in a tension-field membrane (docs/theory/fabric.md §8): where a principal\n"
+          "stress would be compressive the membrane wrinkles and carries a uniaxial tension along the\n"
+          "wrinkles (angle and wrinkle strain from zero traction across them), or is slack where no\n"
+          "direction is stretched. Taut points keep the law as it is."),
+      key("residual_stiffness", fem::WrinklingOptions{}.residual_stiffness,
+          "With wrinkling: the fraction η of the law kept in every state, so that wrinkled and slack\n"
+          "points keep a small stiffness across the wrinkles (P = (1 − η) P_relaxed + η P_law), in\n"
+          "[0, 0.5).",
+          0, 0.5),
+      key("wrinkle_smoothing", fem::WrinklingOptions{}.smoothing,
+          "With wrinkling: the width w (in wrinkle strain) of the smoothed taut/wrinkled switch, a C¹\n"
+          "ramp that keeps the FE tangent continuous where a region sits on the switch; 0 = sharp.\n"
+          "In [0, 0.1].",
+          0, 0.1)};
 
   SectionSpec mr{"mooney_rivlin",
                  "Mooney–Rivlin, W = Σ C_ij (I1 − 3)^i (I2 − 3)^j (paper eq. 7): incompressible in plane stress; with\n"
                  "kappa > 0 compressible, W = Σ C_ij (Ī1 − 3)^i (Ī2 − 3)^j + κ/2 (ln J)² on the isochoric invariants\n"
                  "(docs/theory.md §5.2), in plane stress or plane strain.",
-                 false, {}, {}};
+                 false,
+                 {},
+                 {}};
   // Default: the paper's validation set (docs/validation.md §1), a rubber-like S curve.
   Strings mr_names;
   Reals mr_values;
@@ -206,7 +214,9 @@ io::SectionSpec law_section() {
   SectionSpec co{"corotational",
                  "Corotational Eulerian law τ̂ = 𝔻 : ln U (docs/theory.md §4): orthotropic linear on the logarithmic\n"
                  "strain in the material frame (course, wale), or isotropic.",
-                 false, {}, {}};
+                 false,
+                 {},
+                 {}};
   co.keys = {
       key("moduli", std::string("isotropic"), "isotropic (G, K) or orthotropic (D11, D22, D12, D66).", -kInf, kInf,
           {"isotropic", "orthotropic"}),
@@ -217,10 +227,13 @@ io::SectionSpec law_section() {
       key("D12", 0.1, "Course–wale coupling, N/mm (D11 D22 > D12²).", -1e6, 1e6),
       key("D66", 0.05, "Shear stiffness, N/mm, > 0 (engineering shear: τ̂12 = D66 · 2 ln U_12).", 0, 1e6),
   };
-  SectionSpec rs{"response_surface",
-                 "Orthotropic response surface (paper eqs. 8/10, docs/theory.md §5): forces per width along course and\n"
-                 "wale as polynomials of the Green–Lagrange strains εC, εW along the material axes.",
-                 false, {}, {}};
+  SectionSpec rs{
+      "response_surface",
+      "Orthotropic response surface (paper eqs. 8/10, docs/theory.md §5): forces per width along course and\n"
+      "wale as polynomials of the Green–Lagrange strains εC, εW along the material axes.",
+      false,
+      {},
+      {}};
   rs.keys = {
       key("preset", std::string("paper14"),
           "Polynomial family: paper14 (a1..a6, b1..b2, c1..c4, d1..d2), paper24 (6, 6, 6, 6) or general\n"
@@ -233,15 +246,16 @@ io::SectionSpec law_section() {
       key("course", Strings{"C1", "C2", "W1"},
           "general: monomials of the course force, \"C<p>W<q>\" = εC^p εW^q (e.g. \"C2\", \"C1W1\", \"W1\")."),
       key("wale", Strings{"W1", "W2", "C1"}, "general: monomials of the wale force, same notation."),
-      key("shear_stiffness", 0.01, "In-plane shear stiffness G_s, N/mm, > 0 (a knit carries almost no shear).", 0,
-          1e6),
+      key("shear_stiffness", 0.01, "In-plane shear stiffness G_s, N/mm, > 0 (a knit carries almost no shear).", 0, 1e6),
   };
   const fem::ReferenceFabricParameters rp;
   SectionSpec rf{"reference_fabric",
                  "The reference knit of synthetic experiments (docs/theory/fabric.md §4): J-shaped course and\n"
                  "wale responses (linear, then exponential locking) and a coupling that stiffens under\n"
                  "combined stretch; deliberately outside the polynomial family. Strains: Green–Lagrange.",
-                 false, {}, {}};
+                 false,
+                 {},
+                 {}};
   rf.keys = {
       key("k_C", rp.k_C, "Course initial stiffness, N/mm, > 0.", 0, 1e6),
       key("k_CL", rp.k_CL, "Course locking modulus, N/mm.", 0, 1e6),
@@ -265,7 +279,9 @@ io::SectionSpec law_section() {
                      "in a knit. The same keys and sub-tables as [law] ([law.region.neo_hookean], …); the regions no\n"
                      "table names keep [law]. Its coefficients are named \"<region>.<coefficient>\" in [[parameter]]\n"
                      "(e.g. \"lesion.mu\"): the ones a project does not name stay fixed.",
-                     true, {}, {}};
+                     true,
+                     {},
+                     {}};
   region.keys = law.keys;
   region.keys.insert(region.keys.begin(), key("name", std::string(""), "The region: a physical surface of the mesh."));
   region.sections = law.sections;
@@ -274,11 +290,11 @@ io::SectionSpec law_section() {
 }
 
 io::SectionSpec solver_section() {
-  SectionSpec s{"solver", "Newton–Raphson with line search and load-step cutback (docs/theory.md §4–§7).", false, {}, {}};
+  SectionSpec s{
+      "solver", "Newton–Raphson with line search and load-step cutback (docs/theory.md §4–§7).", false, {}, {}};
   const fem::SolveOptions d;
   s.keys = {
-      key("tolerance", d.tolerance, "Newton stops when the free residual ≤ tolerance × the reaction force, > 0.", 0,
-          1),
+      key("tolerance", d.tolerance, "Newton stops when the free residual ≤ tolerance × the reaction force, > 0.", 0, 1),
       key("max_iterations", std::int64_t{d.max_iterations}, "Newton iterations per (sub)step.", 1, 200),
       key("line_search", d.line_search, "Backtracking line search on the residual norm."),
       key("max_cutbacks", std::int64_t{d.max_cutbacks}, "Halvings of a failed step before giving up.", 0, 30),
@@ -289,7 +305,9 @@ io::SectionSpec solver_section() {
 io::SectionSpec test_section() {
   SectionSpec s{"test",
                 "One test of the case: its output goes to DIR/<name>/ (steps.csv, step_NNNN.vtu, force.png).",
-                true, {}, {}};
+                true,
+                {},
+                {}};
   s.keys = {
       key("name", std::string("uniaxial"), "Test name: letters, digits, '_', '-' and '.' (a folder name)."),
       key("kind", std::string("uniaxial"),
@@ -351,11 +369,14 @@ io::SectionSpec test_section() {
                        0, 1e6));
   for (auto& k : s.keys)
     if (k.name == "side") k.or_number = true;
-  SectionSpec b{"boundary",
-                "custom: the conditions of one named boundary (docs/theory.md §6). A component may be held (`fix`), set\n"
-                "by a line of symmetry, or prescribed per step (`ux`, `uy`, or columns of a CSV `series`); a\n"
-                "rigid grip prescribes both. `force` makes its resultant the test's measured force.",
-                true, {}, {}};
+  SectionSpec b{
+      "boundary",
+      "custom: the conditions of one named boundary (docs/theory.md §6). A component may be held (`fix`), set\n"
+      "by a line of symmetry, or prescribed per step (`ux`, `uy`, or columns of a CSV `series`); a\n"
+      "rigid grip prescribes both. `force` makes its resultant the test's measured force.",
+      true,
+      {},
+      {}};
   b.keys = {
       key("name", std::string(""), "The boundary: a Gmsh physical curve or point, or left/bottom/top/right."),
       key("fix", Strings{}, "Components held at 0: [\"x\"], [\"y\"] or [\"x\", \"y\"]."),
@@ -365,8 +386,8 @@ io::SectionSpec test_section() {
       key("series", std::string(""), "A CSV (relative to this file's folder) whose columns give ux and uy per step."),
       key("ux_column", std::string(""), "series: the column of u_x, mm."),
       key("uy_column", std::string(""), "series: the column of u_y, mm."),
-      key("force", std::string(""), "x or y: this boundary's resultant along it is the test's force (N).", -kInf,
-          kInf, {"", "x", "y"}),
+      key("force", std::string(""), "x or y: this boundary's resultant along it is the test's force (N).", -kInf, kInf,
+          {"", "x", "y"}),
       key("proportional", false,
           "ux and uy are displacements per mm of the node's x and y (u_x = ux·X, mm/mm): a clamp that spreads\n"
           "about the axis, as the paper's pantograph clips follow the guides."),
@@ -391,24 +412,24 @@ io::SectionSpec test_section() {
 }
 
 io::SectionSpec rig_section() {
-  SectionSpec s{"rig",
-                "The paper's biaxial-induced rig (docs/theory.md §6, paper §3.1.2), shared by every [[test]] of kind =\n"
-                "\"rig\": clips at the grip, lateral guides tied to the fabric that hold the transverse dimension\n"
-                "and end short of the clips. The transverse dimension is set first, then held during the pull.",
-                false, {}, {}};
+  SectionSpec s{
+      "rig",
+      "The paper's biaxial-induced rig (docs/theory.md §6, paper §3.1.2), shared by every [[test]] of kind =\n"
+      "\"rig\": clips at the grip, lateral guides tied to the fabric that hold the transverse dimension\n"
+      "and end short of the clips. The transverse dimension is set first, then held during the pull.",
+      false,
+      {},
+      {}};
   const fem::RigOptions d;
   s.keys = {
-      key("guide_gap", d.guide_gap, "The guide ends this fraction of the quarter's height short of the clips, [0, 0.5).",
-          -kInf, kInf),
+      key("guide_gap", d.guide_gap,
+          "The guide ends this fraction of the quarter's height short of the clips, [0, 0.5).", -kInf, kInf),
       key("guide_taper", d.guide_taper,
-          "The guide's ties fade to zero over this fraction of the quarter's height, [0, 1 - guide_gap).", -kInf,
-          kInf),
+          "The guide's ties fade to zero over this fraction of the quarter's height, [0, 1 - guide_gap).", -kInf, kInf),
       key("tie_stiffness", d.tie_stiffness, "Fabric-to-guide ties, N/mm per mm of edge, > 0.", -kInf, kInf),
-      key("clip_tie_stiffness", d.clip_tie_stiffness, "Clip ties holding u_x, N/mm per mm of grip, > 0.", -kInf,
-          kInf),
+      key("clip_tie_stiffness", d.clip_tie_stiffness, "Clip ties holding u_x, N/mm per mm of grip, > 0.", -kInf, kInf),
       key("clip_taper", d.clip_taper,
-          "The clip ties fade to zero toward the side over this fraction of the quarter's width, [0, 1).", -kInf,
-          kInf),
+          "The clip ties fade to zero toward the side over this fraction of the quarter's width, [0, 1).", -kInf, kInf),
       key("clips_follow_guide", d.clips_follow_guide,
           "The clips spread with the guide setting (guides mounted on the clips); false = clips keep the width."),
       key("setting_steps", std::int64_t{d.setting_steps},
@@ -421,7 +442,9 @@ io::SectionSpec case_schema() {
   SectionSpec root{"",
                    "tricot simulate: a case file. Finite-element models of tests on a knitted-fabric specimen\n"
                    "(plane-stress membrane, quarter specimen, docs/theory.md §4–§6). Units: mm, N, N/mm, degrees.",
-                   false, {}, {}};
+                   false,
+                   {},
+                   {}};
   root.sections = {mesh_section(), law_section(), solver_section(), rig_section(), test_section()};
   return root;
 }
@@ -628,7 +651,8 @@ fem::MeshOptions mesh_options(const MeshSpec& mesh, const TestMeshSpec* over) {
   if (over && !over->element.empty() && !fem::element_type(over->element))
     over->origin.fail("element", "not an element type", "\"" + over->element + "\"", "Q4, Q8, T3, T6 or \"\"");
   const std::string& type = over && !over->element.empty() ? over->element : mesh.element;
-  if (!fem::element_type(type)) mesh.origin.fail("element", "not an element type", "\"" + type + "\"", "Q4, Q8, T3 or T6");
+  if (!fem::element_type(type))
+    mesh.origin.fail("element", "not an element type", "\"" + type + "\"", "Q4, Q8, T3 or T6");
   o.type = *fem::element_type(type);
   try {
     o.validate();
@@ -656,8 +680,8 @@ constexpr double kBytesPerDof = 4096;
 double mesh_dofs(const fem::MeshOptions& o) {
   const double nx = o.nx, ny = o.ny;
   const double nodes = o.type == fem::ElementType::Q4 || o.type == fem::ElementType::T3 ? (nx + 1) * (ny + 1)
-                       : o.type == fem::ElementType::T6                           ? (2 * nx + 1) * (2 * ny + 1)
-                                                                                  : (2 * nx + 1) * (2 * ny + 1) - nx * ny;
+                       : o.type == fem::ElementType::T6                                 ? (2 * nx + 1) * (2 * ny + 1)
+                                                        : (2 * nx + 1) * (2 * ny + 1) - nx * ny;
   return 2 * nodes;
 }
 
@@ -691,7 +715,8 @@ TestKind TestSpec::test_kind() const {
   if (kind == "rig") return TestKind::rig;
   if (kind == "custom") return TestKind::custom;
   if (kind != "uniaxial")
-    origin.fail("kind", "unknown test kind", "\"" + kind + "\"", "uniaxial, biaxial, homogeneous, simple_shear, rig or custom");
+    origin.fail("kind", "unknown test kind", "\"" + kind + "\"",
+                "uniaxial, biaxial, homogeneous, simple_shear, rig or custom");
   return TestKind::uniaxial;
 }
 
@@ -709,9 +734,11 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
   if (k == TestKind::custom) return custom_model(case_mesh);
   if (case_mesh.from_gmsh())
     case_mesh.origin.fail(case_mesh.file.empty() ? "geometry" : "file", "a Gmsh mesh is for tests of kind = \"custom\"",
-                          "test '" + name + "' of kind \"" + kind + "\"", "kind = \"custom\" with [[test.boundary]] tables");
+                          "test '" + name + "' of kind \"" + kind + "\"",
+                          "kind = \"custom\" with [[test.boundary]] tables");
   if (!boundary.empty())
-    origin.fail("boundary", "[[test.boundary]] tables are for tests of kind = \"custom\"", "\"" + kind + "\"", "custom");
+    origin.fail("boundary", "[[test.boundary]] tables are for tests of kind = \"custom\"", "\"" + kind + "\"",
+                "custom");
   const fem::MeshOptions mo = mesh.options(case_mesh);
   if (k != TestKind::simple_shear) check_mesh_fits(mo, mesh.nx != 0 || mesh.ny != 0 ? mesh.origin : case_mesh.origin);
   if (k == TestKind::rig) {
@@ -822,7 +849,8 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
       origin.fail(loads.empty() ? "load_max" : "loads", "the first load must be positive", num(t.loads.front()), "> 0");
     for (std::size_t k = 1; k < t.loads.size(); ++k)
       if (!(t.loads[k] > t.loads[k - 1]))
-        origin.fail("loads", fmt::format("under force control the loads must increase strictly (step {} goes backwards)", k + 1),
+        origin.fail("loads",
+                    fmt::format("under force control the loads must increase strictly (step {} goes backwards)", k + 1),
                     num(t.loads[k]), "> " + num(t.loads[k - 1]));
   }
   t.mesh = fem::make_quarter_mesh(mo);
@@ -993,11 +1021,14 @@ std::unique_ptr<fem::Law> LawSpec::law(const std::vector<std::string>& mesh_regi
     const auto at = std::find(mesh_regions.begin(), mesh_regions.end(), r.name);
     if (at == mesh_regions.end()) {
       const std::string hint = fem::closest_name(r.name, mesh_regions);
-      r.origin.fail("name", "no region of the mesh is named '" + r.name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)"),
-                    "\"" + r.name + "\"", "a physical surface of the mesh");
+      r.origin.fail(
+          "name",
+          "no region of the mesh is named '" + r.name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)"),
+          "\"" + r.name + "\"", "a physical surface of the mesh");
     }
     if (std::find(prefixes.begin(), prefixes.end(), r.name) != prefixes.end())
-      r.origin.fail("name", "a second law for the region '" + r.name + "'", "\"" + r.name + "\"", "one table per region");
+      r.origin.fail("name", "a second law for the region '" + r.name + "'", "\"" + r.name + "\"",
+                    "one table per region");
     law_of_region[static_cast<size_t>(at - mesh_regions.begin())] = static_cast<int>(laws.size());
     laws.push_back(r.region_law());
     prefixes.push_back(r.name);
@@ -1043,9 +1074,12 @@ std::unique_ptr<fem::Law> LawSpec::inner_law() const {
                       "C10, C01, C20, C21, C03, …");
       terms.push_back({n[1] - '0', n[2] - '0', s.values[k]});
     }
-    const auto kinematics = s.kinematics == "plane_strain" ? fem::Kinematics::plane_strain : fem::Kinematics::plane_stress;
+    const auto kinematics =
+        s.kinematics == "plane_strain" ? fem::Kinematics::plane_strain : fem::Kinematics::plane_stress;
     if (s.kappa > 0)
-      return build(s.origin, [&] { return std::make_unique<fem::CompressibleMooneyRivlin>(std::move(terms), s.kappa, kinematics); });
+      return build(s.origin, [&] {
+        return std::make_unique<fem::CompressibleMooneyRivlin>(std::move(terms), s.kappa, kinematics);
+      });
     if (kinematics == fem::Kinematics::plane_strain)
       s.origin.fail("kinematics", "an incompressible sheet cannot be held across (C33 = 1 with det C = 1 locks it)",
                     "\"plane_strain\"", "kappa > 0, or plane_stress");
@@ -1053,9 +1087,12 @@ std::unique_ptr<fem::Law> LawSpec::inner_law() const {
   }
   if (type == "neo_hookean") {
     const NeoHookeanSpec& s = neo_hookean;
-    const auto kinematics = s.kinematics == "plane_strain" ? fem::Kinematics::plane_strain : fem::Kinematics::plane_stress;
+    const auto kinematics =
+        s.kinematics == "plane_strain" ? fem::Kinematics::plane_strain : fem::Kinematics::plane_stress;
     if (s.E)
-      return build(s.origin, [&] { return std::make_unique<fem::NeoHookean>(fem::YoungPoisson{*s.E, *s.nu}, kinematics); });
+      return build(s.origin, [&] {
+        return std::make_unique<fem::NeoHookean>(fem::YoungPoisson{*s.E, *s.nu}, kinematics);
+      });
     return build(s.origin, [&] { return std::make_unique<fem::NeoHookean>(s.mu, s.lambda, kinematics); });
   }
   if (type == "corotational") {
@@ -1069,11 +1106,10 @@ std::unique_ptr<fem::Law> LawSpec::inner_law() const {
   if (type == "response_surface") {
     const ResponseSurfaceSpec& s = response_surface;
     return build(s.origin, [&] {
-      fem::ResponseSurface rs =
-          s.preset == "general"
-              ? fem::ResponseSurface(monomials(s.origin, s.course, "course"), monomials(s.origin, s.wale, "wale"),
-                                     s.shear_stiffness)
-              : fem::ResponseSurface::preset(s.preset, s.shear_stiffness);
+      fem::ResponseSurface rs = s.preset == "general"
+                                    ? fem::ResponseSurface(monomials(s.origin, s.course, "course"),
+                                                           monomials(s.origin, s.wale, "wale"), s.shear_stiffness)
+                                    : fem::ResponseSurface::preset(s.preset, s.shear_stiffness);
       const Reals& c = s.coefficients;
       if (!c.empty()) {
         if (c.size() != static_cast<std::size_t>(rs.coefficients().size()))
@@ -1086,7 +1122,8 @@ std::unique_ptr<fem::Law> LawSpec::inner_law() const {
   }
   if (type == "reference_fabric") {
     return build(reference_fabric.origin, [&] {
-      return std::make_unique<fem::ReferenceFabric>(static_cast<const fem::ReferenceFabricParameters&>(reference_fabric));
+      return std::make_unique<fem::ReferenceFabric>(
+          static_cast<const fem::ReferenceFabricParameters&>(reference_fabric));
     });
   }
   origin.fail("type", "unknown law", "\"" + type + "\"",
@@ -1117,7 +1154,8 @@ void CaseSpec::check_tests() const {
                     name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.") ==
                         std::string::npos;
     if (!ok) t.origin.fail("name", "not usable as a folder name", "\"" + name + "\"", "letters, digits, '_', '-', '.'");
-    if (!seen.insert(name).second) t.origin.fail("name", "two tests have this name", "\"" + name + "\"", "unique names");
+    if (!seen.insert(name).second)
+      t.origin.fail("name", "two tests have this name", "\"" + name + "\"", "unique names");
   }
 }
 

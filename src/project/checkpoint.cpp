@@ -38,7 +38,8 @@ std::optional<ident::Termination> termination_from_string(const std::string& s) 
 
 }  // namespace
 
-std::string fingerprint(const ident::Objective& objective, const fem::Law& law, const std::vector<fem::TestModel>& models) {
+std::string fingerprint(const ident::Objective& objective, const fem::Law& law,
+                        const std::vector<fem::TestModel>& models) {
   Fingerprint fp;
   fp.add(objective.data().measured());
   fp.add(objective.data().factors());
@@ -76,7 +77,9 @@ void write_checkpoint(const fs::path& file, const ident::Checkpoint& c, const st
   j["held"] = c.held;
   json h = json::array();
   for (const auto& e : c.history)
-    h.push_back({{"iteration", e.iteration}, {"objective", e.objective}, {"parameters", vec_json(e.parameters)},
+    h.push_back({{"iteration", e.iteration},
+                 {"objective", e.objective},
+                 {"parameters", vec_json(e.parameters)},
                  {"restart", e.restart}});
   j["history"] = h;
   io::write_atomic(file, j.dump(1) + "\n");
@@ -125,7 +128,8 @@ ident::Checkpoint read_checkpoint(const fs::path& file, const std::string& finge
   c.stability_passed = json_get_or(j, "stability_passed", false, f);
   if (j.contains("held")) c.held = json_get<std::vector<int>>(j, "held", f);  // none before stop 22
   for (int k : c.held)
-    if (k < 0 || k >= c.x.size()) throw InputError({f, 0, "held"}, "not an index of x", std::to_string(k), "0 to n - 1");
+    if (k < 0 || k >= c.x.size())
+      throw InputError({f, 0, "held"}, "not an index of x", std::to_string(k), "0 to n - 1");
   const json history = json_get<json>(j, "history", f);
   if (!history.is_array()) throw InputError({f, 0, "history"}, "of the wrong type", history.dump(), "an array");
   for (std::size_t i = 0; i < history.size(); ++i) {

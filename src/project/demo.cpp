@@ -56,7 +56,8 @@ std::string real(double x) {
 }  // namespace
 
 std::string demo_experiment_toml(double noise_relative) {
-  return fmt::format(R"(# The paper's generated validation case (§3.3, Fig. 6, Table 1) as a synthetic experiment: a rubber
+  return fmt::format(
+      R"(# The paper's generated validation case (§3.3, Fig. 6, Table 1) as a synthetic experiment: a rubber
 # strip, clamped in its grips and pulled by a prescribed force in 35 steps, with the four-term
 # Mooney–Rivlin law C10, C20, C21, C03 (the truth; fem::paper_mooney_rivlin_terms()). The data are
 # generated on a finer mesh (14 × 48 Q8, 4282 dofs) than project.toml identifies on (10 × 34 Q8,
@@ -95,7 +96,7 @@ nx = 6                # field points across the quarter
 ny = 20               # and along it: 120 points, 1 mm inside the edges
 inset = 1.0
 )",
-                     list(truth()), io::to_toml(noise_relative));
+      list(truth()), io::to_toml(noise_relative));
 }
 
 IdentificationSpec demo_project_spec(const DemoProject& p) {
@@ -130,7 +131,8 @@ std::string demo_project_toml(const DemoProject& p) {
   const TestSpec& t = s.test.front();
   std::string parameters;
   for (const auto& q : s.parameter) parameters += fmt::format("[[parameter]]\nname = {}\n", word(q.name));
-  return fmt::format(R"(# Identify the four Mooney–Rivlin coefficients of the paper's validation case (§3.3, Table 1) from
+  return fmt::format(
+      R"(# Identify the four Mooney–Rivlin coefficients of the paper's validation case (§3.3, Table 1) from
 # the synthetic experiment of experiment.toml, on the paper's mesh size (10 × 34 Q8, 2218 dofs).
 #   tricot synth examples/uniaxial-mooney/experiment.toml -o examples/uniaxial-mooney/experiment
 #   tricot identify examples/uniaxial-mooney/project.toml -o out/uniaxial-mooney
@@ -174,13 +176,12 @@ epsilon = {}         # the paper's ε (eq. 2)
 delta = {}            # the paper's δ (eq. 3)
 jacobian = {}
 )",
-                     io::to_toml(m.width), io::to_toml(m.height), word(m.element), m.nx, m.ny,
-                     word(s.law.type), words(s.law.mooney_rivlin.terms), io::to_toml(s.law.mooney_rivlin.values),
-                     word(t.name), word(t.kind), word(t.control), io::to_toml(*t.grip_holds_x),
-                     io::to_toml(t.load_max), t.steps, word(s.experiment.dir), word(s.experiment.field_kind),
-                     io::to_toml(s.experiment.sigma_from_truth), parameters, io::to_toml(s.data.edge_displacement),
-                     io::to_toml(s.data.field), real(s.identify.epsilon), real(s.identify.delta),
-                     word(s.identify.jacobian));
+      io::to_toml(m.width), io::to_toml(m.height), word(m.element), m.nx, m.ny, word(s.law.type),
+      words(s.law.mooney_rivlin.terms), io::to_toml(s.law.mooney_rivlin.values), word(t.name), word(t.kind),
+      word(t.control), io::to_toml(*t.grip_holds_x), io::to_toml(t.load_max), t.steps, word(s.experiment.dir),
+      word(s.experiment.field_kind), io::to_toml(s.experiment.sigma_from_truth), parameters,
+      io::to_toml(s.data.edge_displacement), io::to_toml(s.data.field), real(s.identify.epsilon),
+      real(s.identify.delta), word(s.identify.jacobian));
 }
 
 namespace {
@@ -206,8 +207,7 @@ struct Run {
 };
 
 Run identify_case(const fs::path& out, const std::string& name, const std::string& label, const DemoProject& p,
-                  const Log& log, const DemoRequest& args,
-                  std::function<void(const ident::Checkpoint&)> observe = {}) {
+                  const Log& log, const DemoRequest& args, std::function<void(const ident::Checkpoint&)> observe = {}) {
   Run run{name, label, out / name, {}};
   // The spec is built in code; project.toml is written from it for the user (and not read back).
   IdentificationSpec spec = demo_project_spec(p);
@@ -219,10 +219,8 @@ Run identify_case(const fs::path& out, const std::string& name, const std::strin
   req.print_summary = false;
   req.observe = std::move(observe);
   log.print(fmt::format("-- {}: {}", name, label));
-  if (args.each_run)
-    args.each_run([&](const Log& own) { run.outcome = run_identification(spec, req, own); });
-  else
-    run.outcome = run_identification(spec, req, log);
+  if (args.each_run) args.each_run([&](const Log& own) { run.outcome = run_identification(spec, req, own); });
+  else run.outcome = run_identification(spec, req, log);
   log.print("   " + run.outcome.result.brief_report());
   return run;
 }
@@ -252,12 +250,13 @@ void table1(const fs::path& out, const std::vector<Run>& runs, const Log& log) {
       "paper CPU (PIII 1.2 GHz) | paper iterations | speed-up |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::string csv =
-      "data,coefficient,target,identified,relative_error,std_error,iterations,evaluations,wall_seconds,paper_cpu_seconds,"
+      "data,coefficient,target,identified,relative_error,std_error,iterations,evaluations,wall_seconds,paper_cpu_"
+      "seconds,"
       "paper_iterations,speed_up,termination\n";
   log.print("");
   log.print("Table 1 — Mooney–Rivlin target and identified coefficients, uniaxial tension (paper §3.3.1)");
   log.print(fmt::format("{:<30} {:<4} {:>10} {:>12} {:>10} {:>10} {:>5} {:>5} {:>9} {:>9} {:>9}", "data", "", "target",
-                            "identified", "rel.error", "std error", "iter", "eval", "wall", "paper", "speed-up"));
+                        "identified", "rel.error", "std error", "iter", "eval", "wall", "paper", "speed-up"));
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const auto& r = runs[i].outcome.result;
     const PaperRun& p = kTable1[i];
@@ -267,18 +266,18 @@ void table1(const fs::path& out, const std::vector<Run>& runs, const Log& log) {
       const double se = std_error(r, k);
       const double J = r.parameters(Eigen::Index(k)), e = relative_error(r, k);
       log.print(fmt::format("{:<30} {:<4} {:>10.6g} {:>12.7g} {:>9.4f}% {:>10.2g} {:>5} {:>5} {:>9} {:>9} {:>9}",
-                                first ? p.label : "", kNames[k], truth()[k], J, 100 * e, se,
-                                first ? std::to_string(r.iterations) : "", first ? std::to_string(r.evaluations) : "",
-                                first ? format_duration(r.wall_seconds) : "", first ? fmt::format("{} h", p.hours) : "",
-                                first ? fmt::format("{:.0f}×", speed_up) : ""));
+                            first ? p.label : "", kNames[k], truth()[k], J, 100 * e, se,
+                            first ? std::to_string(r.iterations) : "", first ? std::to_string(r.evaluations) : "",
+                            first ? format_duration(r.wall_seconds) : "", first ? fmt::format("{} h", p.hours) : "",
+                            first ? fmt::format("{:.0f}×", speed_up) : ""));
       md += fmt::format("| {} | {} | {:.6g} | {:.7g} | {:+.4f} % | {:.2g} | {} | {} | {} | {} | {} | {} |\n",
-                        first ? p.label : "", kNames[k], truth()[k], J, 100 * e, se, first ? std::to_string(r.iterations) : "",
-                        first ? std::to_string(r.evaluations) : "", first ? format_duration(r.wall_seconds) : "",
-                        first ? fmt::format("{} h", p.hours) : "", first ? std::to_string(p.iterations) : "",
-                        first ? fmt::format("{:.0f}×", speed_up) : "");
-      csv += fmt::format("{},{},{:.17g},{:.17g},{:.17g},{:.17g},{},{},{:.6g},{},{},{:.6g},{}\n", p.name, kNames[k], truth()[k], J,
-                         e, se, r.iterations, r.evaluations, r.wall_seconds, paper_s, p.iterations, speed_up,
-                         ident::to_string(r.termination));
+                        first ? p.label : "", kNames[k], truth()[k], J, 100 * e, se,
+                        first ? std::to_string(r.iterations) : "", first ? std::to_string(r.evaluations) : "",
+                        first ? format_duration(r.wall_seconds) : "", first ? fmt::format("{} h", p.hours) : "",
+                        first ? std::to_string(p.iterations) : "", first ? fmt::format("{:.0f}×", speed_up) : "");
+      csv += fmt::format("{},{},{:.17g},{:.17g},{:.17g},{:.17g},{},{},{:.6g},{},{},{:.6g},{}\n", p.name, kNames[k],
+                         truth()[k], J, e, se, r.iterations, r.evaluations, r.wall_seconds, paper_s, p.iterations,
+                         speed_up, ident::to_string(r.termination));
     }
   }
   io::write_atomic(out / "table1.md", md);
@@ -299,7 +298,7 @@ void epsilon_study(const fs::path& out, const Run& run, const std::vector<ident:
   log.print("");
   log.print("Fig. 10 — the ε study (both data): a run stopped by eq. (2) at f < ε");
   log.print(fmt::format("{:>8} {:>12} {:>5} {:>5} {:>9} {:>11} {:>14}", "ε", "stopped by", "iter", "eval", "wall", "f",
-                            "max rel. error"));
+                        "max rel. error"));
   for (int e = -2; e >= -12; --e) {
     const double eps = std::pow(10.0, e);
     const ident::Checkpoint* hit = nullptr;
@@ -313,8 +312,8 @@ void epsilon_study(const fs::path& out, const Run& run, const std::vector<ident:
     const Eigen::VectorXd J = hit ? hit->parameters : r.parameters;
     std::vector<double> row{eps, hit ? 1.0 : 0.0, double(it), double(ev), wall, f, max_relative_error(J)};
     for (std::size_t k = 0; k < 4; ++k) row.push_back((J(Eigen::Index(k)) - truth()[k]) / std::abs(truth()[k]));
-    log.print(fmt::format("{:>8.0e} {:>12} {:>5} {:>5} {:>9} {:>11.3g} {:>13.3g}%", eps, hit ? "ε (eq. 2)" : "δ (eq. 3)",
-                              it, ev, format_duration(wall), f, 100 * row[6]));
+    log.print(fmt::format("{:>8.0e} {:>12} {:>5} {:>5} {:>9} {:>11.3g} {:>13.3g}%", eps,
+                          hit ? "ε (eq. 2)" : "δ (eq. 3)", it, ev, format_duration(wall), f, 100 * row[6]));
     t.rows.push_back(std::move(row));
   }
   const fs::path csv = out / "epsilon.csv";
@@ -393,7 +392,8 @@ void studies(const fs::path& out, const Run& both, const Log& log, const DemoReq
   runs.push_back(identify_case(out, "start-mixed", "both data, start = targets × (0.5, 0.5, 2, 2)", p, log, args));
   p.start = {0.5 * T[0], 0.5 * T[1], 0.5 * T[2], 0.5 * T[3]};
   p.jacobian = "finite_difference";
-  runs.push_back(identify_case(out, "fd", "both data, forward finite-difference Jacobian (the paper's way)", p, log, args));
+  runs.push_back(
+      identify_case(out, "fd", "both data, forward finite-difference Jacobian (the paper's way)", p, log, args));
 
   // 0.5 % noise, σ known: the truth should lie within 3 standard errors (docs/theory.md §8).
   const std::string text = demo_experiment_toml(0.005);
@@ -406,8 +406,9 @@ void studies(const fs::path& out, const Run& both, const Log& log, const DemoReq
   p.sigma_from_truth = true;
   runs.push_back(identify_case(out, "noise", "both data, 0.5 % noise, σ from truth.json", p, log, args));
 
-  std::string md = "| run | termination | iterations | evaluations | wall | C10 | C20 | C21 | C03 | max |error| / std error |\n"
-                   "|---|---|---|---|---|---|---|---|---|---|\n";
+  std::string md =
+      "| run | termination | iterations | evaluations | wall | C10 | C20 | C21 | C03 | max |error| / std error |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n";
   auto add = [&](const Run& r) {
     const auto& x = r.outcome.result;
     std::string cells;
@@ -417,8 +418,8 @@ void studies(const fs::path& out, const Run& both, const Log& log, const DemoReq
       worst = std::max(worst, std::abs(x.parameters(Eigen::Index(k)) - T[k]) / se);
       cells += fmt::format(" {:.7g} ({:+.4f} %) |", x.parameters(Eigen::Index(k)), 100 * relative_error(x, k));
     }
-    md += fmt::format("| {} | {} | {} | {} | {:.3g} s |{} {:.2f} |\n", r.label, ident::to_string(x.termination), x.iterations,
-                      x.evaluations, x.wall_seconds, cells, worst);
+    md += fmt::format("| {} | {} | {} | {} | {:.3g} s |{} {:.2f} |\n", r.label, ident::to_string(x.termination),
+                      x.iterations, x.evaluations, x.wall_seconds, cells, worst);
   };
   add(both);
   for (const auto& r : runs) add(r);
@@ -428,17 +429,22 @@ void studies(const fs::path& out, const Run& both, const Log& log, const DemoReq
     io::write_atomic(out / "studies.md", md);
     return;
   }
-  md += "\nCorrelation matrix of the 0.5 % noise run (C10, C20, C21, C03):\n\n| | C10 | C20 | C21 | C03 |\n|---|---|---|---|---|\n";
+  md +=
+      "\nCorrelation matrix of the 0.5 % noise run (C10, C20, C21, C03):\n\n| | C10 | C20 | C21 | C03 "
+      "|\n|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < 4; ++i) {
     md += fmt::format("| {} |", kNames[i]);
-    for (std::size_t k = 0; k < 4; ++k) md += fmt::format(" {:+.3f} |", noise.uncertainty.correlation(Eigen::Index(i), Eigen::Index(k)));
+    for (std::size_t k = 0; k < 4; ++k)
+      md += fmt::format(" {:+.3f} |", noise.uncertainty.correlation(Eigen::Index(i), Eigen::Index(k)));
     md += "\n";
   }
   md += "\nStandard errors (relative): ";
   for (std::size_t k = 0; k < 4; ++k)
     md += fmt::format("{}{} {:.3g} %", k ? ", " : "", kNames[k], 100 * std_error(noise, k) / std::abs(T[k]));
-  md += fmt::format(".\nCondition number {:.3g}; least identifiable direction (relative changes):", noise.uncertainty.condition_number);
-  for (std::size_t k = 0; k < 4; ++k) md += fmt::format(" {:+.3f} δ{}", noise.uncertainty.least_identifiable(Eigen::Index(k)), kNames[k]);
+  md += fmt::format(".\nCondition number {:.3g}; least identifiable direction (relative changes):",
+                    noise.uncertainty.condition_number);
+  for (std::size_t k = 0; k < 4; ++k)
+    md += fmt::format(" {:+.3f} δ{}", noise.uncertainty.least_identifiable(Eigen::Index(k)), kNames[k]);
   md += ".\n";
   md += jacobian_check(out);
   io::write_atomic(out / "studies.md", md);
@@ -468,9 +474,9 @@ bool run_demo(const DemoRequest& args, const Log& log) {
     proj.experiment_dir = "../experiment";
     proj.edge_displacement = p.edge;
     proj.field = p.field;
-    auto observe = std::string(p.name) == "both"
-                       ? std::function<void(const ident::Checkpoint&)>([&](const ident::Checkpoint& c) { checkpoints.push_back(c); })
-                       : nullptr;
+    auto observe = std::string(p.name) == "both" ? std::function<void(const ident::Checkpoint&)>(
+                                                       [&](const ident::Checkpoint& c) { checkpoints.push_back(c); })
+                                                 : nullptr;
     runs.push_back(identify_case(out, p.name, p.label, proj, log, args, observe));
   }
   table1(out, runs, log);
@@ -489,6 +495,5 @@ bool run_demo(const DemoRequest& args, const Log& log) {
   for (const auto& r : runs) ok = ok && r.outcome.result.converged();
   return ok;
 }
-
 
 }  // namespace tricot::project

@@ -166,7 +166,8 @@ io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::Track
   // with y down is clockwise in (x, y); the order only flips the normal, which a 2-D field ignores.
   if (n > 0) {
     int i0 = grid[0].i, i1 = i0, j0 = grid[0].j, j1 = j0;
-    for (const dic::GridPoint& p : grid) i0 = std::min(i0, p.i), i1 = std::max(i1, p.i), j0 = std::min(j0, p.j), j1 = std::max(j1, p.j);
+    for (const dic::GridPoint& p : grid)
+      i0 = std::min(i0, p.i), i1 = std::max(i1, p.i), j0 = std::min(j0, p.j), j1 = std::max(j1, p.j);
     const long long W = i1 - i0 + 1;
     std::vector<int> at(static_cast<std::size_t>(W * (j1 - j0 + 1)), -1);
     const auto index = [&](int i, int j) { return static_cast<std::size_t>((j - j0) * W + (i - i0)); };
@@ -313,8 +314,8 @@ std::string fingerprint(const DicSpec& spec, const std::vector<std::string>& ima
       "iterations {} tolerance {} min_zncc {} texture {} prefilter {} update {} {} batch {}; strain {} {}; "
       "physical {} [{}] {} {}; overlays {} {} [{}] {} {} increments {} fields {} {}; points {}; weight {}\n",
       d.subset_size, d.step, d.mode, d.order, fmt::join(d.roi, ","), fmt::join(d.roi_polygon, ","), d.roi_mask,
-      fmt::join(d.seeds, ","), d.search_radius, d.max_seeds, d.seed_min_zncc, d.max_iterations, d.tolerance,
-      d.min_zncc, d.min_texture, d.prefilter_sigma, d.update_zncc, d.update_loss, d.batch, spec.strain.window,
+      fmt::join(d.seeds, ","), d.search_radius, d.max_seeds, d.seed_min_zncc, d.max_iterations, d.tolerance, d.min_zncc,
+      d.min_texture, d.prefilter_sigma, d.update_zncc, d.update_loss, d.batch, spec.strain.window,
       spec.strain.min_fraction, spec.physical.mm_per_px, fmt::join(spec.physical.centre_px, ","),
       spec.physical.angle_deg, spec.physical.y_up, spec.output.overlays, spec.output.overlay_every,
       fmt::join(spec.output.panels, ","), spec.output.panel_width, spec.output.zncc_floor, spec.output.increments,
@@ -347,15 +348,22 @@ double lap(std::chrono::steady_clock::time_point& t) {
 
 std::string DicStageSeconds::brief_report() const {
   std::string s;
-  for (const auto& [name, v] : {std::pair{"check", check}, {"decode", decode}, {"prepare", prepare}, {"correlate", correlate},
-                                {"strain", strain}, {"increments", increments}, {"tables", tables},
-                                {"overlays", overlays}, {"fields", fields}, {"checkpoint", checkpoint}})
+  for (const auto& [name, v] : {std::pair{"check", check},
+                                {"decode", decode},
+                                {"prepare", prepare},
+                                {"correlate", correlate},
+                                {"strain", strain},
+                                {"increments", increments},
+                                {"tables", tables},
+                                {"overlays", overlays},
+                                {"fields", fields},
+                                {"checkpoint", checkpoint}})
     if (v > 0) s += fmt::format("{}{} {:.2f} s", s.empty() ? "" : ", ", name, v);
   return s;
 }
 
-DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, const fs::path& out_dir,
-               const Log& log, const DicRunOptions& options) {
+DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, const fs::path& out_dir, const Log& log,
+               const DicRunOptions& options) {
   for (const auto& img : images) {
     std::error_code ec;
     if (!fs::exists(img, ec)) throw FileError({img, 0, ""}, "image not found");
@@ -377,7 +385,8 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   s.sequence.keep_frames = options.keep_frames;
   std::vector<dic::GridPoint> grid;
   try {
-    grid = dic::make_grid(s.roi, ref.image.width, ref.image.height, s.sequence.dic.icgn.subset_size, s.sequence.dic.step);
+    grid =
+        dic::make_grid(s.roi, ref.image.width, ref.image.height, s.sequence.dic.icgn.subset_size, s.sequence.dic.step);
   } catch (const InputError& e) {
     spec.rethrow(e);
   }
@@ -422,8 +431,8 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
                        std::to_string(at.next_frame), "at most " + std::to_string(n + 1));
     first = at.next_frame;
     const image::Image r = at.reference_frame == 0 ? ref.image : image::load_image(images[at.reference_frame]).image;
-    const image::Image prev = at.next_frame - 1 == at.reference_frame ? image::Image{}
-                                                                      : image::load_image(images[at.next_frame - 1]).image;
+    const image::Image prev =
+        at.next_frame - 1 == at.reference_frame ? image::Image{} : image::load_image(images[at.next_frame - 1]).image;
     tracker = std::make_unique<dic::SequenceTracker>(r, prev, grid, s.sequence, resumed->tracker, log.reporter());
     run.lost_at = resumed->lost_at;
     log.print(fmt::format("resuming from frame {} (frames 0 to {} were complete)", first, first - 1));
@@ -433,7 +442,8 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   run.resumed_from = first;
 
   const auto size_of = [&](int i) -> std::uint64_t { return resumed ? resumed->sizes[i] : 0; };
-  const int vsg = dic::virtual_strain_gauge(s.sequence.dic.icgn.subset_size, s.sequence.dic.step, s.sequence.strain.window);
+  const int vsg =
+      dic::virtual_strain_gauge(s.sequence.dic.icgn.subset_size, s.sequence.dic.step, s.sequence.strain.window);
   GrowingFile points(staged / "points.csv", kPointsHeader, size_of(0));
   GrowingFile frames(staged / "frames.csv", kFramesHeader, size_of(1));
   std::optional<GrowingFile> increments, specimen;
@@ -482,10 +492,10 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   if (!resumed) {
     const dic::TrackedFrame& f0 = tracker->result().frames.front();
     if (f0.ok == 0)
-      throw InputError({images[0], 0, ""}, "the reference image has no texture in the region of interest",
-                       fmt::format("{} subsets, all uniform", grid.size()),
-                       fmt::format("a gray-level spread above dic.min_texture = {} of full scale",
-                                   s.sequence.dic.icgn.min_texture));
+      throw InputError(
+          {images[0], 0, ""}, "the reference image has no texture in the region of interest",
+          fmt::format("{} subsets, all uniform", grid.size()),
+          fmt::format("a gray-level spread above dic.min_texture = {} of full scale", s.sequence.dic.icgn.min_texture));
     write_frame(ref.image, f0);
   }
   log.reporter().report({"dic", static_cast<std::size_t>(first - 1), static_cast<std::size_t>(n), ""});
@@ -526,10 +536,11 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
   output.publish();
   run.frames = n + 1;
   log.print(fmt::format("{} ({} mode)", r.brief_report(), dic::to_string(s.sequence.mode)));
-  log.print(fmt::format("strains: virtual strain gauge {} px = ({} - 1) x {} px step + {} px subset ({}-point window; "
-                        "a sinusoidal strain keeps 90 % of its amplitude at periods >= {:.0f} px with first-order subsets)",
-                        vsg, s.sequence.strain.window, s.sequence.dic.step, s.sequence.dic.icgn.subset_size,
-                        s.sequence.strain.window, strain_p90(s.sequence.dic.icgn.subset_size, s.sequence.dic.step, s.sequence.strain.window)));
+  log.print(fmt::format(
+      "strains: virtual strain gauge {} px = ({} - 1) x {} px step + {} px subset ({}-point window; "
+      "a sinusoidal strain keeps 90 % of its amplitude at periods >= {:.0f} px with first-order subsets)",
+      vsg, s.sequence.strain.window, s.sequence.dic.step, s.sequence.dic.icgn.subset_size, s.sequence.strain.window,
+      strain_p90(s.sequence.dic.icgn.subset_size, s.sequence.dic.step, s.sequence.strain.window)));
   log.print("wrote " + written);
   log.reporter().info("time per stage: " + st.brief_report());
   run.written = std::move(written);

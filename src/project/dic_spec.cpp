@@ -26,10 +26,13 @@ io::SectionSpec dic_schema() {
                    "tricot dic: digital image correlation over an image sequence (docs/theory.md §10).\n"
                    "The first image is the reference. Positions are in px, x to the right and y down.\n"
                    "Every key may be left out; flags (--subset, --step, --mode, --roi) override the file.",
-                   false, {}, {}};
+                   false,
+                   {},
+                   {}};
   SectionSpec d{"dic", "Subsets, grid, correlation and sequence mode.", false, {}, {}};
   d.keys = {
-      key("subset_size", std::int64_t{d0.subset_size}, "Subset size N: N×N px, odd. Larger is less noisy, smaller follows sharper gradients.", 7, 301),
+      key("subset_size", std::int64_t{d0.subset_size},
+          "Subset size N: N×N px, odd. Larger is less noisy, smaller follows sharper gradients.", 7, 301),
       key("step", std::int64_t{d0.step}, "Grid step in px between subset centres.", 1, 1000),
       key("mode", d0.mode,
           "incremental: each image against the previous one (survives > 100 % strain; positions accumulate).\n"
@@ -41,26 +44,39 @@ io::SectionSpec dic_schema() {
           "on the residual says it pays (steep gradients), first order elsewhere (less noise).",
           -kInf, kInf, {"first", "second", "auto"}),
       key("roi", Reals{}, "Region of interest: [x0, y0, x1, y1] px, a rectangle; [] = the whole image."),
-      key("roi_polygon", Reals{}, "Region of interest as a polygon: [x0, y0, x1, y1, x2, y2, ...] px (at least 3 vertices)."),
-      key("roi_mask", std::string(""), "Region of interest as a mask image (same size as the reference; white = inside), relative to this file."),
-      key("seeds", Reals{}, "Seed points [x0, y0, x1, y1, ...] px in the reference image; [] = the point nearest the ROI centre."),
-      key("search_radius", std::int64_t{d0.search_radius}, "px: how far the FFT cross-correlation seed search looks.", 1, 10000),
-      key("max_seeds", std::int64_t{d0.max_seeds}, "Seed attempts per image pair before unreached points are given up.", 1, 1000),
-      key("seed_min_zncc", d0.seed_min_zncc, "A seed must correlate at least this well (the points it spreads to need min_zncc).", 0, 1),
+      key("roi_polygon", Reals{},
+          "Region of interest as a polygon: [x0, y0, x1, y1, x2, y2, ...] px (at least 3 vertices)."),
+      key("roi_mask", std::string(""),
+          "Region of interest as a mask image (same size as the reference; white = inside), relative to this file."),
+      key("seeds", Reals{},
+          "Seed points [x0, y0, x1, y1, ...] px in the reference image; [] = the point nearest the ROI centre."),
+      key("search_radius", std::int64_t{d0.search_radius}, "px: how far the FFT cross-correlation seed search looks.",
+          1, 10000),
+      key("max_seeds", std::int64_t{d0.max_seeds}, "Seed attempts per image pair before unreached points are given up.",
+          1, 1000),
+      key("seed_min_zncc", d0.seed_min_zncc,
+          "A seed must correlate at least this well (the points it spreads to need min_zncc).", 0, 1),
       key("max_iterations", std::int64_t{d0.max_iterations}, "IC-GN iterations per subset.", 1, 1000),
       key("tolerance", d0.tolerance, "px: IC-GN stops when the update moves the subset by less than this.", 1e-9, 1),
       key("min_zncc", d0.min_zncc, "A point whose ZNCC is below this is `low_correlation` (not ok).", 0, 1),
-      key("min_texture", d0.min_texture, "Fraction of full scale: a subset whose gray-level spread is below it is `no_texture`.", 0, 0.99),
-      key("prefilter_sigma", d0.prefilter_sigma, "px: Gaussian pre-filter of every image (0 = none; 0.5–1 lowers the noise-induced bias).", 0, 5),
+      key("min_texture", d0.min_texture,
+          "Fraction of full scale: a subset whose gray-level spread is below it is `no_texture`.", 0, 0.99),
+      key("prefilter_sigma", d0.prefilter_sigma,
+          "px: Gaussian pre-filter of every image (0 = none; 0.5–1 lowers the noise-induced bias).", 0, 5),
       key("weight_sigma", d0.weight_sigma,
           "px: Gaussian weighting window of each subset, exp(-r²/2σ²) (0 = uniform weights). N/4–N/6 keeps the\n"
-          "noise of a smaller subset's neighbour but follows steep gradients better (see docs/validation.md).", 0, 1000),
-      key("update_zncc", d0.update_zncc, "auto mode: update the reference when a frame's mean ZNCC drops below this.", 0, 1),
+          "noise of a smaller subset's neighbour but follows steep gradients better (see docs/validation.md).",
+          0, 1000),
+      key("update_zncc", d0.update_zncc, "auto mode: update the reference when a frame's mean ZNCC drops below this.",
+          0, 1),
       key("update_loss", d0.update_loss, "auto mode: ... or when more than this fraction of the points fail.", 0, 1),
-      key("batch", std::int64_t{d0.batch}, "Points propagated per round (1 = strict highest-ZNCC-first order).", 1, 4096),
-      key("threads", std::int64_t{d0.threads}, "OpenMP threads, 0 = all cores; more than the cores run as many as the cores.", 0, 1024),
+      key("batch", std::int64_t{d0.batch}, "Points propagated per round (1 = strict highest-ZNCC-first order).", 1,
+          4096),
+      key("threads", std::int64_t{d0.threads},
+          "OpenMP threads, 0 = all cores; more than the cores run as many as the cores.", 0, 1024),
   };
-  SectionSpec st{"strain", "Green–Lagrange strain by a least-squares plane fit over a window of grid points.", false, {}, {}};
+  SectionSpec st{
+      "strain", "Green–Lagrange strain by a least-squares plane fit over a window of grid points.", false, {}, {}};
   st.keys = {
       key("window", std::int64_t{s0.window}, "Grid points per side of the fitting window, odd.", 3, 51),
       key("min_fraction", s0.min_fraction, "The fit needs this fraction of the window's points to be ok.", 0, 1),
@@ -68,21 +84,25 @@ io::SectionSpec dic_schema() {
   SectionSpec ph{"physical",
                  "Specimen coordinates (mm) for identification: the camera aims at the specimen centre, which\n"
                  "stays at a fixed pixel. With mm_per_px > 0, DIR/specimen.csv repeats points.csv in mm.",
-                 false, {}, {}};
+                 false,
+                 {},
+                 {}};
   ph.keys = {
       key("mm_per_px", p0.mm_per_px, "Pixel size in mm; 0 = no specimen.csv.", 0, 1e6),
       key("centre_px", Reals{}, "[x, y] px: the specimen centre in the images; [] = the image centre."),
-      key("angle_deg", p0.angle_deg, "Specimen X axis, counter-clockwise on screen from the image x axis, degrees.", -360, 360),
+      key("angle_deg", p0.angle_deg, "Specimen X axis, counter-clockwise on screen from the image x axis, degrees.",
+          -360, 360),
       key("y_up", p0.y_up, "The specimen Y axis points up on screen (image y points down)."),
   };
   SectionSpec out{"output", "What is written besides DIR/points.csv and DIR/frames.csv.", false, {}, {}};
   out.keys = {
       key("overlays", o0.overlays, "DIR/overlays/frame_NNNN.png: maps drawn over the images (see overlay_every)."),
       key("overlay_every", std::int64_t{o0.overlay_every},
-          "An overlay of frame 0, of every n-th frame and of the last (1 = every frame; drawing costs time).", 1, 1000000),
-      key("panels", o0.panels,
-          "Maps in each overlay, two per row: displacement, u, v, exx, eyy, exy, zncc."),
-      key("panel_width", std::int64_t{o0.panel_width}, "px: each map is scaled down to at most this width.", 100, 10000),
+          "An overlay of frame 0, of every n-th frame and of the last (1 = every frame; drawing costs time).", 1,
+          1000000),
+      key("panels", o0.panels, "Maps in each overlay, two per row: displacement, u, v, exx, eyy, exy, zncc."),
+      key("panel_width", std::int64_t{o0.panel_width}, "px: each map is scaled down to at most this width.", 100,
+          10000),
       key("zncc_floor", o0.zncc_floor, "The ZNCC map's colours span [zncc_floor, 1].", 0, 0.999),
       key("increments", o0.increments,
           "DIR/increments.csv: displacement between consecutive images at the fixed grid centres\n"
@@ -106,7 +126,8 @@ io::Reals parse_roi_flag(const std::string& text) {
     char* end = nullptr;
     const double v = std::strtod(cell.c_str(), &end);
     if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(v))
-      throw InputError(Location{"command line", 0, "--roi"}, "not four numbers", "\"" + text + "\"", "X0,Y0,X1,Y1 in px");
+      throw InputError(Location{"command line", 0, "--roi"}, "not four numbers", "\"" + text + "\"",
+                       "X0,Y0,X1,Y1 in px");
     r.push_back(v);
     pos = comma + 1;
   }
@@ -216,7 +237,8 @@ DicSettings DicSpec::settings(const image::Image& reference) const {
     const int kinds = !rect.empty() + !poly.empty() + !mask.empty();
     if (kinds > 1) d.fail("roi", "give only one of roi, roi_polygon and roi_mask");
     if (!rect.empty()) {
-      if (rect.size() != 4) d.fail("roi", "needs four numbers", std::to_string(rect.size()) + " numbers", "[x0, y0, x1, y1]");
+      if (rect.size() != 4)
+        d.fail("roi", "needs four numbers", std::to_string(rect.size()) + " numbers", "[x0, y0, x1, y1]");
       const std::string got = fmt::format("[{}, {}, {}, {}]", rect[0], rect[1], rect[2], rect[3]);
       if (!(rect[0] < rect[2] && rect[1] < rect[3]))
         d.fail("roi", "inverted or empty rectangle", got, "x0 < x1 and y0 < y1");

@@ -143,7 +143,8 @@ void read_field(const fs::path& file, ident::TestData& d) {
     const int i = integer_cell(c, r, id), p = index.at(i);
     std::size_t& s = seen[static_cast<std::size_t>(k - 1) * m + p];
     if (s != SIZE_MAX)
-      throw InputError(c.at(r, "id"), fmt::format("point {} appears twice at step {} (also line {})", i, k, t.lines[s]));
+      throw InputError(c.at(r, "id"),
+                       fmt::format("point {} appears twice at step {} (also line {})", i, k, t.lines[s]));
     s = r;
     for (auto [col, axis] : {std::pair{x, 0}, std::pair{y, 1}})
       if (t.rows[r][col] != d.points(axis, p))
@@ -158,8 +159,8 @@ void read_field(const fs::path& file, ident::TestData& d) {
   for (int k = 0; k < K; ++k)
     for (int p = 0; p < m; ++p)
       if (seen[static_cast<std::size_t>(k) * m + p] == SIZE_MAX)
-        throw InputError({c.file, 0, "step"}, fmt::format("point {} has no row for step {}", d.point_ids[p], k + 1),
-                         "", "every point at every step");
+        throw InputError({c.file, 0, "step"}, fmt::format("point {} has no row for step {}", d.point_ids[p], k + 1), "",
+                         "every point at every step");
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -193,8 +194,7 @@ ident::TestData read_test_data(const fs::path& dir, const std::string& name, ide
   return d;
 }
 
-ident::Experiment read_experiment(const fs::path& dir, const std::vector<std::string>& names,
-                                  ident::FieldKind kind) {
+ident::Experiment read_experiment(const fs::path& dir, const std::vector<std::string>& names, ident::FieldKind kind) {
   if (!fs::is_directory(dir))
     throw FileError({dir.string(), 0, ""}, "experiment folder not found", "",
                     "a folder written by tricot synth (or by hand: <test>/forces.csv, <test>/field.csv)");
@@ -267,8 +267,9 @@ std::optional<Truth> read_truth(const fs::path& dir) {
   }
   t.noise_relative = json_get_or(j, "noise_relative", 0.0, file, "");
   t.seed = json_get_or(j, "seed", std::uint64_t{0}, file, "");
-  t.field_kind = json_get_or(j, "field_kind", std::string("cumulative"), file, "") == "incremental" ? ident::FieldKind::incremental
-                                                                                   : ident::FieldKind::cumulative;
+  t.field_kind = json_get_or(j, "field_kind", std::string("cumulative"), file, "") == "incremental"
+                     ? ident::FieldKind::incremental
+                     : ident::FieldKind::cumulative;
   if (j.contains("tests")) {
     if (!j["tests"].is_array()) throw InputError({file, 0, "tests"}, "not an array");
     for (const json& s : j["tests"]) {
@@ -281,7 +282,8 @@ std::optional<Truth> read_truth(const fs::path& dir) {
       x.dropped_points = json_get_or(s, "dropped_points", 0, file, p);
       if (s.contains("mesh")) {
         const json& m = s["mesh"];
-        x.mesh.type = json_get_or(m, "element", std::string("Q8"), file, p + "mesh.") == "Q4" ? fem::ElementType::Q4 : fem::ElementType::Q8;
+        x.mesh.type = json_get_or(m, "element", std::string("Q8"), file, p + "mesh.") == "Q4" ? fem::ElementType::Q4
+                                                                                              : fem::ElementType::Q8;
         x.mesh.width = json_get_or(m, "width", 2 * x.mesh.width, file, p + "mesh.") / 2;
         x.mesh.height = json_get_or(m, "height", 2 * x.mesh.height, file, p + "mesh.") / 2;
         x.mesh.nx = json_get_or(m, "nx", x.mesh.nx, file, p + "mesh.");

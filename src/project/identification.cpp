@@ -60,8 +60,9 @@ IdentifyOutcome finished_run(const ident::Checkpoint& c, const fs::path& out, co
   r.stability_passed = c.stability_passed;
   r.history = c.history;
   outcome.already_finished = true;
-  log.print(fmt::format("identify: nothing to resume: the run in {} finished ({}, {} LM iterations); {} is left as it is",
-                        out.string(), ident::to_string(c.termination), c.iterations, (out / "result.json").string()));
+  log.print(
+      fmt::format("identify: nothing to resume: the run in {} finished ({}, {} LM iterations); {} is left as it is",
+                  out.string(), ident::to_string(c.termination), c.iterations, (out / "result.json").string()));
   return outcome;
 }
 
@@ -75,7 +76,8 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   const auto started = std::chrono::steady_clock::now();
   Project P = build_project(spec, req.base);
   if (P.coarse_objective && req.resume)  // identify_by_levels starts afresh
-    spec.identify.origin.fail("coarse_mesh", "a run by mesh levels cannot be resumed", "--resume with coarse_mesh = " + io::to_toml(spec.identify.coarse_mesh),
+    spec.identify.origin.fail("coarse_mesh", "a run by mesh levels cannot be resumed",
+                              "--resume with coarse_mesh = " + io::to_toml(spec.identify.coarse_mesh),
                               "a fresh run, or coarse_mesh = [] to resume a run on the project's meshes");
   if (req.distribute) req.distribute(*P.objective);
   const auto& law = P.law;
@@ -106,7 +108,8 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
       options.resume_from = read_checkpoint(kept, fingerprint);
     } else {  // no run under way: the last published one; finished, it is left as it is
       options.resume_from = read_checkpoint(published, fingerprint);
-      if (options.resume_from->phase == ident::Phase::done) return finished_run(*options.resume_from, req.out, log, std::move(outcome));
+      if (options.resume_from->phase == ident::Phase::done)
+        return finished_run(*options.resume_from, req.out, log, std::move(outcome));
     }
   }
   const fs::path dir = output.staging();
@@ -121,36 +124,44 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
   const ident::Problem& minimised = P.stability ? static_cast<const ident::Problem&>(*P.stability) : *objective;
   const KillAfterEvaluations killer(minimised, req.kill_after_evaluations);  // testing aid
 
-  log.print(fmt::format("identify: {} coefficients of {} from {} values ({}), {} dofs, {} Jacobian, {} MPI rank{} × {} thread{}{}",
-                            parameters.size(), law->name(), outcome.residuals, outcome.data, outcome.dofs,
-                            ident::to_string(options.jacobian), outcome.ranks, outcome.ranks == 1 ? "" : "s",
-                            outcome.threads, outcome.threads == 1 ? "" : "s",
-                            req.resume ? fmt::format(", resumed at iteration {}", options.resume_from->iterations) : ""));
-  if (P.stability) log.print(fmt::format("identify: with the stability barrier ({} rows)", P.stability->barrier_rows()));
+  log.print(fmt::format(
+      "identify: {} coefficients of {} from {} values ({}), {} dofs, {} Jacobian, {} MPI rank{} × {} thread{}{}",
+      parameters.size(), law->name(), outcome.residuals, outcome.data, outcome.dofs, ident::to_string(options.jacobian),
+      outcome.ranks, outcome.ranks == 1 ? "" : "s", outcome.threads, outcome.threads == 1 ? "" : "s",
+      req.resume ? fmt::format(", resumed at iteration {}", options.resume_from->iterations) : ""));
+  if (P.stability)
+    log.print(fmt::format("identify: with the stability barrier ({} rows)", P.stability->barrier_rows()));
   const double outside = spec.data.domain_weight;  // 0: left out (restricted), else the weight (weighted)
   for (const ident::RestrictedTest& t : P.restriction) {
     const std::string rest = outside > 0 ? fmt::format("weigh {:g}", outside) : std::string("left out");
-    log.print(t.kept == 0 ? fmt::format("identify: domain: {} {} (held {:.3f}, pulled {:.3f} at step 1)", t.name,
-                                        outside > 0 ? "steps 1–" + std::to_string(t.steps) + " " + rest : rest, t.held, t.pulled)
-              : t.kept == t.steps ? fmt::format("identify: domain: {} keeps steps 1–{} of {} (held {:.3f}, pulled to {:.3f})",
-                                                t.name, t.kept, t.steps, t.held, t.pulled)
-                                  : fmt::format("identify: domain: {} keeps steps 1–{} of {}, steps {}–{} {} (held {:.3f}, pulled to {:.3f})",
-                                                t.name, t.kept, t.steps, t.kept + 1, t.steps, rest, t.held, t.pulled));
+    log.print(
+        t.kept == 0
+            ? fmt::format("identify: domain: {} {} (held {:.3f}, pulled {:.3f} at step 1)", t.name,
+                          outside > 0 ? "steps 1–" + std::to_string(t.steps) + " " + rest : rest, t.held, t.pulled)
+        : t.kept == t.steps
+            ? fmt::format("identify: domain: {} keeps steps 1–{} of {} (held {:.3f}, pulled to {:.3f})", t.name, t.kept,
+                          t.steps, t.held, t.pulled)
+            : fmt::format("identify: domain: {} keeps steps 1–{} of {}, steps {}–{} {} (held {:.3f}, pulled to {:.3f})",
+                          t.name, t.kept, t.steps, t.kept + 1, t.steps, rest, t.held, t.pulled));
   }
   if (P.coarse_objective) {  // [identify] coarse_mesh: LM on the coarse level, then the corrected one
     const ident::Problem& coarse =
         P.coarse_stability ? static_cast<const ident::Problem&>(*P.coarse_stability) : *P.coarse_objective;
-    log.print(fmt::format("identify: by mesh levels: {} dofs first ([identify] coarse_mesh), then {} through the coarse model corrected to it",
-                          P.coarse_models.front().mesh.dofs(), outcome.dofs));
+    log.print(
+        fmt::format("identify: by mesh levels: {} dofs first ([identify] coarse_mesh), then {} through the coarse "
+                    "model corrected to it",
+                    P.coarse_models.front().mesh.dofs(), outcome.dofs));
     ident::IdentifyOptions by_levels = options;
     by_levels.on_checkpoint = {};  // LM's state on the coarse level is no state to resume the fine one from
     outcome.levels = ident::identify_by_levels({&coarse, &killer}, by_levels, log.reporter());
     const ident::LevelsResult& levels = *outcome.levels;
     outcome.level_dofs = {P.coarse_models.front().mesh.dofs(), outcome.dofs};
     for (std::size_t l = 0; l < levels.levels.size(); ++l)
-      log.print(fmt::format("identify: level {} ({} dofs): {}", l + 1, outcome.level_dofs[l], levels.levels[l].brief_report()));
+      log.print(fmt::format("identify: level {} ({} dofs): {}", l + 1, outcome.level_dofs[l],
+                            levels.levels[l].brief_report()));
     if (levels.levels.size() > 1)
-      log.print(fmt::format("identify: {} evaluations of the coarse level inside the corrected models", levels.coarse_evaluations));
+      log.print(fmt::format("identify: {} evaluations of the coarse level inside the corrected models",
+                            levels.coarse_evaluations));
     outcome.result = levels.result;
     outcome.result.start = levels.levels.front().start;
     outcome.result.wall_seconds = levels.wall_seconds;
@@ -167,7 +178,8 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
     json tests = json::object();
     for (const ident::RestrictedTest& t : P.restriction)
       tests[t.name] = {{"steps", t.steps}, {"kept", t.kept}, {"held", t.held}, {"pulled", t.pulled}};
-    result["domain"] = {{"tests", tests}, {"mode", outside > 0 ? "weighted" : "restricted"}, {"outside_weight", outside}};
+    result["domain"] = {
+        {"tests", tests}, {"mode", outside > 0 ? "weighted" : "restricted"}, {"outside_weight", outside}};
   }
   // ∂r/∂J at the answer, for the identifiability report and the design suggestion.
   const ident::Evaluation at_answer = outcome.result.termination == ident::Termination::fe_failure
@@ -182,10 +194,13 @@ IdentifyOutcome run_identification(const IdentificationSpec& spec, const Identif
     nlohmann::ordered_json fits = nlohmann::ordered_json::object();
     for (const TestFit& f : write_fit_field(dir, *objective, outcome.result, req.plots, log)) {
       auto& j = fits[f.name];
-      j["force_rms_N"] = std::isfinite(f.force_rms_N) ? nlohmann::ordered_json(f.force_rms_N) : nlohmann::ordered_json();
-      j["force_rms_of_peak"] = std::isfinite(f.force_rms_N) && f.force_peak_N > 0 ? nlohmann::ordered_json(f.force_rms_N / f.force_peak_N)
-                                                                                 : nlohmann::ordered_json();
-      j["points_rms_mm"] = std::isfinite(f.points_rms_mm) ? nlohmann::ordered_json(f.points_rms_mm) : nlohmann::ordered_json();
+      j["force_rms_N"] =
+          std::isfinite(f.force_rms_N) ? nlohmann::ordered_json(f.force_rms_N) : nlohmann::ordered_json();
+      j["force_rms_of_peak"] = std::isfinite(f.force_rms_N) && f.force_peak_N > 0
+                                   ? nlohmann::ordered_json(f.force_rms_N / f.force_peak_N)
+                                   : nlohmann::ordered_json();
+      j["points_rms_mm"] =
+          std::isfinite(f.points_rms_mm) ? nlohmann::ordered_json(f.points_rms_mm) : nlohmann::ordered_json();
       if (std::isfinite(f.wrinkled_area)) j["wrinkled_area"] = f.wrinkled_area, j["slack_area"] = f.slack_area;
     }
     result["fit"] = fits;

@@ -65,16 +65,20 @@ json result_json(const IdentifyOutcome& o, const ident::Objective& objective, bo
   j["jacobian_evaluations"] = r.jacobian_evaluations;
   j["resumed"] = resumed;
   j["start"] = named(r.names, r.start);
-  j["ranks"] = o.ranks;      // MPI processes that simulated the tests
-  j["threads"] = o.threads;  // OpenMP threads per process for the tests
+  j["ranks"] = o.ranks;             // MPI processes that simulated the tests
+  j["threads"] = o.threads;         // OpenMP threads per process for the tests
   j["cpus"] = omp_get_num_procs();  // CPUs this process may run on: its affinity (an MPI rank's binding)
-  if (o.levels) {  // [identify] coarse_mesh: what each level did; the keys above are the last level's
+  if (o.levels) {                   // [identify] coarse_mesh: what each level did; the keys above are the last level's
     json levels = json::array();
     for (std::size_t l = 0; l < o.levels->levels.size(); ++l) {
       const ident::IdentifyResult& x = o.levels->levels[l];
-      levels.push_back({{"dofs", o.level_dofs[l]}, {"iterations", x.iterations}, {"evaluations", x.evaluations},
-                        {"termination", ident::to_string(x.termination)}, {"objective", x.objective},
-                        {"wall_seconds", x.wall_seconds}, {"parameters", named(r.names, x.parameters)}});
+      levels.push_back({{"dofs", o.level_dofs[l]},
+                        {"iterations", x.iterations},
+                        {"evaluations", x.evaluations},
+                        {"termination", ident::to_string(x.termination)},
+                        {"objective", x.objective},
+                        {"wall_seconds", x.wall_seconds},
+                        {"parameters", named(r.names, x.parameters)}});
     }
     j["levels"] = levels;
     j["coarse_evaluations"] = o.levels->coarse_evaluations;  // the first level's, inside the corrected models
@@ -210,7 +214,9 @@ void write_eq9(const fs::path& dir, const SurfacePoints& points, const fem::Law&
     const std::string script = fmt::format(R"gp(set terminal pngcairo size 1300,560 font ",11"
 set output {0}
 set datafile separator ","
-set multiplot layout 1,2 title "eq. 9, {1} force: identified surface and experimental points; relative error (practical domain outlined)" noenhanced
+set multiplot layout 1,2 \
+  title "eq. 9, {1} force: identified surface and experimental points; relative error (practical domain outlined)" \
+  noenhanced
 set xlabel "eps_C (Green-Lagrange)"
 set ylabel "eps_W"
 set zlabel "F_{{{1}}} [N/mm]" rotate
@@ -237,8 +243,8 @@ unset multiplot
   }
 }
 
-json identifiability_json(const ident::Objective& objective, const ident::IdentifyResult& r,
-                          const ident::Evaluation& e, ident::IdentifiabilityOptions options) {
+json identifiability_json(const ident::Objective& objective, const ident::IdentifyResult& r, const ident::Evaluation& e,
+                          ident::IdentifiabilityOptions options) {
   if (!e.ok || e.jacobian.cols() != r.parameters.size()) return nullptr;
   const auto& tests = objective.experiment().tests;
   std::vector<std::vector<int>> rows(tests.size());
@@ -252,7 +258,8 @@ json identifiability_json(const ident::Objective& objective, const ident::Identi
   for (std::size_t k = 0; k < r.names.size(); ++k) pinned[r.names[k]] = bool(id.pinned[k]);
   json per_test = json::object();
   for (std::size_t t = 0; t < tests.size(); ++t)
-    per_test[tests[t].name] = {{"trace_share", id.trace_share[t]}, {"weak_direction_share", id.weak_direction_share[t]}};
+    per_test[tests[t].name] = {{"trace_share", id.trace_share[t]},
+                               {"weak_direction_share", id.weak_direction_share[t]}};
   return {{"relative_std_error", named(r.names, id.relative_std_error)},
           {"pinned", pinned},
           {"pinned_relative_error", options.pinned_relative_error},
@@ -312,24 +319,27 @@ json design_json(const IdentificationSpec& spec, const Project& P, const ident::
     }
   }
   if (candidates.empty()) {
-    log.print(rows.empty() ? "identify: design: no candidate (it varies the held strain of kind = \"rig\" tests, and every candidate strain is tested already or there is no rig test)"
+    log.print(rows.empty() ? "identify: design: no candidate (it varies the held strain of kind = \"rig\" tests, and "
+                             "every candidate strain is tested already or there is no rig test)"
                            : "identify: design: no candidate could be simulated (result.json's \"design\" is null)");
     return nullptr;
   }
   Eigen::VectorXd scale(r.parameters.size());
   for (Eigen::Index k = 0; k < scale.size(); ++k) scale(k) = objective.parameters()[k].resolved_scale();
-  const auto criterion = spec.design->criterion == "a_optimal" ? ident::DesignCriterion::a_optimal
-                                                                : ident::DesignCriterion::d_optimal;
+  const auto criterion =
+      spec.design->criterion == "a_optimal" ? ident::DesignCriterion::a_optimal : ident::DesignCriterion::d_optimal;
   const ident::DesignSuggestion s = ident::suggest_test(at_answer.jacobian, r.parameters, scale, candidates, criterion);
-  const double sigma = r.uncertainty.sigma2 > 0 && std::isfinite(r.uncertainty.sigma2) ? std::sqrt(r.uncertainty.sigma2) : 1.0;
+  const double sigma =
+      r.uncertainty.sigma2 > 0 && std::isfinite(r.uncertainty.sigma2) ? std::sqrt(r.uncertainty.sigma2) : 1.0;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     rows[row_of[i]]["score"] = s.score[i];
     rows[row_of[i]]["worst_relative_std_error_with"] = sigma * s.worst_std_error_with[i];
   }
   const std::string& best = candidates[static_cast<std::size_t>(s.best)].name;
-  log.print(fmt::format("identify: design ({}): the added test that helps most: {} (worst relative standard error {:.3g} -> {:.3g})",
-                        spec.design->criterion, best, sigma * s.worst_std_error_now,
-                        sigma * s.worst_std_error_with[static_cast<std::size_t>(s.best)]));
+  log.print(fmt::format(
+      "identify: design ({}): the added test that helps most: {} (worst relative standard error {:.3g} -> {:.3g})",
+      spec.design->criterion, best, sigma * s.worst_std_error_now,
+      sigma * s.worst_std_error_with[static_cast<std::size_t>(s.best)]));
   return {{"criterion", spec.design->criterion},
           {"worst_relative_std_error_now", sigma * s.worst_std_error_now},
           {"best", best},
@@ -358,11 +368,13 @@ void plot_history(const fs::path& dir, const IdentifyOutcome& o, const Log& log)
     const auto truth = o.truth ? o.truth->value(r.names[k]) : std::nullopt;
     const double ref = truth && *truth != 0 ? *truth : r.parameters(Eigen::Index(k));
     if (ref == 0) continue;
-    lines += fmt::format("{}{} using 1:(${}/({:.17g})) with linespoints pt 7 ps 0.5 title \"{}\"", lines.empty() ? "" : ", \\\n  ",
-                         io::gnuplot_quote(dir / "history.csv"), k + 3, ref, r.names[k]);
+    lines +=
+        fmt::format("{}{} using 1:(${}/({:.17g})) with linespoints pt 7 ps 0.5 title \"{}\"",
+                    lines.empty() ? "" : ", \\\n  ", io::gnuplot_quote(dir / "history.csv"), k + 3, ref, r.names[k]);
   }
   const std::string by = o.truth ? "truth" : "identified value";
-  const std::string script = fmt::format(R"gp(set terminal pngcairo size 900,800 font ",11"
+  const std::string script =
+      fmt::format(R"gp(set terminal pngcairo size 900,800 font ",11"
 set output {0}
 set datafile separator ","
 set multiplot layout 2,1 title "tricot identify: {1} ({2} Jacobian)" noenhanced
@@ -380,8 +392,8 @@ set key bottom right
 plot {5}
 unset multiplot
 )gp",
-                                         io::gnuplot_quote(dir / "plots" / "history.png"), o.data,
-                                         ident::to_string(r.jacobian), io::gnuplot_quote(dir / "history.csv"), by, lines);
+                  io::gnuplot_quote(dir / "plots" / "history.png"), o.data, ident::to_string(r.jacobian),
+                  io::gnuplot_quote(dir / "history.csv"), by, lines);
   std::string why;
   if (!io::run_gnuplot(script, &why)) log.print("  (no plot: " + why + ")");
 }
@@ -401,7 +413,8 @@ void write_fit(const fs::path& dir, const ident::Objective& objective, const ide
     if (!d.edge_force.empty()) tab.columns.push_back("edge_force");
     const double scale = objective.force_scale(r.parameters, static_cast<int>(t));  // the specimen's
     for (int k = 0; k < d.steps(); ++k) {
-      std::vector<double> row{double(k + 1), d.loads[k], sim.steps[k].edge_displacement, scale * sim.steps[k].edge_force};
+      std::vector<double> row{double(k + 1), d.loads[k], sim.steps[k].edge_displacement,
+                              scale * sim.steps[k].edge_force};
       if (!d.edge_displacement.empty()) row.push_back(d.edge_displacement[k]);
       if (!d.edge_force.empty()) row.push_back(d.edge_force[k]);
       tab.rows.push_back(std::move(row));
@@ -409,10 +422,9 @@ void write_fit(const fs::path& dir, const ident::Objective& objective, const ide
     const fs::path csv = dir / ("fit_" + m.name + ".csv");
     io::write_atomic(csv, io::to_csv(tab));
     if (!plots || (d.edge_displacement.empty() && d.edge_force.empty())) continue;
-    const std::string measured =
-        d.edge_displacement.empty() ? "\"model_edge_displacement\":\"edge_force\"" : d.edge_force.empty()
-                                                                                         ? "\"edge_displacement\":\"model_edge_force\""
-                                                                                         : "\"edge_displacement\":\"edge_force\"";
+    const std::string measured = d.edge_displacement.empty() ? "\"model_edge_displacement\":\"edge_force\""
+                                 : d.edge_force.empty()      ? "\"edge_displacement\":\"model_edge_force\""
+                                                             : "\"edge_displacement\":\"edge_force\"";
     std::string why;
     if (!io::run_gnuplot(fmt::format(R"gp(set terminal pngcairo size 800,560 font ",11"
 set output {0}
@@ -464,7 +476,8 @@ set cbrange [0:1]
 set palette defined (0 "#f0f0f0", 1 "#1f77b4")
 set cblabel "wrinkled fraction"
 plot {4} using "x":"y":"wrinkled" with points pt 5 ps 1.6 lc palette title "element (colour: wrinkled fraction)", \
-  {4} using (column("slack") > 0.5 ? column("x") : 1/0):"y" with points pt 2 ps 1.6 lc rgb "#555555" title "slack element"
+  {4} using (column("slack") > 0.5 ? column("x") : 1/0):"y" \
+  with points pt 2 ps 1.6 lc rgb "#555555" title "slack element"
 )gp",
                                    io::gnuplot_quote(dir / "plots" / ("wrinkles_" + m.name + ".png")), m.name,
                                    100 * area(0), 100 * area(1), io::gnuplot_quote(csv)),
@@ -479,8 +492,8 @@ plot {4} using "x":"y":"wrinkled" with points pt 5 ps 1.6 lc palette title "elem
 // DIR/fit_field_<test>.csv (step, id, x, y, u, v, model_u, model_v) and plots/fit_field_<test>.png,
 // the residual map (model − measured) at the last step, which the report shows with the other plots.
 // Returns each test's RMS of |model − measured| over its points and steps, mm (NaN: no field).
-std::vector<TestFit> write_fit_field(const fs::path& dir, const ident::Objective& objective, const ident::IdentifyResult& r,
-                                     bool plots, const Log& log) {
+std::vector<TestFit> write_fit_field(const fs::path& dir, const ident::Objective& objective,
+                                     const ident::IdentifyResult& r, bool plots, const Log& log) {
   const std::vector<fem::SimulationResult> sims = objective.simulations(r.parameters);
   std::vector<TestFit> fits(objective.models().size());
   const std::unique_ptr<fem::Law> law = objective.law_at(r.parameters);
@@ -515,8 +528,8 @@ std::vector<TestFit> write_fit_field(const fs::path& dir, const ident::Objective
       for (int k = 0; k < d.steps(); ++k) {
         const Vec2 um = fem::interpolate(m.mesh, *at, sim.steps[std::size_t(k)].u);
         const double u = d.u(k, a), v = d.v(k, a);
-        tab.rows.push_back({double(k + 1), double(a < int(d.point_ids.size()) ? d.point_ids[std::size_t(a)] : a), X(0), X(1), u, v,
-                            um(0), um(1)});
+        tab.rows.push_back({double(k + 1), double(a < int(d.point_ids.size()) ? d.point_ids[std::size_t(a)] : a), X(0),
+                            X(1), u, v, um(0), um(1)});
         s2 += (um(0) - u) * (um(0) - u) + (um(1) - v) * (um(1) - v), ++n;
       }
     }
@@ -533,12 +546,13 @@ set size ratio -1
 set title "{1}: field residual (model − measured) at step {2}, ×{3:g}; RMS over all steps {4:.3g} mm" noenhanced
 set xlabel "x (quarter model), mm"
 set ylabel "y, mm"
-plot {5} using (column("step") == {2} ? column("x") : 1/0):"y":(({3:g})*(column("model_u") - column("u"))):(({3:g})*(column("model_v") - column("v"))) \
+plot {5} using (column("step") == {2} ? column("x") : 1/0):"y" \
+  :(({3:g})*(column("model_u") - column("u"))):(({3:g})*(column("model_v") - column("v"))) \
   with vectors head filled lw 2 lc rgb "#d62728" title "residual", \
   {5} using (column("step") == {2} ? column("x") : 1/0):"y" with points pt 7 ps 0.8 lc rgb "#333333" title "point"
 )gp",
-                                     io::gnuplot_quote(dir / "plots" / ("fit_field_" + m.name + ".png")), m.name, d.steps(),
-                                     10.0, fits[t].points_rms_mm, io::gnuplot_quote(csv)),
+                                     io::gnuplot_quote(dir / "plots" / ("fit_field_" + m.name + ".png")), m.name,
+                                     d.steps(), 10.0, fits[t].points_rms_mm, io::gnuplot_quote(csv)),
                          &why))
       log.print("  (no plot: " + why + ")");
   }
@@ -557,7 +571,8 @@ void print_summary(const IdentifyOutcome& o, const fs::path& out, const Log& log
   for (std::size_t k = 0; k < r.names.size(); ++k) {
     const Eigen::Index i = Eigen::Index(k);
     const double se = i < r.uncertainty.std_error.size() ? r.uncertainty.std_error(i) : std::nan("");
-    std::string line = fmt::format("  {:<{}} {:>13.6g} {:>13.6g} {:>11.3g}", r.names[k], w, r.start(i), r.parameters(i), se);
+    std::string line =
+        fmt::format("  {:<{}} {:>13.6g} {:>13.6g} {:>11.3g}", r.names[k], w, r.start(i), r.parameters(i), se);
     if (truth)
       if (const auto t = o.truth->value(r.names[k]))
         line += fmt::format(" {:>13.6g} {:>9.3g}% {:>7.2f}", *t, 100 * (r.parameters(i) - *t) / std::abs(*t),
@@ -569,8 +584,8 @@ void print_summary(const IdentifyOutcome& o, const fs::path& out, const Log& log
     std::string dir;
     for (std::size_t k = 0; k < r.names.size(); ++k)
       dir += fmt::format("{}{:+.3f}·δ{}", k ? " " : "", u.least_identifiable(Eigen::Index(k)), r.names[k]);
-    log.print(fmt::format("  condition number {:.3g}; least identifiable direction (relative): {}",
-                              u.condition_number, dir));
+    log.print(
+        fmt::format("  condition number {:.3g}; least identifiable direction (relative): {}", u.condition_number, dir));
   }
   log.print("  -> " + (out / "result.json").string() + ", history.csv, plots/");
 }

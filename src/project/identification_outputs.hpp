@@ -63,7 +63,7 @@ struct TestFit {
 /// Also, for a tension-field law, DIR/wrinkles_<test>.csv (per element at the last step: its reference
 /// centroid, wrinkled and slack area fractions, wrinkle direction) and plots/wrinkles_<test>.png.
 std::vector<TestFit> write_fit_field(const std::filesystem::path& dir, const ident::Objective& objective,
-                                    const ident::IdentifyResult& r, bool plots, const Log& log);
+                                     const ident::IdentifyResult& r, bool plots, const Log& log);
 void write_fit(const std::filesystem::path& dir, const ident::Objective& objective, const ident::IdentifyResult& r,
                bool plots, const Log& log);
 

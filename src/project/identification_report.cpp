@@ -28,8 +28,8 @@ bool drawn_by_this_run(const fs::path& png, double wall_seconds) {
   std::error_code ec;
   const auto t = fs::last_write_time(png, ec);
   if (ec) return false;
-  const auto began = fs::file_time_type::clock::now() -
-                     std::chrono::duration_cast<fs::file_time_type::duration>(std::chrono::duration<double>(wall_seconds));
+  const auto began = fs::file_time_type::clock::now() - std::chrono::duration_cast<fs::file_time_type::duration>(
+                                                            std::chrono::duration<double>(wall_seconds));
   return t >= began;
 }
 
@@ -54,12 +54,18 @@ bool add_eq9(Document& d, const fs::path& result_json) {
     return j.is_object() && j.contains(key) && j[key].is_number() ? j[key].get<double>() : std::nan("");
   };
   // The paper's Tables 4 and 5 give the same two numbers per force (docs/theory.md §9, paper §4.3).
-  NumericTable t{"Eq. 9 error of the identified surfaces over the whole and the practical strain range", "force",
-                 {"whole", "practical", "points (whole)", "points (practical)"}, {}, {}, 3, {3, 3, 4, 4}};
+  NumericTable t{"Eq. 9 error of the identified surfaces over the whole and the practical strain range",
+                 "force",
+                 {"whole", "practical", "points (whole)", "points (practical)"},
+                 {},
+                 {},
+                 3,
+                 {3, 3, 4, 4}};
   for (const char* f : {"course", "wale"}) {
     if (!e.contains(f)) continue;
     t.labels.push_back(f);
-    t.rows.push_back({num(e[f], "whole"), num(e[f], "practical"), num(e[f], "points_whole"), num(e[f], "points_practical")});
+    t.rows.push_back(
+        {num(e[f], "whole"), num(e[f], "practical"), num(e[f], "points_whole"), num(e[f], "points_practical")});
   }
   Section& s = d.section(kEq9);
   s.table(std::move(t));
@@ -132,16 +138,27 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
                {"active set (bounds)", opt.active_set},
                {"resumed from a checkpoint", opt.resume_from.has_value()}};
     s.table(std::move(lm));
-    NumericTable p{"Coefficients to identify ([[parameter]]): start, LM scale and bounds", "coefficient",
-                   {"start", "scale", "lower", "upper"}, {}, {}, 6, {}};
+    NumericTable p{"Coefficients to identify ([[parameter]]): start, LM scale and bounds",
+                   "coefficient",
+                   {"start", "scale", "lower", "upper"},
+                   {},
+                   {},
+                   6,
+                   {}};
     for (const auto& q : objective.parameters()) {
       p.labels.push_back(q.name);
       p.rows.push_back({q.start, q.resolved_scale(), q.lower, q.upper});
     }
     s.table(std::move(p));
-    NumericTable g{"Data groups of f (eq. 1): values N_g, weight w_g, scale s_g, and each group's part of f at J* "
-                   "and its share",
-                   "group", {"values", "weight", "scale", "scale is σ", "f_g", "share of f"}, {}, {}, 6, {}};
+    NumericTable g{
+        "Data groups of f (eq. 1): values N_g, weight w_g, scale s_g, and each group's part of f at J* "
+        "and its share",
+        "group",
+        {"values", "weight", "scale", "scale is σ", "f_g", "share of f"},
+        {},
+        {},
+        6,
+        {}};
     const Eigen::VectorXd& res = r.residuals;
     const bool have_r = res.size() >= objective.data().size();
     const double f = have_r ? 0.5 * res.squaredNorm() : 0.0;
@@ -160,8 +177,8 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
       s.note("No plot of the history (plots turned off, or gnuplot missing): the steps are in history.csv and below.");
     else
       s.figure(fs::path("plots") / "history.png",
-             fmt::format("Objective f (eq. 1, log scale) and each coefficient over the {} per LM iteration.",
-                         o.truth ? "truth" : "identified value"));
+               fmt::format("Objective f (eq. 1, log scale) and each coefficient over the {} per LM iteration.",
+                           o.truth ? "truth" : "identified value"));
     NumericTable h{"Accepted LM steps", "iteration", {"f"}, {}, {}, 5, {}};
     h.columns.insert(h.columns.end(), r.names.begin(), r.names.end());
     for (const auto& e : r.history) {
@@ -177,8 +194,13 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
   {
     Section& s = d.section(kCoefficients);
     s.callout(r.brief_report());
-    NumericTable c{"Identified coefficients J* with standard errors and 95 % intervals (J* ± 1.96 s.e.)", "coefficient",
-                   {"start", "identified", "std error", "rel. s.e. %", "95 % low", "95 % high"}, {}, {}, 6, {}};
+    NumericTable c{"Identified coefficients J* with standard errors and 95 % intervals (J* ± 1.96 s.e.)",
+                   "coefficient",
+                   {"start", "identified", "std error", "rel. s.e. %", "95 % low", "95 % high"},
+                   {},
+                   {},
+                   6,
+                   {}};
     c.column_digits = {4, 6, 3, 2, 6, 6};
     if (o.truth) {
       c.columns.insert(c.columns.end(), {"truth", "rel. error %", "error / s.e."});
@@ -220,8 +242,9 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
     d.section(kCorrelation)
         .heat_map(HeatMap{"Correlation matrix of the identified coefficients (covariance / (s.e. ⊗ s.e.))", r.names,
                           u.correlation})
-        .note("Strong correlations (|ρ| near 1) mark coefficients the data separate poorly; grey cells belong to a "
-              "coefficient with an infinite standard error.");
+        .note(
+            "Strong correlations (|ρ| near 1) mark coefficients the data separate poorly; grey cells belong to a "
+            "coefficient with an infinite standard error.");
   }
 
   // Local identifiability at J*.
@@ -238,7 +261,12 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
     s.table(std::move(sv));
     if (u.least_identifiable.size() == Eigen::Index(n)) {
       NumericTable l{"Least identifiable direction: the relative change δJ_k/|J_k| that changes the residuals least",
-                     "", r.names, {}, std::vector<std::vector<double>>(1), 3, {}};
+                     "",
+                     r.names,
+                     {},
+                     std::vector<std::vector<double>>(1),
+                     3,
+                     {}};
       for (std::size_t k = 0; k < n; ++k) l.rows[0].push_back(u.least_identifiable(Eigen::Index(k)));
       s.table(std::move(l));
     }
@@ -249,10 +277,16 @@ report::Document identification_report(const IdentificationSpec& spec, const Pro
     const json result = json::parse(io::read_text(out / "result.json"));
     if (result.contains("design") && result["design"].is_object()) {
       const json& g = result["design"];
-      NumericTable t{fmt::format("Which added test would help most ({}; best: {}): worst relative standard error now {:.3g}",
-                                 g.value("criterion", ""), g.value("best", ""),
-                                 g.value("worst_relative_std_error_now", std::nan(""))),
-                     "candidate", {"held strain", "score", "worst rel. s.e. with it"}, {}, {}, 4, {}};
+      NumericTable t{
+          fmt::format("Which added test would help most ({}; best: {}): worst relative standard error now {:.3g}",
+                      g.value("criterion", ""), g.value("best", ""),
+                      g.value("worst_relative_std_error_now", std::nan(""))),
+          "candidate",
+          {"held strain", "score", "worst rel. s.e. with it"},
+          {},
+          {},
+          4,
+          {}};
       for (const json& c : g["candidates"]) {
         if (c.contains("failed")) continue;
         t.labels.push_back(c.value("name", ""));

@@ -13,8 +13,9 @@ namespace tricot::project {
 /// The identification's report: inputs and settings, LM history, coefficients with standard errors
 /// and 95 % intervals, correlation heat map, local identifiability, fits, wall time. Figures are the
 /// PNGs under `out`/plots (a note stands in for those not drawn).
-report::Document identification_report(const IdentificationSpec& spec, const Project& project, const IdentifyOutcome& outcome,
-                                       const std::filesystem::path& out, double wall_seconds);
+report::Document identification_report(const IdentificationSpec& spec, const Project& project,
+                                       const IdentifyOutcome& outcome, const std::filesystem::path& out,
+                                       double wall_seconds);
 
 /// Builds identification_report and writes `out`/report.html and report.json.
 void write_identification_report(const IdentificationSpec& spec, const Project& project, const IdentifyOutcome& outcome,

@@ -26,7 +26,9 @@ SectionSpec experiment_section() {
                 "The measurements (`tricot synth` writes such a folder): DIR/<test>/forces.csv (step, load,\n"
                 "edge_displacement, edge_force) and optionally DIR/<test>/field.csv (step, id, x, y, u, v),\n"
                 "one sub-folder per [[test]] of this file, with the same steps.",
-                false, {}, {}};
+                false,
+                {},
+                {}};
   s.keys = {
       key("dir", std::string("experiment"), "The experiment folder, relative to this file."),
       key("field_kind", std::string("cumulative"),
@@ -50,7 +52,9 @@ SectionSpec parameter_section() {
                 "One identified coefficient of [law] (the others keep their [law] values). LM works in\n"
                 "x = J / scale: with scale = 0 the steps are relative to the start, as the paper's\n"
                 "J_{i+1} = J_i + t_i·J_i (docs/theory.md §3).",
-                true, {}, {}};
+                true,
+                {},
+                {}};
   s.keys = {
       key("name", std::string("C10"),
           "The coefficient's name in the law (e.g. C10, C03; a1 … for a response surface), or\n"
@@ -61,8 +65,7 @@ SectionSpec parameter_section() {
       key("start", 0.1,
           "Start value, in the coefficient's units. Not given: the value in [law], so that [law] can\n"
           "hold the start point (1 for a force scale)."),
-      key("scale", 0.0,
-          "Typical size of the coefficient, > 0; 0 = |start|. A zero start needs a scale.", 0, 1e12),
+      key("scale", 0.0, "Typical size of the coefficient, > 0; 0 = |start|. A zero start needs a scale.", 0, 1e12),
       key("bounds", io::Reals{},
           "[lower, upper] bounds on the coefficient; [] = none. A coefficient that LM's steps keep pushing\n"
           "onto its bound, where f decreases out of the box, is held there (the log says so) and LM steps in\n"
@@ -76,7 +79,9 @@ SectionSpec data_section() {
   SectionSpec s{"data",
                 "Which data enter the objective f, eq. (1), and their weights w_g (docs/theory.md §2); 0 leaves a\n"
                 "kind of data out. Each group is normalised by its σ or RMS, so weights compare kinds.",
-                false, {}, {}};
+                false,
+                {},
+                {}};
   s.keys = {
       key("edge_displacement", d.edge_displacement,
           "Grip displacement (the cross-head), ≥ 0; used for force-controlled tests only.", 0, 1e12),
@@ -99,8 +104,8 @@ SectionSpec data_section() {
           "along wale is kept when its held εC (centre, first step) is in it; a test pulled along course\n"
           "keeps its steps up to the last with centre εC <= max. Unset: no restriction across/along course.",
           -1, 100),
-      key("domain_wale", io::Reals{}, "[min, max] εW of the restriction, as domain_course with the two directions swapped.",
-          -1, 100),
+      key("domain_wale", io::Reals{},
+          "[min, max] εW of the restriction, as domain_course with the two directions swapped.", -1, 100),
       key("domain_weight", 0.0,
           "0: the data outside domain_course x domain_wale are left out (a restricted identification). In (0, 1]:\n"
           "every test and step is kept, and the steps a restriction would leave out weigh this much (a\n"
@@ -116,16 +121,22 @@ SectionSpec design_section() {
                 "direction of the rig tests, the first such test held at each candidate transverse strain is\n"
                 "simulated with the identified law; its sensitivities are added to the information matrix, and\n"
                 "the candidates are ranked (D-optimal: the largest det; A-optimal: the smallest mean variance).",
-                false, {}, {}};
-  s.keys = {key("transverse_strains", io::Reals{}, "Candidate held strains across the pull (Green–Lagrange), e.g. [0.1, 0.3, 0.85].",
-                -0.4, 10),
-            key("criterion", std::string("d_optimal"), "d_optimal or a_optimal.", -kInf, kInf, {"d_optimal", "a_optimal"})};
+                false,
+                {},
+                {}};
+  s.keys = {
+      key("transverse_strains", io::Reals{},
+          "Candidate held strains across the pull (Green–Lagrange), e.g. [0.1, 0.3, 0.85].", -0.4, 10),
+      key("criterion", std::string("d_optimal"), "d_optimal or a_optimal.", -kInf, kInf, {"d_optimal", "a_optimal"})};
   return s;
 }
 
 SectionSpec identify_section() {
   const ident::IdentifyOptions o;
-  SectionSpec s{"identify", "Levenberg–Marquardt and its stopping criteria (docs/theory.md §3, paper eqs. 2 and 3).", false, {},
+  SectionSpec s{"identify",
+                "Levenberg–Marquardt and its stopping criteria (docs/theory.md §3, paper eqs. 2 and 3).",
+                false,
+                {},
                 {}};
   s.keys = {
       key("epsilon", o.epsilon, "Eq. (2): stop when f < epsilon; 0 = off. Paper: 1e-12.", 0, 1),
@@ -133,15 +144,18 @@ SectionSpec identify_section() {
           "Eq. (3): stop when an accepted step changes no coefficient by more than delta (relative),\n"
           "in (0, 1). Paper: 1e-5.",
           0, 1),
-      key("function_tolerance", o.function_tolerance, "Stop when a step changes f by less than this fraction of f; 0 = off.", 0, 1),
-      key("gradient_tolerance", o.gradient_tolerance, "Stop when the gradient's max-norm (LM units) is below this; 0 = off.", 0, 1e12),
+      key("function_tolerance", o.function_tolerance,
+          "Stop when a step changes f by less than this fraction of f; 0 = off.", 0, 1),
+      key("gradient_tolerance", o.gradient_tolerance,
+          "Stop when the gradient's max-norm (LM units) is below this; 0 = off.", 0, 1e12),
       key("max_iterations", std::int64_t{o.max_iterations},
           "LM iterations in all (accepted and rejected, stability restarts included).", 1, 100000),
       key("stability_test", o.stability_test,
           "The paper's stability test: after convergence, f with each coefficient scaled by (1 ± eta);\n"
           "LM restarts from a lower one."),
       key("stability_eta", o.stability_eta, "η of the stability test, in (0, 1).", 0, 1),
-      key("max_restarts", std::int64_t{o.max_restarts}, "Stability restarts before giving up (termination `unstable`).", 0, 1000),
+      key("max_restarts", std::int64_t{o.max_restarts}, "Stability restarts before giving up (termination `unstable`).",
+          0, 1000),
       key("jacobian", std::string("exact"),
           "exact: from the FE sensitivities (docs/theory.md §7). finite_difference: one perturbed FE run per\n"
           "coefficient (two when central), in parallel threads (the paper's way).",
@@ -149,9 +163,12 @@ SectionSpec identify_section() {
       key("difference", std::string("forward"), "finite_difference only: forward or central.", -kInf, kInf,
           {"forward", "central"}),
       key("fd_step", o.fd_step, "finite_difference only: step h_k = fd_step · scale_k, in (0, 0.1].", 0, 0.1),
-      key("threads", std::int64_t{o.threads}, "Threads for tests and finite-difference columns; 0 = all cores; more than the cores run as many as the cores.", 0, 1024),
-      key("initial_trust_region_radius", o.initial_trust_region_radius, "LM's first trust-region radius (1/μ₀, LM units), > 0.",
-          0, 1e16),
+      key("threads", std::int64_t{o.threads},
+          "Threads for tests and finite-difference columns; 0 = all cores; more than the cores run as many as the "
+          "cores.",
+          0, 1024),
+      key("initial_trust_region_radius", o.initial_trust_region_radius,
+          "LM's first trust-region radius (1/μ₀, LM units), > 0.", 0, 1e16),
       key("line_search_trials", std::int64_t{o.line_search_trials},
           "With bounds: the most trial points of the projected line search along each LM step (each one\n"
           "FE evaluation).",
@@ -184,7 +201,8 @@ SectionSpec identify_section() {
 
 std::vector<ident::Parameter> build_parameters(const IdentificationSpec& spec, const fem::Law& law) {
   if (spec.parameter.empty())
-    spec.origin.fail("parameter", "the project identifies nothing", "no [[parameter]]", "one [[parameter]] per coefficient");
+    spec.origin.fail("parameter", "the project identifies nothing", "no [[parameter]]",
+                     "one [[parameter]] per coefficient");
   const std::vector<std::string> names = law.coefficient_names();
   const Eigen::VectorXd c = law.coefficients();
   std::vector<ident::Parameter> out;
@@ -193,10 +211,9 @@ std::vector<ident::Parameter> build_parameters(const IdentificationSpec& spec, c
     const std::string& name = p.name;
     const auto it = std::find(names.begin(), names.end(), name);
     const std::string suffix = std::string(".") + ident::kForceScale;
-    const bool is_scale = it == names.end() && name.ends_with(suffix) &&
-                          std::any_of(spec.test.begin(), spec.test.end(), [&](const TestSpec& t) {
-                            return t.name + suffix == name;
-                          });
+    const bool is_scale =
+        it == names.end() && name.ends_with(suffix) &&
+        std::any_of(spec.test.begin(), spec.test.end(), [&](const TestSpec& t) { return t.name + suffix == name; });
     if (it == names.end() && !is_scale) {
       const std::string hint = io::closest_name(name, names);
       std::string all;
@@ -208,7 +225,8 @@ std::vector<ident::Parameter> build_parameters(const IdentificationSpec& spec, c
     }
     for (const auto* list : {&out, &scales})
       for (const auto& q : *list)
-        if (q.name == name) p.origin.fail("name", "this coefficient is identified twice", "\"" + name + "\"", "unique names");
+        if (q.name == name)
+          p.origin.fail("name", "this coefficient is identified twice", "\"" + name + "\"", "unique names");
     ident::Parameter x;
     x.name = name;
     x.start = p.start ? *p.start : is_scale ? 1.0 : c(it - names.begin());
@@ -217,9 +235,9 @@ std::vector<ident::Parameter> build_parameters(const IdentificationSpec& spec, c
     if (p.start) check_key(p.origin, parameter_section(), "start", *p.start);
     check_key(p.origin, parameter_section(), "scale", p.scale);
     if (x.start == 0 && x.scale == 0)
-      p.origin.fail("scale",
-                    fmt::format("parameter {} starts at 0 and has no scale: LM's steps are relative to the start", name),
-                    "0.0", "> 0, the size of a typical change of " + name);
+      p.origin.fail(
+          "scale", fmt::format("parameter {} starts at 0 and has no scale: LM's steps are relative to the start", name),
+          "0.0", "> 0, the size of a typical change of " + name);
     const io::Reals& b = p.bounds;
     check_key(p.origin, parameter_section(), "bounds", b);
     if (!b.empty()) {
@@ -276,8 +294,9 @@ Model check_model(const IdentificationSpec& spec) {
       t.mesh.nx = t.mesh.ny = 0;  // the coarse level's nx, ny for every test
       m.coarse_models.push_back(t.model(mesh, spec.rig));
       if (m.coarse_models.back().mesh.dofs() >= m.models[k].mesh.dofs())
-        at.fail("coarse_mesh", fmt::format("not coarser than the mesh of test '{}' ({} dofs against its {})", spec.test[k].name,
-                                           m.coarse_models.back().mesh.dofs(), m.models[k].mesh.dofs()),
+        at.fail("coarse_mesh",
+                fmt::format("not coarser than the mesh of test '{}' ({} dofs against its {})", spec.test[k].name,
+                            m.coarse_models.back().mesh.dofs(), m.models[k].mesh.dofs()),
                 io::to_toml(c), "fewer elements than [mesh] and every test's own mesh");
     }
   }
@@ -368,7 +387,9 @@ SectionSpec eq9_section() {
                 "identified and the measured force per unit width at the experimental points (each step of a\n"
                 "test pulled along wale, material_angle 0, or course, 90: grip force / full width against the\n"
                 "centre strain of the measured field), over all points and over the practical domain.",
-                false, {}, {}};
+                false,
+                {},
+                {}};
   s.keys = {
       key("practical_course", io::Reals{d.eC_min, d.eC_max},
           "[min, max] Green–Lagrange εC of practical use (paper: 60–100 %).", -1, 100),
@@ -388,10 +409,13 @@ SectionSpec eq9_section() {
 
 SectionSpec identifiability_section() {
   const ident::IdentifiabilityOptions o;
-  SectionSpec s{"identifiability",
-                "result.json's \"identifiability\" (docs/theory.md §8, beyond the paper): relative standard errors, the\n"
-                "least identifiable direction and each test's share of the information, from ∂r/∂J at the answer.",
-                false, {}, {}};
+  SectionSpec s{
+      "identifiability",
+      "result.json's \"identifiability\" (docs/theory.md §8, beyond the paper): relative standard errors, the\n"
+      "least identifiable direction and each test's share of the information, from ∂r/∂J at the answer.",
+      false,
+      {},
+      {}};
   s.keys = {key("pinned_relative_error", o.pinned_relative_error,
                 "A coefficient is pinned down when its relative standard error is below this, > 0.", 0, 1e6)};
   return s;
@@ -453,7 +477,8 @@ void check_eq9(const Eq9Spec& eq9, const Project& P) {
   for (int f = 0; f < 2; ++f) {
     if (points[f].empty()) continue;
     try {
-      (void)ident::eq9_error(points[f], [](double, double) { return 0.0; }, P.eq9_practical);
+      (void)ident::eq9_error(
+          points[f], [](double, double) { return 0.0; }, P.eq9_practical);
     } catch (const InputError& e) {
       if (e.where().key != "eq9.practical") throw;
       const std::string what = std::string(e.what()).substr(e.where().key.size() + 2);
@@ -477,8 +502,8 @@ void check_tests_match_data(const CaseSpec& spec, const std::vector<fem::TestMod
     if (truth)
       if (const Truth::Test* tt = truth->find(t.name); tt && !tt->control.empty() && tt->control != t.control)
         t.origin.fail("control",
-                      fmt::format("contradicts {}, whose data were made under {} control",
-                                  (dir / kTruthFile).string(), tt->control),
+                      fmt::format("contradicts {}, whose data were made under {} control", (dir / kTruthFile).string(),
+                                  tt->control),
                       "\"" + t.control + "\"", "\"" + tt->control + "\"");
     const std::vector<double>& m = models[i].loads;
     const std::vector<double>& L = d->loads;
@@ -491,8 +516,7 @@ void check_tests_match_data(const CaseSpec& spec, const std::vector<fem::TestMod
     const auto at = [](const std::vector<double>& v, std::size_t j) {
       return j < v.size() ? format_number(v[j]) : std::string("none");
     };
-    t.origin.fail(key,
-                  fmt::format("the test's loads differ from {} from step {} on", forces, k + 1),
+    t.origin.fail(key, fmt::format("the test's loads differ from {} from step {} on", forces, k + 1),
                   fmt::format("{} steps, load {} at step {}", m.size(), at(m, k), k + 1),
                   fmt::format("{} steps, load {} at step {} as in the data", L.size(), at(L, k), k + 1));
   }
@@ -500,7 +524,8 @@ void check_tests_match_data(const CaseSpec& spec, const std::vector<fem::TestMod
 
 // [[test]] fit_steps: the FE models and the data of the chosen steps alone (a condition's series and a
 // guide per step are cut with them).
-void select_fit_steps(const IdentificationSpec& spec, ident::FieldKind kind, Project& P, ident::Experiment& experiment) {
+void select_fit_steps(const IdentificationSpec& spec, ident::FieldKind kind, Project& P,
+                      ident::Experiment& experiment) {
   for (std::size_t i = 0; i < spec.test.size() && i < P.models.size(); ++i) {
     const TestSpec& t = spec.test[i];
     if (t.fit_steps.empty()) continue;
@@ -512,8 +537,9 @@ void select_fit_steps(const IdentificationSpec& spec, ident::FieldKind kind, Pro
     for (double s : t.fit_steps) {
       if (s != std::floor(s) || s > d->steps() || (!keep.empty() && s - 1 <= keep.back()))
         t.origin.fail("fit_steps", fmt::format("not an increasing list of step numbers from 1 to {}", d->steps()),
-                      format_number(s), fmt::format("whole numbers, increasing, at most {} (the rows of {})",
-                                                    d->steps(), (fs::path(spec.experiment.dir) / t.name / kForcesFile).string()));
+                      format_number(s),
+                      fmt::format("whole numbers, increasing, at most {} (the rows of {})", d->steps(),
+                                  (fs::path(spec.experiment.dir) / t.name / kForcesFile).string()));
       keep.push_back(static_cast<int>(s) - 1);
     }
     if (kind == ident::FieldKind::incremental && d->has_field())
@@ -594,16 +620,16 @@ DataSpec DataSpec::from_config(const io::Node& n) {
     d.origin.fail("field_sigma", "a σ per point scales the field data, fixed weights do not", "\"per_point\"",
                   "\"group\", or weighting = \"scaled\"");
   if (d.domain_weight > 0 && !d.domain_course && !d.domain_wale)
-    d.origin.fail("domain_weight", "weights the steps outside a domain, but no domain is given", format_number(d.domain_weight),
-                  "domain_course or domain_wale set, or domain_weight = 0");
+    d.origin.fail("domain_weight", "weights the steps outside a domain, but no domain is given",
+                  format_number(d.domain_weight), "domain_course or domain_wale set, or domain_weight = 0");
   return d;
 }
 
 namespace {
 
 // A [min, max] strain interval given at `key` ([data] domain_*, [eq9] practical_*): checked, then set.
-void set_interval(const Origin& origin, const SectionSpec& table, const char* key, const std::optional<io::Reals>& given,
-                  double& lo, double& hi) {
+void set_interval(const Origin& origin, const SectionSpec& table, const char* key,
+                  const std::optional<io::Reals>& given, double& lo, double& hi) {
   if (!given) return;
   const io::Reals& r = *given;
   if (r.size() != 2 || r[0] > r[1])
@@ -718,9 +744,10 @@ Project build_project(const IdentificationSpec& given, const fs::path& base) {
   const bool has_field = std::any_of(experiment.tests.begin(), experiment.tests.end(),
                                      [](const ident::TestData& d) { return d.has_field(); });
   if (P.truth && has_field && P.truth->field_kind != kind)
-    ex.origin.fail("field_kind", fmt::format("{}/truth.json says the field data are {}", dir.string(),
-                                             ident::to_string(P.truth->field_kind)),
-                   "\"" + ex.field_kind + "\"", ident::to_string(P.truth->field_kind));
+    ex.origin.fail(
+        "field_kind",
+        fmt::format("{}/truth.json says the field data are {}", dir.string(), ident::to_string(P.truth->field_kind)),
+        "\"" + ex.field_kind + "\"", ident::to_string(P.truth->field_kind));
   for (auto& d : experiment.tests) {
     if (ex.sigma_from_truth) {
       if (!P.truth)
@@ -739,15 +766,16 @@ Project build_project(const IdentificationSpec& given, const fs::path& base) {
     if (dn.field_sigma != "per_point") {
       d.sigma_u.resize(0, 0), d.sigma_v.resize(0, 0);
     } else if (d.has_field() && d.sigma_u.size() == 0) {
-      dn.origin.fail("field_sigma", "field.csv of test '" + d.name + "' has no sigma_u, sigma_v columns", "\"per_point\"",
-                     "a field.csv written by tricot experiment");
+      dn.origin.fail("field_sigma", "field.csv of test '" + d.name + "' has no sigma_u, sigma_v columns",
+                     "\"per_point\"", "a field.csv written by tricot experiment");
     }
   P.eq9_points = eq9_points(P.models, experiment, P.eq9_nearest);
   if (const auto domain = dn.domain()) {
     ident::Restriction r, coarse;
     try {
       r = ident::restrict_to_domain(P.models, experiment, *domain, P.eq9_nearest);
-      if (!P.coarse_models.empty()) coarse = ident::restrict_to_domain(P.coarse_models, experiment, *domain, P.eq9_nearest);
+      if (!P.coarse_models.empty())
+        coarse = ident::restrict_to_domain(P.coarse_models, experiment, *domain, P.eq9_nearest);
     } catch (const InputError& e) {
       throw InputError(dn.origin.where(dn.domain_course ? "domain_course" : "domain_wale"), problem_of(e));
     }

@@ -26,7 +26,8 @@ inline Eigen::VectorXd json_vec(const json& j) {
 /// name the file and key themselves.
 inline std::string json_problem(const std::exception& e) {
   std::string what = e.what();
-  if (const auto p = what.find("] "); what.rfind("[json.exception", 0) == 0 && p != std::string::npos) what.erase(0, p + 2);
+  if (const auto p = what.find("] "); what.rfind("[json.exception", 0) == 0 && p != std::string::npos)
+    what.erase(0, p + 2);
   return what;
 }
 
@@ -51,7 +52,8 @@ inline Eigen::VectorXd json_get_vec(const json& j, const std::string& key, const
 
 /// `j[key]` as T when present (else `fallback`), or an InputError naming the file and the key.
 template <class T>
-T json_get_or(const json& j, const std::string& key, T fallback, const std::string& file, const std::string& path = "") {
+T json_get_or(const json& j, const std::string& key, T fallback, const std::string& file,
+              const std::string& path = "") {
   if (!j.is_object() || !j.contains(key)) return fallback;
   const json& v = j[key];
   bool ok = false;

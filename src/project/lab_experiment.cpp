@@ -103,12 +103,15 @@ void ExperimentSpec::validate() const {
   check_key(origin, table, "sigma_edge_force", sigma_edge_force);
   check_key(origin, table, "model", model);
   if (full() && force_control())
-    origin.fail("control", "a full model's boundaries carry the motion (its loads are the steps' frames): force control is the quarter's",
-                "\"force\"", "\"displacement\"");
+    origin.fail(
+        "control",
+        "a full model's boundaries carry the motion (its loads are the steps' frames): force control is the quarter's",
+        "\"force\"", "\"displacement\"");
 }
 
 io::SectionSpec lab_schema() {
-  io::SectionSpec root{"", "tricot experiment: a lab's raw files → an experiment folder for `tricot identify`.", false, {}, {}};
+  io::SectionSpec root{
+      "", "tricot experiment: a lab's raw files → an experiment folder for `tricot identify`.", false, {}, {}};
   root.sections.push_back(experiment_section());
   root.sections.push_back(io::SectionSpec{
       "sync",
@@ -128,7 +131,8 @@ io::SectionSpec lab_schema() {
       true,
       {key("name", std::string("tension"), "Folder name of the test in DIR (and [[test]] name in project.toml)."),
        key("images", std::string(""), "Folder of the numbered image sequence (.png, .tif, .bmp; image 0 unloaded)."),
-       key("dic", std::string(""), "Or: a `tricot dic` output folder to reuse (points.csv, frames.csv, increments.csv)."),
+       key("dic", std::string(""),
+           "Or: a `tricot dic` output folder to reuse (points.csv, frames.csv, increments.csv)."),
        key("frame_times", std::string("camera_log"),
            "Where frame times come from: camera_log (CSV of file and time), fps (fps and start_s) or "
            "file_names (`img_0003_t1.500s.tif`).",
@@ -181,8 +185,10 @@ io::SectionSpec lab_schema() {
            "free_length_mm is given), and a one-sided pull's rigid motion is removed with their mean."),
        key("points", io::Strings{}, "The tracked points that are the field (default: every point but the clamps)."),
        key("sigma_tracks", 0.5, "σ of a tracked position, in tracks_unit (field.csv's sigma_u, sigma_v).", 0, 1e6),
-       key("frame_stride", std::int64_t{1}, "Steps are every frame_stride-th frame after the first (the reference), and the last.", 1, 1000000),
-       key("mm_per_px", 0.0, "This test's pixel size, mm/px (a camera and zoom per test); 0 = [physical] mm_per_px.", 0, 1e6),
+       key("frame_stride", std::int64_t{1},
+           "Steps are every frame_stride-th frame after the first (the reference), and the last.", 1, 1000000),
+       key("mm_per_px", 0.0, "This test's pixel size, mm/px (a camera and zoom per test); 0 = [physical] mm_per_px.", 0,
+           1e6),
        key("model", std::string("kind = \"uniaxial\""),
            "TOML lines added to this test's [[test]] in DIR/project.toml (kind, grip_holds_x, mesh, ...)."),
        key("force_scale", false,
@@ -196,7 +202,8 @@ io::SectionSpec lab_schema() {
       s.help = "The camera: scale (mm_per_px, or two image points a known distance apart), specimen centre, axes.";
       for (io::KeySpec& k : s.keys)
         if (k.name == "mm_per_px") k.help = "Pixel size, mm/px; 0 = from scale_points and scale_distance_mm.";
-      s.keys.push_back(key("scale_points", io::Reals{}, "[x0, y0, x1, y1] px: two image points a known distance apart."));
+      s.keys.push_back(
+          key("scale_points", io::Reals{}, "[x0, y0, x1, y1] px: two image points a known distance apart."));
       s.keys.push_back(key("scale_distance_mm", 0.0, "Their distance, mm.", 0, 1e9));
     }
     root.sections.push_back(std::move(s));
@@ -242,16 +249,20 @@ double camera_scale(const io::Node& physical) {
   if (physical.given("mm_per_px") || !physical.given("scale_points")) {
     const double s = physical.real("mm_per_px");
     if (!(s > 0))
-      physical.fail("mm_per_px", "a scale of zero: the pixel size must be > 0 (or give scale_points and scale_distance_mm)",
-                    num(s), "mm_per_px > 0");
+      physical.fail("mm_per_px",
+                    "a scale of zero: the pixel size must be > 0 (or give scale_points and scale_distance_mm)", num(s),
+                    "mm_per_px > 0");
     return s;
   }
   const io::Reals& p = physical.reals("scale_points");
-  if (p.size() != 4) physical.fail("scale_points", "two points are four numbers", std::to_string(p.size()) + " numbers", "[x0, y0, x1, y1]");
+  if (p.size() != 4)
+    physical.fail("scale_points", "two points are four numbers", std::to_string(p.size()) + " numbers",
+                  "[x0, y0, x1, y1]");
   try {
     return lab::scale_from_points({p[0], p[1]}, {p[2], p[3]}, physical.real("scale_distance_mm"));
   } catch (const InputError& e) {
-    physical.fail(e.where().key.find("distance") != std::string::npos ? "scale_distance_mm" : "scale_points", e.problem());
+    physical.fail(e.where().key.find("distance") != std::string::npos ? "scale_distance_mm" : "scale_points",
+                  e.problem());
   }
 }
 
@@ -260,12 +271,9 @@ dic::PhysicalFrame camera_frame(const io::Node& physical, int width, int height)
   dic::PhysicalFrame f;
   f.mm_per_px = camera_scale(physical);
   const io::Reals& c = physical.reals("centre_px");
-  if (c.empty())
-    f.centre_px = {0.5 * (width - 1), 0.5 * (height - 1)};
-  else if (c.size() == 2)
-    f.centre_px = {c[0], c[1]};
-  else
-    physical.fail("centre_px", "the centre is two numbers", std::to_string(c.size()) + " numbers", "[x, y] or []");
+  if (c.empty()) f.centre_px = {0.5 * (width - 1), 0.5 * (height - 1)};
+  else if (c.size() == 2) f.centre_px = {c[0], c[1]};
+  else physical.fail("centre_px", "the centre is two numbers", std::to_string(c.size()) + " numbers", "[x, y] or []");
   f.angle_deg = physical.real("angle_deg");
   f.y_up = physical.boolean("y_up");
   return f;
@@ -283,15 +291,16 @@ std::vector<double> image_times(const io::Node& t, const std::vector<std::string
     for (const auto& n : names) times.push_back(io::time_from_file_name(fs::path(n).filename().string()));
   } else {
     const fs::path log = resolve(t, "camera_log");
-    if (log.empty()) t.fail("camera_log", "frame_times = \"camera_log\" needs the camera log", "\"\"", "a CSV file of file and time");
+    if (log.empty())
+      t.fail("camera_log", "frame_times = \"camera_log\" needs the camera log", "\"\"", "a CSV file of file and time");
     const auto frames = io::read_camera_log(log, t.string("camera_file_column"), t.string("camera_time_column"));
     std::map<std::string, double> by_name;
     for (const auto& f : frames) by_name[fs::path(f.file).filename().string()] = f.time;
     for (const auto& n : names) {
       const auto it = by_name.find(fs::path(n).filename().string());
       if (it == by_name.end())
-        throw InputError({log.string(), 0, t.string("camera_file_column")}, "no time for image " + fs::path(n).filename().string(),
-                         "", "a row for every image");
+        throw InputError({log.string(), 0, t.string("camera_file_column")},
+                         "no time for image " + fs::path(n).filename().string(), "", "a row for every image");
       times.push_back(it->second);
     }
   }
@@ -340,8 +349,8 @@ void write_field(const fs::path& file, const lab::QuarterField& q) {
   for (Eigen::Index k = 0; k < q.u.rows(); ++k)
     for (std::size_t p = 0; p < q.point_ids.size(); ++p) {
       const auto a = static_cast<Eigen::Index>(p);
-      s += fmt::format("{},{},{},{},{},{},{},{}\n", k + 1, q.point_ids[p], num(q.X[p](0)), num(q.X[p](1)), num(q.u(k, a)),
-                       num(q.v(k, a)), num(q.sigma_u(k, a)), num(q.sigma_v(k, a)));
+      s += fmt::format("{},{},{},{},{},{},{},{}\n", k + 1, q.point_ids[p], num(q.X[p](0)), num(q.X[p](1)),
+                       num(q.u(k, a)), num(q.v(k, a)), num(q.sigma_u(k, a)), num(q.sigma_v(k, a)));
     }
   io::write_atomic(file, s);
 }
@@ -359,23 +368,26 @@ void write_sync_data(const fs::path& dir, const lab::LoadLog& log, const lab::Sy
 }
 
 void plot_sync(const fs::path& out, const std::vector<LabTestResult>& tests, const Log& log) {
-  std::string script = fmt::format("set terminal pngcairo size 1000,{} font \",10\"\nset output {}\nset datafile separator \",\"\n"
-                                   "set multiplot layout {},2\n",
-                                   380 * tests.size(), io::gnuplot_quote(out / "sync.png"), tests.size());
+  std::string script = fmt::format(
+      "set terminal pngcairo size 1000,{} font \",10\"\nset output {}\nset datafile separator \",\"\n"
+      "set multiplot layout {},2\n",
+      380 * tests.size(), io::gnuplot_quote(out / "sync.png"), tests.size());
   for (const auto& t : tests) {
     const fs::path d = out / t.name;
     script += fmt::format(
-        "set title \"{0}: force (tare removed) vs load-cell time; images at t_k + δ, δ = {1:.4f} s\"\nset xlabel \"log time (s)\"\n"
+        "set title \"{0}: force (tare removed) vs load-cell time; images at t_k + δ, δ = {1:.4f} s\"\nset xlabel \"log "
+        "time (s)\"\n"
         "set ylabel \"force (N)\"\nset key top left\n"
-        "plot {2} using 1:2 with lines lc rgb \"#888888\" title \"load cell\", {3} using 1:2 with points pt 7 ps 0.8 lc rgb \"#d62728\" title \"images\"\n",
+        "plot {2} using 1:2 with lines lc rgb \"#888888\" title \"load cell\", {3} using 1:2 with points pt 7 ps 0.8 "
+        "lc rgb \"#d62728\" title \"images\"\n",
         t.name, t.sync.clock_offset_s, io::gnuplot_quote(d / "sync_log.csv"), io::gnuplot_quote(d / "sync_images.csv"));
-    if (t.sync.lag_s.empty())
-      script += "set title \"offset given\"\nunset key\nplot 0 notitle\n";
+    if (t.sync.lag_s.empty()) script += "set title \"offset given\"\nunset key\nplot 0 notitle\n";
     else
       script += fmt::format(
           "set title \"{0}: {1} criterion near its optimum\"\nset xlabel \"lag δ (s)\"\nset ylabel \"1 − |{2}|\"\n"
           "set logscale y\nset xrange [{3} - 1:{3} + 1]\nset arrow 1 from {3},graph 0 to {3},graph 1 nohead dt 2\n"
-          "plot {4} using 1:(1 - abs($2) + 1e-12) with lines lw 2 title \"criterion\"\nunset arrow 1\nunset logscale y\nset xrange [*:*]\n",
+          "plot {4} using 1:(1 - abs($2) + 1e-12) with lines lw 2 title \"criterion\"\nunset arrow 1\nunset logscale "
+          "y\nset xrange [*:*]\n",
           t.name, lab::to_string(t.sync.method), t.sync.method == lab::SyncMethod::crosshead ? "correlation r" : "R²",
           t.sync.clock_offset_s, io::gnuplot_quote(d / "sync_criterion.csv"));
   }
@@ -388,8 +400,9 @@ void plot_sync(const fs::path& out, const std::vector<LabTestResult>& tests, con
 // rest before it (the last setting image and the hold images: the cross-head at rest, then moving;
 // the setting images before them move the field but not the cross-head, so they are left out), the
 // tare from the log before image 0 (the setting loads the cell), then every image's force with both.
-lab::SyncResult synchronise_set_hold_pull(const lab::LoadLog& load, const lab::ImageTimes& images, std::size_t last_setting,
-                                          const lab::SyncOptions& options, const io::Node& t) {
+lab::SyncResult synchronise_set_hold_pull(const lab::LoadLog& load, const lab::ImageTimes& images,
+                                          std::size_t last_setting, const lab::SyncOptions& options,
+                                          const io::Node& t) {
   lab::ImageTimes pull;
   for (std::size_t k = last_setting; k < images.time.size(); ++k) {
     pull.time.push_back(images.time[k]);
@@ -431,27 +444,31 @@ namespace {
 
 std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, const std::vector<LabTestResult>& tests,
                              const fs::path& out) {
-  std::string s = fmt::format("# Written by `tricot experiment` from {}; then\n#   tricot identify {} -o OUT\n\n", root.file(),
-                              (out / "project.toml").string());
+  std::string s = fmt::format("# Written by `tricot experiment` from {}; then\n#   tricot identify {} -o OUT\n\n",
+                              root.file(), (out / "project.toml").string());
   const fs::path& tpl = e.project_template;
   if (!tpl.empty()) {
     s += io::read_text(tpl) + "\n";
   } else {
     const io::Node& t0 = root.array("test").front();
-    s += fmt::format("[mesh]   # the quarter of the full specimen: width and height are the full sizes\nwidth = {}\nheight = {}\n"
-                     "element = \"Q8\"\nnx = 10\nny = 34\n\n",
-                     num(t0.real("width_mm")), num(t0.real("free_length_mm")));
-    s += "[law]\ntype = \"mooney_rivlin\"   # choose the law\n\n[law.mooney_rivlin]\nterms = [\"C10\", \"C20\", \"C21\"]\n"
+    s += fmt::format(
+        "[mesh]   # the quarter of the full specimen: width and height are the full sizes\nwidth = {}\nheight = {}\n"
+        "element = \"Q8\"\nnx = 10\nny = 34\n\n",
+        num(t0.real("width_mm")), num(t0.real("free_length_mm")));
+    s += "[law]\ntype = \"mooney_rivlin\"   # choose the law\n\n[law.mooney_rivlin]\nterms = [\"C10\", \"C20\", "
+         "\"C21\"]\n"
          "values = [0.05, -0.01, 0.005]   # the start point\n\n";
-    s += fmt::format("[[parameter]]\nname = \"C10\"\n[[parameter]]\nname = \"C20\"\n[[parameter]]\nname = \"C21\"\n\n"
-                     "[data]\n{} = 1.0\nfield = 1.0\nfield_sigma = \"per_point\"   # the DIC's σ of every value (field.csv)\n\n",
-                     e.force_control() ? "edge_displacement" : "edge_force");
+    s += fmt::format(
+        "[[parameter]]\nname = \"C10\"\n[[parameter]]\nname = \"C20\"\n[[parameter]]\nname = \"C21\"\n\n"
+        "[data]\n{} = 1.0\nfield = 1.0\nfield_sigma = \"per_point\"   # the DIC's σ of every value (field.csv)\n\n",
+        e.force_control() ? "edge_displacement" : "edge_force");
   }
   for (std::size_t i = 0; i < tests.size(); ++i) {
     s += project_test_table(root.array("test")[i], tests[i], e);
     if (root.array("test")[i].boolean("force_scale"))
-      s += fmt::format("[[parameter]]   # {0}'s specimen against the law's (force_scale in the lab file)\nname = \"{0}.{1}\"\n\n",
-                       tests[i].name, ident::kForceScale);
+      s += fmt::format(
+          "[[parameter]]   # {0}'s specimen against the law's (force_scale in the lab file)\nname = \"{0}.{1}\"\n\n",
+          tests[i].name, ident::kForceScale);
   }
   s += fmt::format("[experiment]\ndir = \".\"\nfield_kind = \"{}\"\n", e.field_kind);
   double noise = 0;
@@ -497,12 +514,15 @@ std::string project_test_table(const io::Node& t, const LabTestResult& r, const 
     std::string lines = t.string("model");
     if (!lines.empty() && lines.back() != '\n') lines += '\n';
     // With clamps: the specimen between them, for a generated mesh ([mesh] whole = true).
-    const std::string mesh = r.free_length_mm > 0 ? fmt::format("[test.mesh]   # the test's own specimen: width, and the clamps' "
-                                                                "distance\nwidth = {}\nheight = {}\n",
-                                                                num(r.width_mm), num(r.free_length_mm))
-                                                  : "";
-    return fmt::format("[[test]]   # the whole specimen\nname = \"{}\"\n# loads: forces.csv (the steps' frames)\n{}{}\n", r.name,
-                       lines, mesh);
+    const std::string mesh = r.free_length_mm > 0
+                                 ? fmt::format(
+                                       "[test.mesh]   # the test's own specimen: width, and the clamps' "
+                                       "distance\nwidth = {}\nheight = {}\n",
+                                       num(r.width_mm), num(r.free_length_mm))
+                                 : "";
+    return fmt::format(
+        "[[test]]   # the whole specimen\nname = \"{}\"\n# loads: forces.csv (the steps' frames)\n{}{}\n", r.name,
+        lines, mesh);
   }
   // `direction` sets the material's orientation (issue 29): wale = material_angle 0, course = 90 (and a
   // rig's `pull`). Model lines that set them too must agree, or a course test would silently be fitted
@@ -516,11 +536,11 @@ std::string project_test_table(const io::Node& t, const LabTestResult& r, const 
     double a = NAN;
     try {
       a = std::stod(*angle);
-    } catch (const std::exception&) {
-    }
+    } catch (const std::exception&) {}
     const double m = std::fmod(std::fabs(a), 180.0);
     if (!(std::fabs(m - (course ? 90.0 : 0.0)) < 1e-9 || (!course && std::fabs(m - 180.0) < 1e-9)))
-      t.fail("model", fmt::format("its material_angle contradicts direction = \"{}\"", direction), "material_angle = " + *angle,
+      t.fail("model", fmt::format("its material_angle contradicts direction = \"{}\"", direction),
+             "material_angle = " + *angle,
              course ? "90 (or leave it out: direction sets it)" : "0 (or leave it out: direction sets it)");
   }
   if (pull && *pull != direction)
@@ -539,10 +559,11 @@ std::string project_test_table(const io::Node& t, const LabTestResult& r, const 
   }
   std::string lines = model;
   if (!lines.empty() && lines.back() != '\n') lines += '\n';
-  const std::string mesh = r.free_length_mm > 0 ? fmt::format("[test.mesh]   # the test's own specimen (tracks: free length "
-                                                               "between its clamps)\nwidth = {}\nheight = {}\n",
-                                                               num(r.width_mm), num(r.free_length_mm))
-                                                 : "";
+  const std::string mesh = r.free_length_mm > 0 ? fmt::format(
+                                                      "[test.mesh]   # the test's own specimen (tracks: free length "
+                                                      "between its clamps)\nwidth = {}\nheight = {}\n",
+                                                      num(r.width_mm), num(r.free_length_mm))
+                                                : "";
   return fmt::format("[[test]]   # {} direction{}\nname = \"{}\"\n{}{}control = \"{}\"\n{}{}\n", direction,
                      t.real("guide_mm") > 0 ? fmt::format(", guide {} mm", num(t.real("guide_mm"))) : "", r.name, lines,
                      orientation, e.control, loads, mesh);
@@ -555,13 +576,14 @@ std::vector<fs::path> list_images(const fs::path& folder) {
   for (const auto& e : fs::directory_iterator(folder, ec))
     if (e.is_regular_file() && is_image(e.path())) files.push_back(e.path());
   std::sort(files.begin(), files.end());
-  if (files.size() < 3) throw FileError({folder.string(), 0, ""}, fmt::format("{} images: a sequence needs at least 3", files.size()));
+  if (files.size() < 3)
+    throw FileError({folder.string(), 0, ""}, fmt::format("{} images: a sequence needs at least 3", files.size()));
   for (std::size_t k = 1; k < files.size(); ++k) {
     const long a = frame_number(files[k - 1]), b = frame_number(files[k]);
     if (a >= 0 && b > a + 1)
       throw FileError({(folder / files[k].filename()).string(), 0, ""},
-                      fmt::format("missing frame {}: the sequence jumps from {} to {}", a + 1, files[k - 1].filename().string(),
-                                  files[k].filename().string()));
+                      fmt::format("missing frame {}: the sequence jumps from {} to {}", a + 1,
+                                  files[k - 1].filename().string(), files[k].filename().string()));
   }
   return files;
 }
@@ -578,7 +600,8 @@ dic::SequenceResult read_dic_folder(const fs::path& dir, std::vector<std::string
   const auto col = [&](const char* c) { return optional_numbers(t, c); };
   const auto x = col("x"), y = col("y"), sx = col("sigma_x"), sy = col("sigma_y"), zn = col("zncc");
   int frames = 0, points = 0;
-  for (std::size_t i = 0; i < t.rows(); ++i) frames = std::max(frames, int(frame[i]) + 1), points = std::max(points, int(id[i]) + 1);
+  for (std::size_t i = 0; i < t.rows(); ++i)
+    frames = std::max(frames, int(frame[i]) + 1), points = std::max(points, int(id[i]) + 1);
   dic::SequenceResult r;
   r.grid.resize(std::size_t(points));
   r.frames.resize(std::size_t(frames));
@@ -648,24 +671,26 @@ double frame_force_noise(const std::vector<lab::ForceStep>& steps, const std::ve
     if (double d = values[i] - values[i - 1]; d > 1e-12 && (resolution == 0 || d < resolution)) resolution = d;
   double s1 = 0, s2 = 0;
   int n = 0;
-  const double peak = std::abs(steps.empty() ? 0.0 : std::max_element(steps.begin(), steps.end(), [](const auto& a, const auto& b) {
-                                                       return std::abs(a.grip_mm) < std::abs(b.grip_mm);
-                                                     })->grip_mm);
+  const double peak =
+      std::abs(steps.empty() ? 0.0 : std::max_element(steps.begin(), steps.end(), [](const auto& a, const auto& b) {
+                                       return std::abs(a.grip_mm) < std::abs(b.grip_mm);
+                                     })->grip_mm);
   for (const auto& f : steps)
     if (std::abs(f.grip_mm) <= 0.005 * peak) s1 += f.force_N, s2 += f.force_N * f.force_N, ++n;
   const double spread = n > 1 ? std::sqrt(std::max(0.0, (s2 - s1 * s1 / n) / (n - 1))) : 0.0;
   return std::max(spread, resolution / std::sqrt(12.0));
 }
 
-LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const ExperimentSpec& e, const fs::path& tdir,
-                              nlohmann::ordered_json& sync_json) {
+LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const ExperimentSpec& e,
+                              const fs::path& tdir, nlohmann::ordered_json& sync_json) {
   const std::string name = t.string("name");
   const TracksTest tt = tracks_test(t, physical, e.full());
   LabTestResult r;
   r.loads = fe_loads(tt.steps, e, tt.step_frames);
   write_forces(tdir / kForcesFile, tt.steps, r.loads);
   write_field(tdir / kFieldFile, tt.field);
-  if (!tt.clamp_motion.empty()) {  // the full model's clamps: series for [[test.boundary]] (series = "<test>/clamps.csv")
+  if (!tt.clamp_motion
+           .empty()) {  // the full model's clamps: series for [[test.boundary]] (series = "<test>/clamps.csv")
     std::string c = "step";
     for (const auto& m : tt.clamp_motion) c += fmt::format(",{0}_ux,{0}_uy", m.marker);
     c += "\n";
@@ -685,7 +710,8 @@ LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const
   r.outside = tt.field.outside, r.incomplete = tt.field.incomplete;
   // A full model without clamps knows no frame at rest (its grip is its boundaries'): no estimate.
   r.force_noise_N = e.full() && t.strings("clamps").empty() ? 0.0 : frame_force_noise(tt.steps, all);
-  if (!e.full() || tt.centred_on_clamps) r.width_mm = tt.geometry.width_mm, r.free_length_mm = tt.geometry.free_length_mm;
+  if (!e.full() || tt.centred_on_clamps)
+    r.width_mm = tt.geometry.width_mm, r.free_length_mm = tt.geometry.free_length_mm;
   sync_json[name] = {{"method", "frame_number"},
                      {"clock_offset_s", 0.0},
                      {"force_noise_N", r.force_noise_N},
@@ -729,8 +755,8 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     lab::SpecimenGeometry geometry{t.real("width_mm"), t.real("free_length_mm"), t.real("tolerance_mm")};
 
     if (e.full() && t.string("tracks").empty())
-      t.fail("tracks", "model = \"full\" takes point tracks (e.g. `tricot dic`'s specimen.csv, tracks_unit = \"mm\")", "\"\"",
-             "tracks = FILE");
+      t.fail("tracks", "model = \"full\" takes point tracks (e.g. `tricot dic`'s specimen.csv, tracks_unit = \"mm\")",
+             "\"\"", "tracks = FILE");
     if (!t.string("tracks").empty()) {  // point tracks from another tool, the force per frame
       result.tests.push_back(tracks_lab_test(t, root.section("physical"), e, tdir, sync_json));
       log.print(fmt::format("{}: {}", name, sync_json[name]["report"].get<std::string>()));
@@ -754,11 +780,12 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
         const image::LoadedImage ref = image::load_image(first);
         width = ref.image.width, height = ref.image.height;
       } else if (root.section("physical").reals("centre_px").empty()) {
-        t.fail("dic", "the reference image of the DIC folder is missing, so the specimen centre is unknown", first.string(),
-               "[physical] centre_px");
+        t.fail("dic", "the reference image of the DIC folder is missing, so the specimen centre is unknown",
+               first.string(), "[physical] centre_px");
       }
     } else {
-      if (t.string("images").empty()) t.fail("images", "a test needs its images or a `tricot dic` folder", "\"\"", "images = FOLDER or dic = FOLDER");
+      if (t.string("images").empty())
+        t.fail("images", "a test needs its images or a `tricot dic` folder", "\"\"", "images = FOLDER or dic = FOLDER");
       const auto files = list_images(resolve(t, "images"));
       for (const auto& f : files) names.push_back(f.string());
       DicSpec spec = DicSpec::from_config(root, fs::path(root.file()).parent_path());
@@ -796,16 +823,18 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     sync_options.crosshead_degree = static_cast<int>(so.integer("crosshead_degree"));
     sync_options.tare_margin_s = so.real("tare_margin_s");
     // A rig test's set, hold, pull: the steps are the pull's images only.
-    const int setting = static_cast<int>(t.integer("setting_images")), hold = static_cast<int>(t.integer("hold_images"));
+    const int setting = static_cast<int>(t.integer("setting_images")),
+              hold = static_cast<int>(t.integer("hold_images"));
     const std::size_t first_pull = std::size_t(1 + setting + hold);  // the image of the pull's first step
     if (first_pull + 1 >= images.time.size())
       t.fail(setting > 0 ? "setting_images" : "hold_images", "leaves fewer than two images of the pull",
              fmt::format("{} setting + {} hold of {} images", setting, hold, images.time.size()),
              fmt::format("at most {}", images.time.size() >= 3 ? images.time.size() - 3 : 0));
     if (first_pull > 1 && kind == lab::FieldKind::incremental)
-      t.fail("setting_images", "an incremental field of a test with setting images is not supported (its first step "
-             "would count from the held setting, the model's from the reference)", std::to_string(setting + hold),
-             "field_kind = \"cumulative\"");
+      t.fail("setting_images",
+             "an incremental field of a test with setting images is not supported (its first step "
+             "would count from the held setting, the model's from the reference)",
+             std::to_string(setting + hold), "field_kind = \"cumulative\"");
     const lab::SyncResult sync = first_pull > 1
                                      ? synchronise_set_hold_pull(load, images, std::size_t(setting), sync_options, t)
                                      : lab::synchronise(load, images, sync_options);
@@ -814,17 +843,20 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     double noise = 0;
     {
       const double until = first_pull > 1 ? images.time.front() + sync.clock_offset_s - sync_options.tare_margin_s
-                           : std::isfinite(sync.motion_onset_log_s) ? sync.motion_onset_log_s - sync_options.tare_margin_s
-                                                                    : load.time.front() + 0.1 * (load.time.back() - load.time.front());
+                           : std::isfinite(sync.motion_onset_log_s)
+                               ? sync.motion_onset_log_s - sync_options.tare_margin_s
+                               : load.time.front() + 0.1 * (load.time.back() - load.time.front());
       double s1 = 0, s2 = 0;
       int n = 0;
-      for (std::size_t i = 0; i < load.time.size() && load.time[i] < until; ++i) s1 += load.force[i], s2 += load.force[i] * load.force[i], ++n;
+      for (std::size_t i = 0; i < load.time.size() && load.time[i] < until; ++i)
+        s1 += load.force[i], s2 += load.force[i] * load.force[i], ++n;
       if (n > 1) noise = std::sqrt(std::max(0.0, (s2 - s1 * s1 / n) / (n - 1)));
     }
     std::vector<double> grip = images.grip;
     const std::string& grip_source = e.grip;
     if (grip_source == "crosshead" && !load.has_crosshead())
-      e.origin.fail("grip", "grip = \"crosshead\" but the test's log has no cross-head column", name, "crosshead_column set");
+      e.origin.fail("grip", "grip = \"crosshead\" but the test's log has no cross-head column", name,
+                    "crosshead_column set");
     if (grip_source != "field" && load.has_crosshead())
       for (std::size_t k = 0; k < grip.size(); ++k) grip[k] = 0.5 * sync.crosshead[k];
     std::vector<lab::ForceStep> steps;
@@ -833,7 +865,8 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     const std::vector<double> loads = fe_loads(steps, e);
     write_forces(tdir / kForcesFile, steps, loads);
 
-    lab::QuarterField field = kind == lab::FieldKind::cumulative ? cumulative : lab::fold_sequence(seq, frame, geometry, kind);
+    lab::QuarterField field =
+        kind == lab::FieldKind::cumulative ? cumulative : lab::fold_sequence(seq, frame, geometry, kind);
     if (first_pull > 1) {  // the setting and hold images are not steps (cumulative: from image 0 still)
       const Eigen::Index keep = field.u.rows() - Eigen::Index(first_pull - 1);
       field.u = field.u.bottomRows(keep).eval();
@@ -844,7 +877,14 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     write_field(tdir / kFieldFile, field);
     write_sync_data(tdir, load, sync);
 
-    LabTestResult r{name, sync, static_cast<int>(steps.size()), static_cast<int>(field.point_ids.size()), field.outside, field.incomplete, loads, noise};
+    LabTestResult r{name,
+                    sync,
+                    static_cast<int>(steps.size()),
+                    static_cast<int>(field.point_ids.size()),
+                    field.outside,
+                    field.incomplete,
+                    loads,
+                    noise};
     sync_json[name] = {{"clock_offset_s", sync.clock_offset_s},
                        {"method", lab::to_string(sync.method)},
                        {"tare_N", sync.tare_N},

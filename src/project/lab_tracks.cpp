@@ -58,8 +58,8 @@ std::string check_units(const io::LogTable& t, const std::vector<std::size_t>& c
     if (u.empty()) continue;
     if (!seen.empty() && u != seen)
       throw InputError({t.file, header_line(t), key},
-                       fmt::format("positions in px and mm mixed: column '{}' is in {}, column '{}' in {}", seen_column, seen,
-                                   t.columns[c], u),
+                       fmt::format("positions in px and mm mixed: column '{}' is in {}, column '{}' in {}", seen_column,
+                                   seen, t.columns[c], u),
                        t.columns[c], "every position column in one unit");
     seen = u, seen_column = t.columns[c];
   }
@@ -103,23 +103,25 @@ PointTracks read_long(const io::Node& test, const fs::path& file) {
     auto [pi, new_point] = point_index.try_emplace(point[i], r.points.size());
     if (new_point) r.points.push_back(point[i]);
     if (!rows[fi->second].emplace(pi->second, Vec2(x[i], y[i])).second)
-      throw InputError({t.file, t.lines[i], pc}, fmt::format("point '{}' is given twice in frame {}", point[i], f), point[i],
-                       "each point once per frame");
+      throw InputError({t.file, t.lines[i], pc}, fmt::format("point '{}' is given twice in frame {}", point[i], f),
+                       point[i], "each point once per frame");
   }
   if (r.frames.empty()) throw InputError({t.file, 0, fc}, "no frame", "0 rows", "one row per point and frame");
   // Frames in file order must increase: a track file is a sequence.
   for (std::size_t k = 1; k < r.frames.size(); ++k)
     if (r.frames[k] <= r.frames[k - 1])
-      throw InputError({t.file, r.lines[k], fc}, fmt::format("frame {} comes after frame {}", r.frames[k], r.frames[k - 1]),
+      throw InputError({t.file, r.lines[k], fc},
+                       fmt::format("frame {} comes after frame {}", r.frames[k], r.frames[k - 1]),
                        std::to_string(r.frames[k]), "increasing frames");
   for (std::size_t k = 0; k < rows.size(); ++k) {
     std::vector<Vec2> pos(r.points.size(), Vec2::Constant(NAN));
     for (std::size_t p = 0; p < r.points.size(); ++p) {
       const auto it = rows[k].find(p);
       if (it == rows[k].end())
-        throw InputError({t.file, r.lines[k], pc},
-                         fmt::format("frame {} has no point '{}' (a point missing from a frame)", r.frames[k], r.points[p]),
-                         fmt::format("{} of {} points", rows[k].size(), r.points.size()), "every point in every frame");
+        throw InputError(
+            {t.file, r.lines[k], pc},
+            fmt::format("frame {} has no point '{}' (a point missing from a frame)", r.frames[k], r.points[p]),
+            fmt::format("{} of {} points", rows[k].size(), r.points.size()), "every point in every frame");
       pos[p] = it->second;
     }
     r.x.push_back(std::move(pos));
@@ -154,15 +156,16 @@ PointTracks read_wide(const io::Node& test, const fs::path& file) {
   }
   for (const auto& p : r.points)
     if (cols[p].first == t.columns.size() || cols[p].second == t.columns.size())
-      throw InputError({t.file, header_line(t), p}, fmt::format("point '{}' has only one of its columns {}_x, {}_y", p, p, p),
-                       p, "both");
+      throw InputError({t.file, header_line(t), p},
+                       fmt::format("point '{}' has only one of its columns {}_x, {}_y", p, p, p), p, "both");
   r.unit = check_units(t, position_columns, test, "tracks");
   const auto frame = t.numbers(fc);
   for (std::size_t i = 0; i < t.rows(); ++i) {
     r.frames.push_back(frame_of(frame[i], t, i, fc));
     r.lines.push_back(t.lines[i]);
     if (i > 0 && r.frames[i] <= r.frames[i - 1])
-      throw InputError({t.file, t.lines[i], fc}, fmt::format("frame {} comes after frame {}", r.frames[i], r.frames[i - 1]),
+      throw InputError({t.file, t.lines[i], fc},
+                       fmt::format("frame {} comes after frame {}", r.frames[i], r.frames[i - 1]),
                        std::to_string(r.frames[i]), "increasing frames, each once");
   }
   r.x.assign(t.rows(), std::vector<Vec2>(r.points.size()));
@@ -173,8 +176,8 @@ PointTracks read_wide(const io::Node& test, const fs::path& file) {
       for (std::size_t i = 0; i < t.rows(); ++i) {
         if (!std::isfinite(values[i]))
           throw InputError({t.file, t.lines[i], t.columns[c]},
-                           fmt::format("frame {} has no position of point '{}' (a point missing from a frame)", r.frames[i],
-                                       r.points[p]),
+                           fmt::format("frame {} has no position of point '{}' (a point missing from a frame)",
+                                       r.frames[i], r.points[p]),
                            "\"\"", "a number in every frame");
         r.x[i][p](c == cx ? 0 : 1) = values[i];
       }
@@ -187,18 +190,21 @@ PointTracks read_wide(const io::Node& test, const fs::path& file) {
 PointTracks read_dice(const io::Node& test, const fs::path& folder) {
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
-    throw FileError(test.where("tracks"), "tracks_format = \"dice\" needs the folder of DICe's results", folder.string());
+    throw FileError(test.where("tracks"), "tracks_format = \"dice\" needs the folder of DICe's results",
+                    folder.string());
   std::vector<std::pair<long, fs::path>> files;
   for (const auto& e : fs::directory_iterator(folder, ec)) {
     const std::string n = e.path().filename().string();
     if (!n.starts_with("DICe_solution_") || e.path().extension() != ".txt") continue;
     const std::string digits = e.path().stem().string().substr(14);
-    if (digits.empty() || !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); })) continue;
+    if (digits.empty() || !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }))
+      continue;
     files.emplace_back(std::stol(digits), e.path());
   }
   std::sort(files.begin(), files.end());
   if (files.size() < 2)
-    throw FileError(test.where("tracks"), fmt::format("{} DICe_solution_NNNN.txt files: a sequence needs at least 2", files.size()),
+    throw FileError(test.where("tracks"),
+                    fmt::format("{} DICe_solution_NNNN.txt files: a sequence needs at least 2", files.size()),
                     folder.string());
   PointTracks r;
   r.file = folder.string();
@@ -249,7 +255,8 @@ PointTracks read_point_tracks(const io::Node& test) {
 FrameForces read_frame_forces(const io::Node& test) {
   const fs::path file = resolve(test, "frame_forces");
   std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) throw FileError(test.where("frame_forces"), "force file not found", file.string());
+  if (!fs::is_regular_file(file, ec))
+    throw FileError(test.where("frame_forces"), "force file not found", file.string());
   const io::LogTable t = io::read_log(file);
   const std::string fc = test.string("frame_column");
   FrameForces f;
@@ -260,7 +267,8 @@ FrameForces read_frame_forces(const io::Node& test) {
     f.frames.push_back(frame_of(frame[i], t, i, fc));
     f.lines.push_back(t.lines[i]);
     if (i > 0 && f.frames[i] <= f.frames[i - 1])
-      throw InputError({t.file, t.lines[i], fc}, fmt::format("frame {} comes after frame {}", f.frames[i], f.frames[i - 1]),
+      throw InputError({t.file, t.lines[i], fc},
+                       fmt::format("frame {} comes after frame {}", f.frames[i], f.frames[i - 1]),
                        std::to_string(f.frames[i]), "increasing frames, each once");
   }
   return f;
@@ -268,7 +276,8 @@ FrameForces read_frame_forces(const io::Node& test) {
 
 TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full) {
   if (test.string("frame_forces").empty())
-    test.fail("frame_forces", "a test of point tracks needs its per-frame force", "\"\"", "a CSV with a frame and a force column");
+    test.fail("frame_forces", "a test of point tracks needs its per-frame force", "\"\"",
+              "a CSV with a frame and a force column");
   const PointTracks tracks = read_point_tracks(test);
   const FrameForces forces = read_frame_forces(test);
 
@@ -277,15 +286,18 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
     const bool in_tracks = k < tracks.frames.size(), in_forces = k < forces.frames.size();
     if (in_tracks && in_forces && tracks.frames[k] == forces.frames[k]) continue;
     if (in_forces && (!in_tracks || forces.frames[k] < tracks.frames[k]))
-      throw InputError({forces.file, forces.lines[k], test.string("frame_column")},
-                       fmt::format("frame {} is not in the tracks ({}): the force file's frames do not match the tracks'",
-                                   forces.frames[k], tracks.file),
-                       std::to_string(forces.frames[k]), in_tracks ? "frame " + std::to_string(tracks.frames[k]) : "no more frames");
-    throw InputError({forces.file, in_forces ? forces.lines[k] : (forces.lines.empty() ? 0 : forces.lines.back() + 1),
-                      test.string("frame_column")},
-                     fmt::format("no force for the tracks' frame {} ({}{}): the force file's frames do not match the tracks'",
-                                 tracks.frames[k], tracks.file, tracks.lines[k] > 0 ? ":" + std::to_string(tracks.lines[k]) : ""),
-                     in_forces ? "frame " + std::to_string(forces.frames[k]) : "no more rows", "frame " + std::to_string(tracks.frames[k]));
+      throw InputError(
+          {forces.file, forces.lines[k], test.string("frame_column")},
+          fmt::format("frame {} is not in the tracks ({}): the force file's frames do not match the tracks'",
+                      forces.frames[k], tracks.file),
+          std::to_string(forces.frames[k]), in_tracks ? "frame " + std::to_string(tracks.frames[k]) : "no more frames");
+    throw InputError(
+        {forces.file, in_forces ? forces.lines[k] : (forces.lines.empty() ? 0 : forces.lines.back() + 1),
+         test.string("frame_column")},
+        fmt::format("no force for the tracks' frame {} ({}{}): the force file's frames do not match the tracks'",
+                    tracks.frames[k], tracks.file, tracks.lines[k] > 0 ? ":" + std::to_string(tracks.lines[k]) : ""),
+        in_forces ? "frame " + std::to_string(forces.frames[k]) : "no more rows",
+        "frame " + std::to_string(tracks.frames[k]));
   }
 
   TracksTest out;
@@ -310,7 +322,8 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
   // The clamps: the pull's two ends.
   const io::Strings& clamps = test.strings("clamps");
   if (!clamps.empty() && clamps.size() != 2)
-    test.fail("clamps", "two clamp markers: the fixed one and the pulled one", fmt::format("{} names", clamps.size()), "[A, B]");
+    test.fail("clamps", "two clamp markers: the fixed one and the pulled one", fmt::format("{} names", clamps.size()),
+              "[A, B]");
   std::size_t ca = tracks.points.size(), cb = ca;
   if (!clamps.empty()) {
     ca = tracks.find(clamps[0]), cb = tracks.find(clamps[1]);
@@ -320,7 +333,8 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
                   fmt::format("one of {}", fmt::join(tracks.points, ", ")));
     for (std::size_t k = 0; k < tracks.frames.size(); ++k)
       if (!tracks.x[k][ca].allFinite() || !tracks.x[k][cb].allFinite())
-        test.fail("clamps", fmt::format("a clamp marker is lost in frame {}", tracks.frames[k]), "", "both clamps in every frame");
+        test.fail("clamps", fmt::format("a clamp marker is lost in frame {}", tracks.frames[k]), "",
+                  "both clamps in every frame");
   }
   const std::vector<Vec2>& x0 = tracks.x.front();
   const Vec2 centre = !clamps.empty() ? Vec2(0.5 * (x0[ca] + x0[cb])) : Vec2::Zero();
@@ -346,7 +360,8 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
       change = std::max(change, std::abs(distance[k] - distance[0]));
     }
     if (!(distance[0] > 0))
-      test.fail("clamps", "the two clamp markers lie on one line across the pull", fmt::format("{}", fmt::join(clamps, ", ")), "one at each end of the specimen");
+      test.fail("clamps", "the two clamp markers lie on one line across the pull",
+                fmt::format("{}", fmt::join(clamps, ", ")), "one at each end of the specimen");
     if (change < 0.01 * distance[0]) {
       // Name the marker that moves least.
       double move_a = 0, move_b = 0;
@@ -354,17 +369,19 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
         move_a = std::max(move_a, frame.vector(tracks.x[k][ca] - x0[ca]).norm()),
         move_b = std::max(move_b, frame.vector(tracks.x[k][cb] - x0[cb]).norm());
       const std::string& still = move_a < move_b ? clamps[0] : clamps[1];
-      test.fail("clamps",
-                fmt::format("clamp marker '{}' does not move against the other: their distance changes by {} mm at most "
-                            "over {} frames ({} of {} mm)",
-                            still, num(change), distance.size(), num(change / distance[0] * 100) + " %", num(distance[0])),
-                still, "a pulled clamp: the distance changes by ≥ 1 %");
+      test.fail(
+          "clamps",
+          fmt::format("clamp marker '{}' does not move against the other: their distance changes by {} mm at most "
+                      "over {} frames ({} of {} mm)",
+                      still, num(change), distance.size(), num(change / distance[0] * 100) + " %", num(distance[0])),
+          still, "a pulled clamp: the distance changes by ≥ 1 %");
     }
   }
 
   // The geometry: the free length is the clamps' distance unless given.
   out.geometry.width_mm = test.real("width_mm");
-  out.geometry.free_length_mm = !clamps.empty() && !test.given("free_length_mm") ? distance[0] : test.real("free_length_mm");
+  out.geometry.free_length_mm =
+      !clamps.empty() && !test.given("free_length_mm") ? distance[0] : test.real("free_length_mm");
   out.geometry.tolerance_mm = test.real("tolerance_mm");
 
   // A full model's frame is the clamps' midpoint unless the tracks are in the mesh frame already.
@@ -382,7 +399,8 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
   for (std::size_t k = stride; k < tracks.frames.size(); k += stride) step_index.push_back(k);
   if (step_index.empty() || step_index.back() != tracks.frames.size() - 1)
     if (tracks.frames.size() > 1) step_index.push_back(tracks.frames.size() - 1);
-  if (step_index.empty()) test.fail("tracks", "one frame only: a test needs a reference and at least one step", tracks.file);
+  if (step_index.empty())
+    test.fail("tracks", "one frame only: a test needs a reference and at least one step", tracks.file);
   out.reference_frame = tracks.frames.front();
 
   // The field points: `points`, or every point but the clamps.
@@ -438,12 +456,13 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
       q.u(s, a) = u(0), q.v(s, a) = u(1), q.sigma_u(s, a) = sigma_mm, q.sigma_v(s, a) = sigma_mm;
     }
   }
-  q.report = full && !out.centred_on_clamps
-                 ? fmt::format("{} of {} points kept in the mesh frame; {} not tracked in every step", n, field_points.size(),
-                               q.incomplete)
-                   : fmt::format("{} of {} points kept; {} outside the {:g} × {:g} mm specimen, {} not tracked in every step",
-                                 n, field_points.size(), q.outside, out.geometry.width_mm, out.geometry.free_length_mm,
-                                 q.incomplete);
+  q.report =
+      full && !out.centred_on_clamps
+          ? fmt::format("{} of {} points kept in the mesh frame; {} not tracked in every step", n, field_points.size(),
+                        q.incomplete)
+          : fmt::format("{} of {} points kept; {} outside the {:g} × {:g} mm specimen, {} not tracked in every step", n,
+                        field_points.size(), q.outside, out.geometry.width_mm, out.geometry.free_length_mm,
+                        q.incomplete);
 
   // The steps' loads and forces.
   const double tare = test.given("tare_N") ? test.real("tare_N") : 0.0;
@@ -470,8 +489,8 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
     const auto grip = lab::grip_from_field(q, out.geometry);
     for (std::size_t s = 0; s < out.steps.size(); ++s) out.steps[s].grip_mm = grip[s];
   }
-  out.report = fmt::format("{} frames ({} to {}), {} steps (every {} frame(s)), {}", tracks.frames.size(), tracks.frames.front(),
-                           tracks.frames.back(), out.steps.size(), stride, q.report);
+  out.report = fmt::format("{} frames ({} to {}), {} steps (every {} frame(s)), {}", tracks.frames.size(),
+                           tracks.frames.front(), tracks.frames.back(), out.steps.size(), stride, q.report);
   return out;
 }
 

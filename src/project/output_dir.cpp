@@ -24,7 +24,9 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path manifest_of(const fs::path& dir, const std::string& verb) { return dir / (".tricot-" + verb + ".json"); }
-fs::path journal_of(const fs::path& dir, const std::string& verb) { return dir / (".tricot-" + verb + ".publishing.json"); }
+fs::path journal_of(const fs::path& dir, const std::string& verb) {
+  return dir / (".tricot-" + verb + ".publishing.json");
+}
 
 std::vector<std::string> read_list(const fs::path& file, const char* key) {
   std::error_code ec;
@@ -34,7 +36,8 @@ std::vector<std::string> read_list(const fs::path& file, const char* key) {
     // Only paths inside the folder: a record never names a file elsewhere.
     std::erase_if(list, [](const std::string& f) {
       const fs::path p(f);
-      return f.empty() || p.is_absolute() || std::any_of(p.begin(), p.end(), [](const fs::path& c) { return c == ".."; });
+      return f.empty() || p.is_absolute() ||
+             std::any_of(p.begin(), p.end(), [](const fs::path& c) { return c == ".."; });
     });
     return list;
   } catch (const json::exception& e) {
@@ -96,7 +99,8 @@ OutputDir::OutputDir(fs::path dir, std::string verb, bool keep_staging)
   if (ec) throw FileError({dir_.string(), 0, ""}, "cannot create the output folder: " + ec.message());
   const fs::path lock = dir_ / (".tricot-" + verb_ + ".lock");
   lock_ = ::open(lock.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
-  if (lock_ < 0) throw FileError({lock.string(), 0, ""}, std::string("cannot create the folder's lock: ") + std::strerror(errno));
+  if (lock_ < 0)
+    throw FileError({lock.string(), 0, ""}, std::string("cannot create the folder's lock: ") + std::strerror(errno));
   if (::flock(lock_, LOCK_EX | LOCK_NB) != 0) {
     ::close(lock_);
     throw FileError({dir_.string(), 0, ""}, "another tricot " + verb_ + " is writing this folder now", "",
@@ -121,7 +125,8 @@ void OutputDir::publish(const std::vector<std::string>& scope) {
   std::sort(written.begin(), written.end());
   const std::set<std::string> now(written.begin(), written.end());
   const auto in_scope = [&](const std::string& f) {
-    return scope.empty() || std::any_of(scope.begin(), scope.end(), [&](const std::string& p) { return f.starts_with(p); });
+    return scope.empty() ||
+           std::any_of(scope.begin(), scope.end(), [&](const std::string& p) { return f.starts_with(p); });
   };
   std::vector<std::string> stale, kept;
   for (const auto& f : published(dir_, verb_)) {

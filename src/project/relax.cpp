@@ -17,7 +17,8 @@ RelaxRun run_relax(const RelaxSpec& spec, const fs::path& dir, const Log& log) {
   spec.options.validate();
   const io::LogTable table = io::read_log(spec.log);
   const std::vector<double> t = table.times(spec.time_column), f = table.numbers(spec.force_column);
-  const std::vector<double> c = spec.crosshead_column.empty() ? std::vector<double>{} : table.numbers(spec.crosshead_column);
+  const std::vector<double> c =
+      spec.crosshead_column.empty() ? std::vector<double>{} : table.numbers(spec.crosshead_column);
   RelaxRun run;
   run.result = lab::fit_relaxation(t, f, c, spec.options, spec.log);
   const lab::RelaxationResult& r = run.result;
@@ -68,19 +69,22 @@ RelaxRun run_relax(const RelaxSpec& spec, const fs::path& dir, const Log& log) {
     curves += fmt::format(", '' using 2:{} with lines lw 2 title \"{} term{}{}\"", m + 3, m, m > 1 ? "s" : "",
                           int(m) == r.chosen_terms ? " (chosen by BIC)" : "");
   std::string why;
-  if (!io::run_gnuplot(fmt::format("set terminal pngcairo size 900,600 font \",11\"\nset output {}\nset datafile separator \",\"\n"
-                                   "set title \"{}\" noenhanced font \",9\"\nset xlabel \"time since the hold began (s)\"\n"
-                                   "set ylabel \"force, tare removed (N)\"\nset key top right\n"
-                                   "plot {} using 2:3 with points pt 7 ps 0.3 lc rgb \"#999999\" title \"log\"{}\n",
-                                   io::gnuplot_quote(dir / "relax.png"), r.brief_report(), io::gnuplot_quote(dir / "relax.csv"), curves),
-                       &why))
+  if (!io::run_gnuplot(
+          fmt::format("set terminal pngcairo size 900,600 font \",11\"\nset output {}\nset datafile separator \",\"\n"
+                      "set title \"{}\" noenhanced font \",9\"\nset xlabel \"time since the hold began (s)\"\n"
+                      "set ylabel \"force, tare removed (N)\"\nset key top right\n"
+                      "plot {} using 2:3 with points pt 7 ps 0.3 lc rgb \"#999999\" title \"log\"{}\n",
+                      io::gnuplot_quote(dir / "relax.png"), r.brief_report(), io::gnuplot_quote(dir / "relax.csv"),
+                      curves),
+          &why))
     log.print("  (no relax.png: " + why + ")");
   log.print(r.brief_report());
   if (run.verdict)
-    log.print(fmt::format("a test of {:.0f} s is {}quasi-static: viscous excess {:.2f} % of the relaxed force (tolerance {:.1f} %); "
-                          "quasi-static from {:.0f} s",
-                          run.verdict->duration_s, run.verdict->quasi_static ? "" : "NOT ", 100 * run.verdict->viscous_excess,
-                          100 * spec.options.quasi_static_tolerance, run.verdict->min_duration_s));
+    log.print(fmt::format(
+        "a test of {:.0f} s is {}quasi-static: viscous excess {:.2f} % of the relaxed force (tolerance {:.1f} %); "
+        "quasi-static from {:.0f} s",
+        run.verdict->duration_s, run.verdict->quasi_static ? "" : "NOT ", 100 * run.verdict->viscous_excess,
+        100 * spec.options.quasi_static_tolerance, run.verdict->min_duration_s));
   log.print("wrote " + (dir / "relax.json").string() + ", relax.csv, relax.png");
   return run;
 }

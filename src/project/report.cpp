@@ -60,8 +60,8 @@ nav.toc { background: var(--band); border: 1px solid var(--rule); padding: 6px 1
 nav.toc a { color: var(--ink); text-decoration: none; display: block; }
 nav.toc a span { color: var(--accent); display: inline-block; width: 2em; font-weight: bold; }
 section { margin: 0 0 14px; }
-h2 { font-size: 12.5pt; color: var(--accent); margin: 18px 0 7px; padding-bottom: 2px; border-bottom: 1px solid var(--rule);
-     break-after: avoid; page-break-after: avoid; }
+h2 { font-size: 12.5pt; color: var(--accent); margin: 18px 0 7px; padding-bottom: 2px;
+     border-bottom: 1px solid var(--rule); break-after: avoid; page-break-after: avoid; }
 h2 .num { display: inline-block; min-width: 1.6em; }
 p { margin: 5px 0 8px; }
 p.callout { background: var(--band); border-left: 3px solid var(--accent); padding: 6px 10px; font-size: 9.5pt; }
@@ -72,7 +72,8 @@ table { border-collapse: collapse; margin: 6px auto 12px; font-size: 9.5pt; font
 table caption { caption-side: top; text-align: left; font-size: 9pt; color: var(--muted); padding-bottom: 3px; }
 table caption b { color: var(--ink); }
 table.data { border-top: 1.5px solid var(--ink); border-bottom: 1.5px solid var(--ink); width: 100%; }
-table.data th { border-bottom: 1px solid var(--ink); font-weight: 600; padding: 3px 8px; text-align: right; vertical-align: bottom; }
+table.data th { border-bottom: 1px solid var(--ink); font-weight: 600; padding: 3px 8px; text-align: right;
+                vertical-align: bottom; }
 table.data td { padding: 2px 10px; text-align: right; border-bottom: 1px solid #eef1f4; white-space: nowrap; }
 table.data th.label, table.data td.label { text-align: left; }
 table.data.wide { font-size: 8.5pt; }
@@ -149,14 +150,16 @@ struct Counters {
 
 void render(std::string& h, const Block& b, const fs::path& dir, Counters& n) {
   if (const auto* p = std::get_if<Paragraph>(&b)) {
-    const char* cls = p->style == Paragraph::Style::note ? " class=\"note\"" : p->style == Paragraph::Style::callout ? " class=\"callout\"" : "";
+    const char* cls = p->style == Paragraph::Style::note      ? " class=\"note\""
+                      : p->style == Paragraph::Style::callout ? " class=\"callout\""
+                                                              : "";
     h += fmt::format("<p{}>{}</p>\n", cls, escape_html(p->text));
   } else if (const auto* t = std::get_if<KeyValueTable>(&b)) {
     h += "<table class=\"kv\">";
     if (!t->caption.empty()) h += "<caption>" + caption_html("Table", ++n.table, t->caption) + "</caption>";
     for (const auto& [k, v] : t->rows)
-      h += fmt::format("<tr><td class=\"key\">{}</td><td{}>{}</td></tr>", escape_html(k), v.is_number() ? " class=\"num\"" : "",
-                       escape_html(value_text(v)));
+      h += fmt::format("<tr><td class=\"key\">{}</td><td{}>{}</td></tr>", escape_html(k),
+                       v.is_number() ? " class=\"num\"" : "", escape_html(value_text(v)));
     h += "</table>\n";
   } else if (const auto* t = std::get_if<NumericTable>(&b)) {
     const bool labels = !t->label_column.empty() || !t->labels.empty();
@@ -170,7 +173,8 @@ void render(std::string& h, const Block& b, const fs::path& dir, Counters& n) {
       h += "<tr>";
       if (labels) h += "<td class=\"label\">" + escape_html(r < t->labels.size() ? t->labels[r] : "") + "</td>";
       for (std::size_t c = 0; c < t->rows[r].size(); ++c)
-        h += "<td>" + escape_html(format_number(t->rows[r][c], c < t->column_digits.size() ? t->column_digits[c] : t->digits)) +
+        h += "<td>" +
+             escape_html(format_number(t->rows[r][c], c < t->column_digits.size() ? t->column_digits[c] : t->digits)) +
              "</td>";
       h += "</tr>";
     }
@@ -181,15 +185,18 @@ void render(std::string& h, const Block& b, const fs::path& dir, Counters& n) {
     const auto size = png_size(bytes);
     ++n.figure;
     if (!size) {
-      h += fmt::format("<figure><div class=\"missing\">Figure not available: {} was not drawn (plots turned off, or gnuplot missing).</div>"
-                       "<figcaption>{}</figcaption></figure>\n",
-                       escape_html(stored_path(f->file, dir)), caption_html("Figure", n.figure, f->caption));
+      h += fmt::format(
+          "<figure><div class=\"missing\">Figure not available: {} was not drawn (plots turned off, or gnuplot "
+          "missing).</div>"
+          "<figcaption>{}</figcaption></figure>\n",
+          escape_html(stored_path(f->file, dir)), caption_html("Figure", n.figure, f->caption));
       return;
     }
-    h += fmt::format("<figure><img src=\"data:image/png;base64,{}\" width=\"{}\" height=\"{}\" alt=\"{}\">"
-                     "<figcaption>{}</figcaption></figure>\n",
-                     io::base64(bytes), size->first, size->second, escape_html(f->caption),
-                     caption_html("Figure", n.figure, f->caption));
+    h += fmt::format(
+        "<figure><img src=\"data:image/png;base64,{}\" width=\"{}\" height=\"{}\" alt=\"{}\">"
+        "<figcaption>{}</figcaption></figure>\n",
+        io::base64(bytes), size->first, size->second, escape_html(f->caption),
+        caption_html("Figure", n.figure, f->caption));
   } else if (const auto* m = std::get_if<HeatMap>(&b)) {
     h += "<div class=\"block\"><table class=\"heat\">";
     if (!m->caption.empty()) h += "<caption>" + caption_html("Table", ++n.table, m->caption) + "</caption>";
@@ -232,10 +239,10 @@ std::vector<std::pair<std::string, Value>> rows_from_json(const json& rows) {
   std::vector<std::pair<std::string, Value>> out;
   for (const auto& r : rows) {
     const auto& v = r.at("value");
-    if (v.is_string())
-      out.emplace_back(r.at("key").get<std::string>(), Value(v.get<std::string>()));
+    if (v.is_string()) out.emplace_back(r.at("key").get<std::string>(), Value(v.get<std::string>()));
     else
-      out.emplace_back(r.at("key").get<std::string>(), Value(json_number(v), r.value("digits", 6), r.value("unit", "")));
+      out.emplace_back(r.at("key").get<std::string>(),
+                       Value(json_number(v), r.value("digits", 6), r.value("unit", "")));
   }
   return out;
 }
@@ -256,8 +263,9 @@ json block_json(const Block& b, const fs::path& dir) {
       for (double x : row) r.push_back(number_json(x));
       rows.push_back(r);
     }
-    j = {{"type", "table"}, {"caption", t->caption}, {"label_column", t->label_column}, {"columns", t->columns},
-         {"labels", t->labels}, {"rows", rows}, {"digits", t->digits}};
+    j = {{"type", "table"},       {"caption", t->caption}, {"label_column", t->label_column},
+         {"columns", t->columns}, {"labels", t->labels},   {"rows", rows},
+         {"digits", t->digits}};
     if (!t->column_digits.empty()) j["column_digits"] = t->column_digits;
   } else if (const auto* f = std::get_if<Figure>(&b)) {
     const auto size = png_size(read_bytes(resolve(f->file, dir)));
@@ -310,7 +318,8 @@ Block block_from_json(const json& j) {
     const auto& rows = j.at("values");
     m.values.resize(Eigen::Index(rows.size()), rows.empty() ? 0 : Eigen::Index(rows[0].size()));
     for (std::size_t i = 0; i < rows.size(); ++i)
-      for (std::size_t k = 0; k < rows[i].size(); ++k) m.values(Eigen::Index(i), Eigen::Index(k)) = json_number(rows[i][k]);
+      for (std::size_t k = 0; k < rows[i].size(); ++k)
+        m.values(Eigen::Index(i), Eigen::Index(k)) = json_number(rows[i][k]);
     return m;
   }
   throw std::out_of_range("unknown block type " + type);
@@ -369,11 +378,13 @@ std::string to_html(const Document& doc, const fs::path& dir) {
   const auto sections = doc.ordered();
   std::string h = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   h += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
-  h += "<title>" + escape_html(doc.title) + "</title>\n<style>" + std::string(kCss) + "</style>\n</head>\n<body>\n<main>\n";
+  h += "<title>" + escape_html(doc.title) + "</title>\n<style>" + std::string(kCss) +
+       "</style>\n</head>\n<body>\n<main>\n";
   h += "<header class=\"title\"><div class=\"kicker\">tricot · identification report</div>";
   h += "<h1>" + escape_html(doc.title) + "</h1>";
   if (!doc.subtitle.empty()) h += "<div class=\"subtitle\">" + escape_html(doc.subtitle) + "</div>";
-  h += "<div class=\"stamp\">Generated " + escape_html(utc_now()) + " · every number of this page is in report.json</div></header>\n";
+  h += "<div class=\"stamp\">Generated " + escape_html(utc_now()) +
+       " · every number of this page is in report.json</div></header>\n";
   if (!doc.summary.empty()) {
     h += "<div class=\"summary\">";
     for (const auto& [k, v] : doc.summary)

@@ -75,10 +75,11 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
   const fem::SimulationResult r = fem::simulate(test, law, options, log.reporter());
 
   io::Table t;
-  t.columns = {"step", "load", "edge_displacement", "edge_force", "force_per_width", "side_force", "iterations",
-               "cutbacks"};
+  t.columns = {"step",       "load",       "edge_displacement", "edge_force", "force_per_width",
+               "side_force", "iterations", "cutbacks"};
   // Models of any mesh: each named boundary's resultant (N), after the quarter's columns.
-  const std::vector<std::string> resultants = test.has_conditions() ? test.resultant_boundaries() : std::vector<std::string>{};
+  const std::vector<std::string> resultants =
+      test.has_conditions() ? test.resultant_boundaries() : std::vector<std::string>{};
   for (const std::string& b : resultants) t.columns.insert(t.columns.end(), {"resultant_x_" + b, "resultant_y_" + b});
   io::Table newton;  // the residual norm after the predictor (iteration 0) and after each Newton step
   newton.columns = {"step", "iteration", "residual_N"};
@@ -91,7 +92,8 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
                       double(s.iterations), double(s.cutbacks)});
     for (std::size_t b = 0; b < resultants.size(); ++b)
       t.rows.back().insert(t.rows.back().end(), {s.resultants[b].x(), s.resultants[b].y()});
-    for (std::size_t i = 0; i < s.residuals.size(); ++i) newton.rows.push_back({double(k + 1), double(i), s.residuals[i]});
+    for (std::size_t i = 0; i < s.residuals.size(); ++i)
+      newton.rows.push_back({double(k + 1), double(i), s.residuals[i]});
     iterations += s.iterations;
     cutbacks += s.cutbacks;
     u.push_back(s.u);
@@ -115,8 +117,8 @@ set xlabel "grip displacement (quarter model), mm"
 set ylabel "force per width, N/mm"
 plot {} using "edge_displacement":"force_per_width" with linespoints pt 7 ps 0.6 title "{}"
 )gp",
-                              io::gnuplot_quote(dir / "force.png"), test.name, io::gnuplot_quote(dir / "steps.csv"),
-                              force ? "force-controlled" : "FE"));
+                          io::gnuplot_quote(dir / "force.png"), test.name, io::gnuplot_quote(dir / "steps.csv"),
+                          force ? "force-controlled" : "FE"));
   }
 
   const std::string where = (shown / test.name / "").string();
@@ -200,15 +202,17 @@ set ylabel "σ, N/mm"
 plot {2} using "gamma":"s12" with points pt 6 ps 0.8 lc rgb "#1f77b4" title "σ12 tricot ({3})", \
   {2} using "gamma":"s11" with points pt 4 ps 0.7 lc rgb "#d62728" title "σ11 tricot"{4}
 )gp",
-                              io::gnuplot_quote(dir / "force.png"), test.name, io::gnuplot_quote(dir / "steps.csv"), law.name(), extra));
+                          io::gnuplot_quote(dir / "force.png"), test.name, io::gnuplot_quote(dir / "steps.csv"),
+                          law.name(), extra));
 
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!t.rows.empty()) {
     const auto& last = t.rows.back();
-    log.print(fmt::format("{}: {} steps (the law at F = [[1, γ], [0, 1]]), {}; at γ = {:.5g}: s12 = {:.6g}, "
-                              "s11 = {:.6g} N/mm -> {}",
-                              test.name, t.rows.size(), format_duration(seconds), last[0], last[3], last[1],
-                              (shown / test.name / "").string()));
+    log.print(
+        fmt::format("{}: {} steps (the law at F = [[1, γ], [0, 1]]), {}; at γ = {:.5g}: s12 = {:.6g}, "
+                    "s11 = {:.6g} N/mm -> {}",
+                    test.name, t.rows.size(), format_duration(seconds), last[0], last[3], last[1],
+                    (shown / test.name / "").string()));
   }
   return outcome;
 }
@@ -217,8 +221,9 @@ plot {2} using "gamma":"s12" with points pt 6 ps 0.8 lc rgb "#1f77b4" title "σ1
 void plot_all(const Log& log, const fs::path& dir, const std::vector<std::string>& tests) {
   std::string curves;
   for (const auto& t : tests)
-    curves += fmt::format("{}{} using \"edge_displacement\":\"force_per_width\" with linespoints pt 7 ps 0.4 title \"{}\"",
-                          curves.empty() ? "" : ", \\\n  ", io::gnuplot_quote(dir / t / "steps.csv"), t);
+    curves +=
+        fmt::format("{}{} using \"edge_displacement\":\"force_per_width\" with linespoints pt 7 ps 0.4 title \"{}\"",
+                    curves.empty() ? "" : ", \\\n  ", io::gnuplot_quote(dir / t / "steps.csv"), t);
   plot(log, fmt::format(R"gp(set terminal pngcairo size 900,600 font ",11" noenhanced
 set output {}
 set datafile separator ","
@@ -229,7 +234,7 @@ set xlabel "grip displacement (quarter model), mm"
 set ylabel "force per width, N/mm"
 plot {}
 )gp",
-                            io::gnuplot_quote(dir / "forces.png"), curves));
+                        io::gnuplot_quote(dir / "forces.png"), curves));
 }
 
 }  // namespace
@@ -249,7 +254,8 @@ SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& 
       if (at == known.end()) {
         const std::string hint = io::closest_name(name, known);
         throw InputError({args.coefficients_file, 0, "parameters." + name},
-                         "not a coefficient of the project's law" + (hint.empty() ? std::string() : "; did you mean '" + hint + "'?"),
+                         "not a coefficient of the project's law" +
+                             (hint.empty() ? std::string() : "; did you mean '" + hint + "'?"),
                          "\"" + name + "\"", "a result.json of this project");
       }
       c(at - known.begin()) = value;
@@ -293,10 +299,8 @@ SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& 
     if (!shear) fe_tests.push_back(model.name);
   }
   if (fe_tests.size() > 1) plot_all(log, staged.out, fe_tests);
-  if (args.only_test.empty())
-    output.publish();
-  else
-    output.publish({args.only_test + "/"});
+  if (args.only_test.empty()) output.publish();
+  else output.publish({args.only_test + "/"});
   return {failures};
 }
 

@@ -52,8 +52,10 @@ std::string real_text(double x) {
 }  // namespace
 
 void check_key(const Origin& origin, const io::SectionSpec& table, std::string_view key, const io::Value& value) {
-  const auto k = std::find_if(table.keys.begin(), table.keys.end(), [&](const io::KeySpec& s) { return s.name == key; });
-  if (k == table.keys.end()) throw std::logic_error("check_key: no key " + std::string(key) + " in [" + table.name + "]");
+  const auto k =
+      std::find_if(table.keys.begin(), table.keys.end(), [&](const io::KeySpec& s) { return s.name == key; });
+  if (k == table.keys.end())
+    throw std::logic_error("check_key: no key " + std::string(key) + " in [" + table.name + "]");
   auto number = [&](double x, const std::string& at) {
     if (!std::isfinite(x)) origin.fail(at, "must be a finite number", real_text(x), io::range_text(*k));
     if (x < k->min || x > k->max) origin.fail(at, "out of range", real_text(x), io::range_text(*k));

@@ -22,7 +22,6 @@ namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 using io::KeySpec;
 
-
 using io::key;
 
 std::string frame_name(int j) { return fmt::format("frame_{:04d}.png", j); }
@@ -40,10 +39,13 @@ io::SectionSpec synth_images_section() {
                     "Y up, the keys of `tricot dic`'s [physical]) and each frame's step; frames.csv the test\n"
                     "machine's log per frame (frame, step, load, edge_displacement, edge_force: the force gauge).\n"
                     "The speckle pattern and the noise are seeded from [synth] seed.",
-                    false, {}, {}};
+                    false,
+                    {},
+                    {}};
   const SynthImagesSpec d;
   s.keys = {
-      key("enabled", d.enabled, "Write the images (about 0.1 s of CPU per 1280 × 1024 px frame with 2 × 2 subsamples, the PNG included)."),
+      key("enabled", d.enabled,
+          "Write the images (about 0.1 s of CPU per 1280 × 1024 px frame with 2 × 2 subsamples, the PNG included)."),
       key("pixel_size", d.pixel_size, "Pixel size on the specimen, mm/px, > 0.", 1e-6, 1e4),
       key("width", std::int64_t{d.width}, "Image width, px.", 8, 20000),
       key("height", std::int64_t{d.height}, "Image height, px.", 8, 20000),
@@ -52,13 +54,18 @@ io::SectionSpec synth_images_section() {
           "natural tracers, as the paper: stitches in wales along the material's wale axis, each a V of two\n"
           "legs, pitch 2 speckle_size across the wales and 1.6 speckle_size along them, with yarn fuzz).",
           -1e300, 1e300, {"speckle", "knit"}),
-      key("speckle_size", d.speckle_size, "Speckle size in px of the reference image (twice the mean blob radius).", 0.2, 2000),
-      key("coverage", d.coverage, "Speckle density: blobs per unit area × π r² (0.6: bright blobs cover about 45 % of the area).", 0.01, 99),
-      key("subsamples", std::int64_t{d.subsamples}, "Samples per pixel and direction that integrate each pixel's area.", 1, 16),
-      key("background", d.background, "Flat gray beside the specimen and beyond the grips, fraction of full scale.", 0, 1),
+      key("speckle_size", d.speckle_size, "Speckle size in px of the reference image (twice the mean blob radius).",
+          0.2, 2000),
+      key("coverage", d.coverage,
+          "Speckle density: blobs per unit area × π r² (0.6: bright blobs cover about 45 % of the area).", 0.01, 99),
+      key("subsamples", std::int64_t{d.subsamples}, "Samples per pixel and direction that integrate each pixel's area.",
+          1, 16),
+      key("background", d.background, "Flat gray beside the specimen and beyond the grips, fraction of full scale.", 0,
+          1),
       key("noise", d.noise, "σ of Gaussian camera noise in gray levels of the output (8 bit: of 255), ≥ 0.", 0, 1e5),
       key("bits", std::int64_t{d.bits}, "Bit depth of the PNG files: 8 or 16.", 8, 16),
-      key("every_n_steps", std::int64_t{d.every_n_steps}, "A frame every n steps (frame j shows step j · n).", 1, 100000),
+      key("every_n_steps", std::int64_t{d.every_n_steps}, "A frame every n steps (frame j shows step j · n).", 1,
+          100000),
       key("setting_frames", d.setting_frames,
           "A rig test: one frame per increment of its transverse setting (the grip at rest), then\n"
           "hold_frames of the held setting, then the pull's frames (the lab's set, hold, pull; camera.json\n"
@@ -96,8 +103,7 @@ void SynthImagesSpec::validate() const {
   check_key(origin, table, "pixel_size", pixel_size);
   check_key(origin, table, "width", std::int64_t{width});
   check_key(origin, table, "height", std::int64_t{height});
-  if (!synth::texture_from_string(texture))
-    origin.fail("texture", "not a texture", texture, "\"speckle\" or \"knit\"");
+  if (!synth::texture_from_string(texture)) origin.fail("texture", "not a texture", texture, "\"speckle\" or \"knit\"");
   check_key(origin, table, "speckle_size", speckle_size);
   check_key(origin, table, "coverage", coverage);
   check_key(origin, table, "subsamples", std::int64_t{subsamples});
@@ -175,7 +181,9 @@ int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fe
                         {"edge_force", k ? k->edge_force : 0.0}});
     const bool read = shot.step > 0 && std::size_t(shot.step) <= gauge_force.size();
     gauge.rows.push_back({double(j), double(shot.step), shot.step > 0 ? k->load : 0.0, k ? k->edge_displacement : 0.0,
-                          read ? gauge_force[std::size_t(shot.step - 1)] : k ? k->edge_force : 0.0});
+                          read ? gauge_force[std::size_t(shot.step - 1)]
+                          : k  ? k->edge_force
+                               : 0.0});
     reporter.report({"images " + model.name, std::size_t(j + 1), std::size_t(frames), frame_name(j)});
   }
   if (writing.valid()) writing.get();
@@ -207,10 +215,12 @@ int write_images(const SynthImagesSpec& s, const fem::TestModel& model, const fe
 }
 
 int CameraFile::setting_frames() const {
-  return static_cast<int>(std::count_if(frames.begin(), frames.end(), [](const Frame& f) { return f.phase == "setting"; }));
+  return static_cast<int>(
+      std::count_if(frames.begin(), frames.end(), [](const Frame& f) { return f.phase == "setting"; }));
 }
 int CameraFile::hold_frames() const {
-  return static_cast<int>(std::count_if(frames.begin(), frames.end(), [](const Frame& f) { return f.phase == "hold"; }));
+  return static_cast<int>(
+      std::count_if(frames.begin(), frames.end(), [](const Frame& f) { return f.phase == "hold"; }));
 }
 
 CameraFile read_camera(const fs::path& images_dir) {
@@ -226,7 +236,8 @@ CameraFile read_camera(const fs::path& images_dir) {
     at = "height", out.camera.height = j.at(at).get<int>();
     at = "frames";
     for (const json& f : j.at(at))
-      out.frames.push_back({f.at("file").get<std::string>(), f.value("phase", std::string(f.at("step").get<int>() > 0 ? "pull" : "reference")),
+      out.frames.push_back({f.at("file").get<std::string>(),
+                            f.value("phase", std::string(f.at("step").get<int>() > 0 ? "pull" : "reference")),
                             f.at("step").get<int>(), f.value("setting", 0), f.at("load").get<double>(),
                             f.at("edge_displacement").get<double>()});
   } catch (const json::exception& e) {

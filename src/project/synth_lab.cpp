@@ -39,8 +39,8 @@ io::SectionSpec synth_lab_section() {
       {}};
 }
 
-int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, const fs::path& test_dir, std::uint64_t seed,
-                     const Log& log) {
+int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, const fs::path& test_dir,
+                     std::uint64_t seed, const Log& log) {
   const CameraFile cam = read_camera(test_dir / kImagesFolder);
   const double fps = lab.real("fps"), rate = lab.real("log_rate_hz"), delta = lab.real("clock_offset_s");
   const double lead = lab.real("log_lead_s"), tail = lab.real("log_tail_s"), tare = lab.real("tare_N");
@@ -75,9 +75,11 @@ int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, cons
   const double duration = lead + double(n - 1) / fps + tail;
   const int samples = static_cast<int>(std::floor(duration * rate)) + 1;
   io::LogWriter w;
-  w.metadata = {"LabVIEW Measurement", "Writer_Version\t2", "Reader_Version\t2", "Separator\tTab", "Decimal_Separator\t,",
-                "Multi_Headings\tNo", "X_Columns\tOne", "Time_Pref\tRelative", "Operator\ttricot synth",
-                fmt::format("Date\tsynthetic; sample rate {:g} Hz", rate)};
+  w.metadata = {"LabVIEW Measurement",    "Writer_Version\t2",
+                "Reader_Version\t2",      "Separator\tTab",
+                "Decimal_Separator\t,",   "Multi_Headings\tNo",
+                "X_Columns\tOne",         "Time_Pref\tRelative",
+                "Operator\ttricot synth", fmt::format("Date\tsynthetic; sample rate {:g} Hz", rate)};
   w.columns = {"Temps [s]", "Force [N]"};
   const bool crosshead = lab.boolean("crosshead");
   if (crosshead) w.columns.push_back("Traverse [mm]");
@@ -96,10 +98,17 @@ int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, cons
   for (std::size_t j = 0; j < n; ++j) frames.push_back({cam.frames[j].file, tc[j]});
   io::write_atomic(dir / "camera.csv", io::to_camera_log_text(frames));
 
-  nlohmann::ordered_json truth = {{"clock_offset_s", delta},  {"tare_N", tare},   {"force_noise_N", sigma_f},
-                                  {"crosshead_noise_mm", sigma_c}, {"fps", fps}, {"log_rate_hz", rate},
-                                  {"frame_time_s", tc},       {"force_N", force}, {"grip_mm", grip},
-                                  {"setting_frames", cam.setting_frames()}, {"hold_frames", cam.hold_frames()}};
+  nlohmann::ordered_json truth = {{"clock_offset_s", delta},
+                                  {"tare_N", tare},
+                                  {"force_noise_N", sigma_f},
+                                  {"crosshead_noise_mm", sigma_c},
+                                  {"fps", fps},
+                                  {"log_rate_hz", rate},
+                                  {"frame_time_s", tc},
+                                  {"force_N", force},
+                                  {"grip_mm", grip},
+                                  {"setting_frames", cam.setting_frames()},
+                                  {"hold_frames", cam.hold_frames()}};
   if (lab.boolean("relaxation")) {
     synth::RelaxationRecordOptions r;
     r.rate_hz = 1;
@@ -111,12 +120,13 @@ int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, cons
     r.seed = seed + 1000;
     const synth::RelaxationRecord rec = synth::make_relaxation_record(r);
     io::write_atomic(dir / "relaxation.txt", io::to_log_text(synth::labview_log(rec)));
-    truth["relaxation"] = {{"tau_s", r.tau_s}, {"amplitudes_N", r.amplitudes_N}, {"relaxed_N", r.relaxed_force_N},
-                           {"tare_N", r.tare_N}, {"noise_N", r.noise_N}, {"hold_start_s", rec.hold_start_s}};
+    truth["relaxation"] = {{"tau_s", r.tau_s},   {"amplitudes_N", r.amplitudes_N}, {"relaxed_N", r.relaxed_force_N},
+                           {"tare_N", r.tare_N}, {"noise_N", r.noise_N},           {"hold_start_s", rec.hold_start_s}};
   }
   io::write_atomic(dir / "truth.json", truth.dump(2) + "\n");
-  log.print(fmt::format("  lab record: {} log samples at {:g} Hz (offset {:g} s, tare {:g} N, σ {:.3g} N), {} frames at {:g} fps in {}",
-                        samples, rate, delta, tare, sigma_f, n, fps, (dir / "").string()));
+  log.print(fmt::format(
+      "  lab record: {} log samples at {:g} Hz (offset {:g} s, tare {:g} N, σ {:.3g} N), {} frames at {:g} fps in {}",
+      samples, rate, delta, tare, sigma_f, n, fps, (dir / "").string()));
   return samples;
 }
 

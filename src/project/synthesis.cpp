@@ -34,7 +34,9 @@ io::SectionSpec synth_section() {
                     "How the synthetic measurements are taken from the FE runs: noise and field points.\n"
                     "Noise is Gaussian, independent per value, from a generator seeded with seed + the test's\n"
                     "index (ident::add_noise), so a run is reproducible.",
-                    false, {}, {}};
+                    false,
+                    {},
+                    {}};
   s.keys = {
       key("noise_edge_displacement", 0.0, "σ of the grip displacement, mm (absolute), ≥ 0.", 0, 1e6),
       key("noise_edge_force", 0.0, "σ of the grip force, N (absolute), ≥ 0.", 0, 1e9),
@@ -68,8 +70,7 @@ io::SectionSpec synth_section() {
 Eigen::Matrix2Xd grid_points(const io::Node& s, const Vec2& lo, double W, double H, const io::Node& test) {
   const double inset = s.real("inset");
   if (2 * inset >= std::min(W, H))
-    s.fail("inset", fmt::format("leaves no room for points in test '{}' ({} × {} mm)", test.string("name"),
-                                W, H),
+    s.fail("inset", fmt::format("leaves no room for points in test '{}' ({} × {} mm)", test.string("name"), W, H),
            io::to_toml(inset), fmt::format("< {} mm", std::min(W, H) / 2));
   auto axis = [&](double length, std::int64_t n) {
     std::vector<double> a;
@@ -137,9 +138,10 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
   if (s.real("noise_relative") > 0)
     for (const char* k : {"noise_edge_displacement", "noise_edge_force", "noise_field"})
       if (s.real(k) > 0)
-        s.fail(k, "give either absolute σ or noise_relative, not both", io::to_toml(s.real(k)), "0 with noise_relative");
-  const auto kind = s.string("field_kind") == "incremental" ? ident::FieldKind::incremental
-                                                            : ident::FieldKind::cumulative;
+        s.fail(k, "give either absolute σ or noise_relative, not both", io::to_toml(s.real(k)),
+               "0 with noise_relative");
+  const auto kind =
+      s.string("field_kind") == "incremental" ? ident::FieldKind::incremental : ident::FieldKind::cumulative;
   const SynthImagesSpec images = SynthImagesSpec::from_config(s.section("images"));
   const bool with_images = images.enabled;
   if (with_images) images.validate();  // a bad [synth.images] stops before any work
@@ -148,7 +150,8 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
   std::vector<fem::TestModel> models;
   for (const auto& t : spec.test) {
     if (t.test_kind() == TestKind::simple_shear)
-      t.origin.fail("kind", "synth needs an FE test", "\"simple_shear\"", "uniaxial, biaxial, homogeneous, rig or custom");
+      t.origin.fail("kind", "synth needs an FE test", "\"simple_shear\"",
+                    "uniaxial, biaxial, homogeneous, rig or custom");
     models.push_back(t.model(spec.mesh, spec.rig));
   }
 
@@ -169,9 +172,9 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
     const fem::TestModel& model = models[i];
     const fem::SimulationResult sim = fem::simulate(model, *law, solver, log.reporter());
     if (!sim.usable())
-      throw NotConverged(nodes[i].where("name"),
-                       fmt::format("test '{}' did not converge with the true law, so it has no data: {}", model.name,
-                                   sim.message));
+      throw NotConverged(
+          nodes[i].where("name"),
+          fmt::format("test '{}' did not converge with the true law, so it has no data: {}", model.name, sim.message));
     Eigen::Matrix2Xd points(2, 0);
     std::vector<int> ids;
     int dropped = 0;
@@ -195,9 +198,9 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
     }
     ident::TestData d = ident::measure(model, sim, points, ids, kind);
     const double rel = s.real("noise_relative");
-    const ident::Sigma sigma = rel > 0 ? ident::rms_fraction(d, rel)
-                                       : ident::Sigma{s.real("noise_edge_displacement"), s.real("noise_edge_force"),
-                                                      s.real("noise_field")};
+    const ident::Sigma sigma =
+        rel > 0 ? ident::rms_fraction(d, rel)
+                : ident::Sigma{s.real("noise_edge_displacement"), s.real("noise_edge_force"), s.real("noise_field")};
     ident::add_noise(d, sigma, truth.seed + i);  // one stream per test
     data.push_back(d);
 
@@ -223,11 +226,12 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
     if (with_images) {  // the speckle of test i is seeded with seed + i, like its noise
       const int frames = write_images(images, model, sim, truth.seed + i, staged / model.name, log, d.edge_force);
       field += fmt::format("; {} images in {}", frames, (dir / model.name / kImagesFolder / "").string());
-      if (s.section("lab").boolean("enabled")) write_lab_record(s.section("lab"), sim, staged / model.name, truth.seed + i, log);
+      if (s.section("lab").boolean("enabled"))
+        write_lab_record(s.section("lab"), sim, staged / model.name, truth.seed + i, log);
     }
     log.print(fmt::format("{}: {} steps on {} {} dofs in {}; last step {:.5g} N at {:.5g} mm; {}; {}", model.name,
-                              d.steps(), tt.dofs, fem::to_string(tt.mesh.type), format_duration(sim.seconds),
-                              last.edge_force, last.edge_displacement, field, noise));
+                          d.steps(), tt.dofs, fem::to_string(tt.mesh.type), format_duration(sim.seconds),
+                          last.edge_force, last.edge_displacement, field, noise));
   }
   for (const auto& d : data) write_test_data(staged, d);
   write_truth(staged, truth);

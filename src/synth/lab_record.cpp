@@ -18,16 +18,11 @@ void check(bool ok, const char* key, double v, const char* expected) {
 
 /// The 10 metadata lines a LabVIEW "Write To Measurement File" puts above its data (simplified).
 std::vector<std::string> labview_header(const std::string& what, double rate_hz) {
-  return {"LabVIEW Measurement",
-          "Writer_Version\t2",
-          "Reader_Version\t2",
-          "Separator\tTab",
-          "Decimal_Separator\t,",
-          "Multi_Headings\tNo",
-          "Date\t2026/11/23",
-          "Time\t14:02:11,5",
-          "Description\t" + what,
-          fmt::format("Sample rate (Hz)\t{}", rate_hz)};
+  return {"LabVIEW Measurement",  "Writer_Version\t2",
+          "Reader_Version\t2",    "Separator\tTab",
+          "Decimal_Separator\t,", "Multi_Headings\tNo",
+          "Date\t2026/11/23",     "Time\t14:02:11,5",
+          "Description\t" + what, fmt::format("Sample rate (Hz)\t{}", rate_hz)};
 }
 
 }  // namespace
@@ -53,8 +48,8 @@ LabRecord make_lab_record(const LabRecordOptions& o, const std::function<double(
   LabRecord r;
   std::mt19937_64 rng(o.seed);
   std::normal_distribution<double> normal(0, 1);
-  const double first_image = o.log_lead_s;          // log time
-  const double onset = first_image + o.rest_s;      // log time
+  const double first_image = o.log_lead_s;      // log time
+  const double onset = first_image + o.rest_s;  // log time
   const double test_end = onset + o.ramp_s + o.hold_s;
   auto crosshead = [&](double s) { return o.crosshead_travel_mm * std::clamp((s - onset) / o.ramp_s, 0.0, 1.0); };
   double peak = 0;
@@ -123,7 +118,8 @@ RelaxationRecord make_relaxation_record(const RelaxationRecordOptions& o) {
     double f = peak * ramp;
     if (s > r.hold_start_s) {
       f = o.relaxed_force_N;
-      for (std::size_t j = 0; j < o.tau_s.size(); ++j) f += o.amplitudes_N[j] * std::exp(-(s - r.hold_start_s) / o.tau_s[j]);
+      for (std::size_t j = 0; j < o.tau_s.size(); ++j)
+        f += o.amplitudes_N[j] * std::exp(-(s - r.hold_start_s) / o.tau_s[j]);
     }
     r.time.push_back(s);
     r.force.push_back(f + o.tare_N + o.noise_N * normal(rng));

@@ -55,12 +55,8 @@ void SpecimenImageOptions::validate() const {
 // FullSpecimen
 
 FullSpecimen::FullSpecimen(const fem::Mesh& quarter, const Eigen::VectorXd& u)
-    : mesh_(&quarter),
-      u_(u),
-      X_flat_(Eigen::Map<const Eigen::VectorXd>(quarter.X.data(), quarter.dofs())),
-      x_(quarter.X),
-      current_(quarter, u.size() ? &u_ : nullptr),
-      reference_(quarter) {
+    : mesh_(&quarter), u_(u), X_flat_(Eigen::Map<const Eigen::VectorXd>(quarter.X.data(), quarter.dofs())),
+      x_(quarter.X), current_(quarter, u.size() ? &u_ : nullptr), reference_(quarter) {
   assert(u.size() == 0 || u.size() == quarter.dofs());
   if (u_.size())
     for (int n = 0; n < quarter.nodes(); ++n) x_.col(n) += u_.segment<2>(2 * n);
@@ -131,10 +127,8 @@ std::optional<Vec2> FullSpecimen::quarter_material_point(const Vec2& q, fem::Loc
         at = fem::Location{hint->element, xi.cwiseMax(-1).cwiseMin(1)};
         found = true;
         break;
-      case Found::beyond_outer_edge:
-        return std::nullopt;  // background: no search of the mesh
-      case Found::elsewhere:
-        break;
+      case Found::beyond_outer_edge: return std::nullopt;  // background: no search of the mesh
+      case Found::elsewhere: break;
     }
   }
   if (!found) {
@@ -316,7 +310,8 @@ std::vector<Patch> patches(const fem::Mesh& mesh, Extent extent, const Eigen::Ve
       for (int k = 0; k < 8; ++k) p.cx[k] = Cx(0, k), p.cy[k] = Cx(1, k), p.Px[k] = CP(0, k), p.Py[k] = CP(1, k);
       p.lo = x.leftCols(n).rowwise().minCoeff();
       p.hi = x.leftCols(n).rowwise().maxCoeff();
-      if (quadratic)  // a quadratic side is a parabola through its end and mid-side nodes: it passes them by ≤ |x_a − 2x_m + x_b|/8
+      // A quadratic side is a parabola through its end and mid-side nodes: it passes them by ≤ |x_a − 2x_m + x_b|/8.
+      if (quadratic)
         for (int k = 0; k < corners; ++k) {
           const int a = k, b = (k + 1) % corners, m = corners + k;
           const Vec2 bulge = (x.col(a) - 2 * x.col(m) + x.col(b)).cwiseAbs() / 8;
@@ -334,10 +329,7 @@ std::vector<Patch> patches(const fem::Mesh& mesh, Extent extent, const Eigen::Ve
 }  // namespace
 
 SpecimenRenderer::SpecimenRenderer(const fem::Mesh& mesh, const SpecimenImageOptions& options, Extent extent)
-    : mesh_(&mesh),
-      extent_(extent),
-      options_(options),
-      pattern_(make_pattern(mesh, extent, options)),
+    : mesh_(&mesh), extent_(extent), options_(options), pattern_(make_pattern(mesh, extent, options)),
       table_(pattern_, table_box(mesh, extent, options)) {}
 
 image::Image SpecimenRenderer::render(const Eigen::VectorXd& u, std::uint64_t noise_seed) const {
@@ -377,8 +369,7 @@ image::Image SpecimenRenderer::render(const Eigen::VectorXd& u, std::uint64_t no
       return false;
     };
     const auto shade = [&](float* out, int i, double xi_s, double xi_t) {
-      if (p.holds(xi_s, xi_t))
-        out[i] = static_cast<float>(table_.intensity(p.material(xi_s, xi_t)));
+      if (p.holds(xi_s, xi_t)) out[i] = static_cast<float>(table_.intensity(p.material(xi_s, xi_t)));
     };
     for (int j = j0; j <= j1; ++j) {
       const double y = (j + 0.5) * sub - 0.5;
@@ -409,8 +400,10 @@ image::Image SpecimenRenderer::render(const Eigen::VectorXd& u, std::uint64_t no
           for (int i = ia + 1; i < ib; ++i) {
             // Hermite basis on u ∈ (0, 1): h00 = (1 + 2u)(1 − u)², h10 = u(1 − u)², h01 = u²(3 − 2u), h11 = u²(u − 1)
             const double u = double(i - ia) / (ib - ia), v = 1 - u;
-            const double h00 = (1 + 2 * u) * v * v, h10 = u * v * v * h, h01 = u * u * (3 - 2 * u), h11 = u * u * (u - 1) * h;
-            shade(out, i, h00 * as + h10 * a_d[0] + h01 * bs + h11 * b_d[0], h00 * at + h10 * a_d[1] + h01 * bt + h11 * b_d[1]);
+            const double h00 = (1 + 2 * u) * v * v, h10 = u * v * v * h, h01 = u * u * (3 - 2 * u),
+                         h11 = u * u * (u - 1) * h;
+            shade(out, i, h00 * as + h10 * a_d[0] + h01 * bs + h11 * b_d[0],
+                  h00 * at + h10 * a_d[1] + h01 * bt + h11 * b_d[1]);
           }
         } else {
           double xs = a_ok ? as : 0, xt = a_ok ? at : 0;

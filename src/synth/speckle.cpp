@@ -38,7 +38,7 @@ namespace {
 // Knit stitches in units of the radius r: pitch across the wales 4 r, along them 3.2 r; each leg an
 // ellipse of semi-axes 1.6 r × 0.6 r tilted ±30° from the wale, centred ±r from the stitch's axis.
 constexpr double kAcross = 4.0, kAlong = 3.2, kLegLong = 1.6, kLegShort = 0.6, kLegOffset = 1.0, kLegTiltDeg = 30;
-constexpr double kJitter = 0.25;     // × r: stitch position scatter (yarn tension varies)
+constexpr double kJitter = 0.25;                            // × r: stitch position scatter (yarn tension varies)
 constexpr double kFuzzPerStitch = 0.6, kFuzzRadius = 0.45;  // loose fibres: small round blobs
 
 }  // namespace
@@ -56,8 +56,9 @@ SpecklePattern::SpecklePattern(const SpeckleOptions& o, double x_min, double y_m
   cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
   const double area = nx_ * cell_ * ny_ * cell_;
   if (o.texture == Texture::speckle) {
-    scatter_round(static_cast<std::uint64_t>(std::llround(o.coverage * area / (std::numbers::pi * o.radius * o.radius))),
-                  1.0, 1.0, o.seed);
+    scatter_round(
+        static_cast<std::uint64_t>(std::llround(o.coverage * area / (std::numbers::pi * o.radius * o.radius))), 1.0,
+        1.0, o.seed);
   } else {
     knit_stitches();
     const double stitches = area / (kAcross * kAlong * o.radius * o.radius);

@@ -75,8 +75,8 @@ constexpr const char* kRoi = "133,140,466,459";
 //   the first increment and 0.17 px after the sixth (measured); an unmirrored u or a flipped Y, tens of px.
 constexpr double kSecondOrderRmsPx = 0.006;
 constexpr double kSecondOrderMaxPx = 0.02;
-// - first-order subsets (tricot dic's default before issue 16; pinned here) on the same frames: 0.0071 px RMS after one increment,
-//   growing linearly to 0.028 px (worst 0.080 px): the affine subset's bias on a curved field, the same
+// - first-order subsets (tricot dic's default before issue 16; pinned here) on the same frames: 0.0071 px RMS after one
+// increment,   growing linearly to 0.028 px (worst 0.080 px): the affine subset's bias on a curved field, the same
 //   in every increment, adds up. Bounds ~1.5× the measured values.
 constexpr double kFirstOrderRmsPx = 0.04;
 constexpr double kFirstOrderMaxPx = 0.12;
@@ -187,8 +187,8 @@ std::vector<FrameError> correlate(const Synthesized& x, const std::string& tag, 
     FrameError& f = e[k];
     f.step = x.cam.frames[k].step;
     f.rms = std::sqrt(f.rms / std::max(f.ok, 1));
-    std::printf("%s frame %zu (step %d): %d/%d ok, RMS %.4f px, max %.4f px\n", tag.c_str(), k, f.step, f.ok,
-                f.points, f.rms, f.max);
+    std::printf("%s frame %zu (step %d): %d/%d ok, RMS %.4f px, max %.4f px\n", tag.c_str(), k, f.step, f.ok, f.points,
+                f.rms, f.max);
   }
   return e;
 }
@@ -207,7 +207,8 @@ TEST(Chain, DicOfNoiseFreeImagesMatchesTheFeDisplacementAtTrackedPoints) {
   const auto x = synthesize("chain", "");
   expect_within(correlate(*x, "dic_second", "[dic]\norder = \"second\"\n"), kSecondOrderRmsPx, kSecondOrderMaxPx,
                 "second order");
-  expect_within(correlate(*x, "dic_first", "[dic]\norder = \"first\"\n"), kFirstOrderRmsPx, kFirstOrderMaxPx, "first order");
+  expect_within(correlate(*x, "dic_first", "[dic]\norder = \"first\"\n"), kFirstOrderRmsPx, kFirstOrderMaxPx,
+                "first order");
   // Issue 16: tricot dic's default, order = "auto", takes second order where the curvature is significant,
   // which on noise-free frames is nearly everywhere: second order's bounds.
   expect_within(correlate(*x, "dic_auto"), kSecondOrderRmsPx, kSecondOrderMaxPx, "auto (the default)");
@@ -215,7 +216,8 @@ TEST(Chain, DicOfNoiseFreeImagesMatchesTheFeDisplacementAtTrackedPoints) {
 
 TEST(Chain, DicOfNoisyImagesMatchesTheFeDisplacementWithinTheNoiseError) {
   const auto x = synthesize("chain_noisy", "noise = 2.0\n");
-  expect_within(correlate(*x, "dic_noisy", "[dic]\norder = \"first\"\n"), kNoisyRmsPx, kNoisyMaxPx, "first order, noise");
+  expect_within(correlate(*x, "dic_noisy", "[dic]\norder = \"first\"\n"), kNoisyRmsPx, kNoisyMaxPx,
+                "first order, noise");
   // The default, auto: no worse than first order with the same noise (measured in docs/validation.md).
   expect_within(correlate(*x, "dic_noisy_auto"), kNoisyRmsPx, kNoisyMaxPx, "auto (the default), noise");
 }

@@ -28,7 +28,8 @@ std::string text(const fs::path& p) {
 }
 
 nlohmann::json identify(const fs::path& dir) {
-  const auto s = run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "experiment").string() + " -q");
+  const auto s =
+      run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "experiment").string() + " -q");
   EXPECT_EQ(s.exit_code, 0) << s.err;
   const auto r = run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " -q");
   EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -48,8 +49,9 @@ void edit(const fs::path& file, const std::string& pattern, const std::string& w
 
 // An example's experiment made noise-free on the project's own mesh (the truth's mesh size `truth`
 // becomes the project's `project`), its σ no longer taken from truth.json.
-void noise_free_on_the_projects_mesh(const fs::path& dir, const std::string& force_noise, const std::string& field_noise,
-                                     const std::string& truth, const std::string& project) {
+void noise_free_on_the_projects_mesh(const fs::path& dir, const std::string& force_noise,
+                                     const std::string& field_noise, const std::string& truth,
+                                     const std::string& project) {
   edit(dir / "experiment.toml", force_noise, "noise_edge_force = 0.0");
   edit(dir / "experiment.toml", field_noise, "noise_field = 0.0");
   edit(dir / "experiment.toml", truth, project);
@@ -64,8 +66,9 @@ TEST(StripWithAHole, NoiseFreeDataOnTheTruthsMeshGiveTheTruth) {
   EXPECT_NEAR(r["parameters"]["lambda"].get<double>(), 1.0, kNoiseFree * 1.0);
   // The identified law replayed on the project's tests (tricot simulate --law, issue 29): its clamp
   // force is the noise-free data's, step by step (the loads come from forces.csv).
-  const auto s = run_tricot("simulate " + (dir / "project.toml").string() + " --law " + (dir / "out" / "result.json").string() +
-                            " -o " + (dir / "replay").string() + " -q --no-vtu");
+  const auto s =
+      run_tricot("simulate " + (dir / "project.toml").string() + " --law " + (dir / "out" / "result.json").string() +
+                 " -o " + (dir / "replay").string() + " -q --no-vtu");
   ASSERT_EQ(s.exit_code, 0) << s.err;
   const std::vector<double> replay = io::read_csv(dir / "replay" / "one-sided" / "steps.csv").values("edge_force"),
                             data = io::read_csv(dir / "experiment" / "one-sided" / "forces.csv").values("edge_force");
@@ -77,7 +80,8 @@ TEST(StripWithAHole, NoiseFreeDataOnTheTruthsMeshGiveTheTruth) {
                             " -o " + (dir / "bad").string() + " -q");
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("bad.json: parameters.lamda: not a coefficient of the project's law; did you mean 'lambda'?"),
-            std::string::npos) << b.err;
+            std::string::npos)
+      << b.err;
   EXPECT_FALSE(fs::exists(dir / "bad"));
 }
 
@@ -97,7 +101,8 @@ TEST(StripWithAHole, NoisyDataOnACoarserMeshGiveTheTruthWithinItsStandardErrors)
 // material between the pads, plane strain, T6.
 fs::path copy_two_pad(const std::string& name) {
   const fs::path dir = test::scratch_dir(name), from = test::source_dir() / "examples" / "two-pad";
-  for (const char* f : {"pads.geo", "experiment.toml", "project.toml", "project-lesion.toml"}) fs::copy_file(from / f, dir / f);
+  for (const char* f : {"pads.geo", "experiment.toml", "project.toml", "project-lesion.toml"})
+    fs::copy_file(from / f, dir / f);
   return dir;
 }
 
@@ -116,7 +121,8 @@ TEST(TwoPad, NoisyDataOnACoarserMeshGiveTheSkinAndTheLesionWithinTwoStandardErro
     const double value = r["parameters"][name].get<double>(), se = r["std_error"][name].get<double>();
     EXPECT_LT(std::abs(value - truth), 2 * se) << name << " = " << value << " ± " << se;
   }
-  const auto l = run_tricot("identify " + (dir / "project-lesion.toml").string() + " -o " + (dir / "lesion").string() + " -q");
+  const auto l =
+      run_tricot("identify " + (dir / "project-lesion.toml").string() + " -o " + (dir / "lesion").string() + " -q");
   ASSERT_EQ(l.exit_code, 0) << l.err;
   const nlohmann::json j = nlohmann::json::parse(text(dir / "lesion" / "result.json"));
   const double value = j["parameters"]["lesion.mu"].get<double>(), se = j["std_error"]["lesion.mu"].get<double>();

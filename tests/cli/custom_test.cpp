@@ -179,7 +179,8 @@ Physical Curve("right") = Curve In BoundingBox{20 - eps, -eps, -eps, 20 + eps, 5
 
 std::string two_materials(const std::string& region) {
   std::string text = held_sheet("T3");
-  text += "\n[[law.region]]\nname = \"" + region + "\"\ntype = \"neo_hookean\"\n\n[law.region.neo_hookean]\nmu = 2.0\n"
+  text += "\n[[law.region]]\nname = \"" + region +
+          "\"\ntype = \"neo_hookean\"\n\n[law.region.neo_hookean]\nmu = 2.0\n"
           "lambda = 4.0\nkinematics = \"plane_strain\"\n";
   return text;
 }
@@ -218,7 +219,8 @@ TEST(CustomSpecimen, TwoMaterialsInSeriesGiveTheClosedFormAndAnUnknownRegionIsNa
   std::ofstream(bad.parent_path() / "rect.geo") << kTwoMaterials;
   const auto b = run_tricot("simulate " + bad.string() + " -o " + (bad.parent_path() / "out").string());
   EXPECT_EQ(b.exit_code, 2);
-  EXPECT_NE(b.err.find("law.region[0].name: no region of the mesh is named 'stif' (did you mean 'stiff'?)"), std::string::npos)
+  EXPECT_NE(b.err.find("law.region[0].name: no region of the mesh is named 'stif' (did you mean 'stiff'?)"),
+            std::string::npos)
       << b.err;
   EXPECT_FALSE(fs::exists(bad.parent_path() / "out"));
 }
@@ -228,8 +230,8 @@ TEST(CustomSpecimen, TwoMaterialsInSeriesGiveTheClosedFormAndAnUnknownRegionIsNa
 TEST(CustomSpecimen, AGeometryGmshCannotBuildIsNamedWithGmshsReason) {
   const fs::path c = write_case("broken_geo", held_sheet("T3"));
   std::ofstream(c.parent_path() / "rect.geo") << "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 20, 50};\n"
-                                                  "Disk(2) = {10, 25, 0, 3, 6};\n"
-                                                  "BooleanFragments{ Surface{1}; Delete; }{ Surface{2}; Delete; }\n";
+                                                 "Disk(2) = {10, 25, 0, 3, 6};\n"
+                                                 "BooleanFragments{ Surface{1}; Delete; }{ Surface{2}; Delete; }\n";
   const auto r = run_tricot("simulate " + c.string() + " -o " + (c.parent_path() / "out").string());
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("rect.geo"), std::string::npos) << r.err;
@@ -252,8 +254,8 @@ TEST(CustomSpecimen, TheStripWithAHoleExampleBalancesItsClampsAndComesBackUnload
     EXPECT_NEAR(fx_bottom[k], -fx_top[k], kHomogeneous * peak);
   }
   EXPECT_GT(std::abs(fx_top[2]), 1e-4 * peak);  // the hole off the axis pulls the clamps sideways
-  EXPECT_EQ(f[3], f[2]);                         // a hold: the same state
-  EXPECT_NEAR(f[5], 0, kHomogeneous * peak);     // back at 0 mm: unloaded
+  EXPECT_EQ(f[3], f[2]);                        // a hold: the same state
+  EXPECT_NEAR(f[5], 0, kHomogeneous * peak);    // back at 0 mm: unloaded
 }
 
 TEST(CustomSpecimen, BadInputIsOneLineNamingTheFileKeyAndValueAndWritesNothing) {
@@ -276,9 +278,11 @@ TEST(CustomSpecimen, BadInputIsOneLineNamingTheFileKeyAndValueAndWritesNothing) 
   both_pairs.replace(both_pairs.find("lambda = 2.5"), 12, "lambda = 2.5\nE = 2.0\nnu = 0.3");
   const Case cases[] = {
       {"both_pairs", both_pairs, "law.neo_hookean.mu: give E and nu, or mu and lambda, not both"},
-      {"tie_two_lines", two_lines, "test[0].boundary[0].tie_end: test 'held': a tie that ends needs the boundary 'sides' to be one open line"},
+      {"tie_two_lines", two_lines,
+       "test[0].boundary[0].tie_end: test 'held': a tie that ends needs the boundary 'sides' to be one open line"},
       {"tie_taper", taper, "test[0].boundary[3].tie_taper: a taper needs the tie's end"},
-      {"unknown_boundary", no_such, "test[0].boundary[3].name: no boundary of the mesh is named 'tpo' (did you mean 'top'?)"},
+      {"unknown_boundary", no_such,
+       "test[0].boundary[3].name: no boundary of the mesh is named 'tpo' (did you mean 'top'?)"},
       {"short_series", short_series, "test[0].boundary[3].uy: the series of boundary 'top' has 1 values for 2 steps"},
       {"not_custom", not_custom, "mesh.geometry: a Gmsh mesh is for tests of kind = \"custom\""},
       {"missing", missing, "mesh.geometry:"},

@@ -50,7 +50,6 @@ TEST(Demo, ReproducesTableOneFromNoiseFreeData) {
   EXPECT_EQ(rows, 12);
 }
 
-
 // The chain (issue 13) in its reduced form: a rig test's setting in images of its own, the hold, then
 // the pull; the synchronisation on the pull recovers the lab record's clock offset and every pull
 // image's force, and the experiment's steps are the pull's only.

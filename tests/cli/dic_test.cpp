@@ -146,7 +146,8 @@ TEST(CliDic, WritesPointsCsvWithTheDesignColumnsFrameZeroAsReferenceAndOverlays)
 
 TEST(CliDic, FlagsOverrideTheConfigFile) {
   const Frames f("cli_dic_flags");
-  std::ofstream(f.dir / "dic.toml") << "[dic]\nsubset_size = 41\nstep = 40\nmode = \"reference\"\n\n[output]\noverlays = false\n";
+  std::ofstream(f.dir / "dic.toml")
+      << "[dic]\nsubset_size = 41\nstep = 40\nmode = \"reference\"\n\n[output]\noverlays = false\n";
   const fs::path out = f.dir / "out";
   const auto r = run_tricot("dic " + q(f.dir / "dic.toml") + " -q --step 15 -o " + q(out) + f.args());
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -173,7 +174,8 @@ TEST(CliDic, AFrameOfAnotherSizeExitsThreeNamingItAndBothSizes) {
   write_frame(f.dir / "big.png", Vec2(1, 0), 0, kW + 1, kH);
   const auto r = run_tricot("dic -q -o " + q(f.dir / "out") + f.args() + " " + q(f.dir / "big.png"));
   EXPECT_EQ(r.exit_code, 3);
-  EXPECT_NE(r.err.find((f.dir / "big.png").string() + ": image size differs from the reference image (got 161x120, expected 160x120)"),
+  EXPECT_NE(r.err.find((f.dir / "big.png").string() +
+                       ": image size differs from the reference image (got 161x120, expected 160x120)"),
             std::string::npos)
       << r.err;
 }
@@ -183,8 +185,9 @@ TEST(CliDic, ABlankReferenceIsAnErrorNamingTheFile) {
   std::ofstream(f.dir / "blank.png", std::ios::binary) << image::encode_gray(image::Image(kW, kH, 0.5f, 1.0), ".png");
   const auto r = run_tricot("dic -q -o " + q(f.dir / "out") + " " + q(f.dir / "blank.png") + f.args());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find((f.dir / "blank.png").string() + ": the reference image has no texture in the region of interest"),
-            std::string::npos)
+  EXPECT_NE(
+      r.err.find((f.dir / "blank.png").string() + ": the reference image has no texture in the region of interest"),
+      std::string::npos)
       << r.err;
 }
 
@@ -192,8 +195,8 @@ TEST(CliDic, ABlankFrameLosesEveryPointWritesTheResultsAndExitsFour) {
   const Frames f("cli_dic_blank_frame");
   std::ofstream(f.dir / "blank.png", std::ios::binary) << image::encode_gray(image::Image(kW, kH, 0.5f, 1.0), ".png");
   const fs::path out = f.dir / "out";
-  const auto r = run_tricot("dic -q --step 20 -o " + q(out) + " " + q(f.files[0]) + " " + q(f.dir / "blank.png") +
-                            " " + q(f.files[1]));
+  const auto r = run_tricot("dic -q --step 20 -o " + q(out) + " " + q(f.files[0]) + " " + q(f.dir / "blank.png") + " " +
+                            q(f.files[1]));
   EXPECT_EQ(r.exit_code, 4) << r.err;
   EXPECT_NE(r.err.find("blank.png: every point was lost"), std::string::npos) << r.err;
   const auto rows = read_rows(out / "points.csv");
@@ -241,7 +244,8 @@ TEST(CliDic, ABadConfigValueNamesFileLineAndKey) {
   std::ofstream(f.dir / "dic.toml") << "[dic]\nstep = 10\nmin_zncc = 1.5\n";
   const auto r = run_tricot("dic " + q(f.dir / "dic.toml") + " -q -o " + q(f.dir / "out") + f.args());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err, "tricot: error: " + (f.dir / "dic.toml").string() + ":3: dic.min_zncc: out of range (got 1.5, expected 0 to 1)\n");
+  EXPECT_EQ(r.err, "tricot: error: " + (f.dir / "dic.toml").string() +
+                       ":3: dic.min_zncc: out of range (got 1.5, expected 0 to 1)\n");
 }
 
 TEST(CliDic, ASeedOnABlankAreaStillMeasuresTheTexturedPartWithPerPointStatuses) {
@@ -250,7 +254,8 @@ TEST(CliDic, ASeedOnABlankAreaStillMeasuresTheTexturedPartWithPerPointStatuses) 
   write_frame(dir / "b.png", Vec2(1.25, 0.5), 70);
   std::ofstream(dir / "dic.toml") << "[dic]\nstep = 10\nseeds = [20.0, 60.0]\n";
   const fs::path out = dir / "out";
-  const auto r = run_tricot("dic " + q(dir / "dic.toml") + " -q -o " + q(out) + " " + q(dir / "a.png") + " " + q(dir / "b.png"));
+  const auto r =
+      run_tricot("dic " + q(dir / "dic.toml") + " -q -o " + q(out) + " " + q(dir / "a.png") + " " + q(dir / "b.png"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   int blank = 0, ok = 0;
   for (const auto& c : read_rows(out / "points.csv")) {
@@ -272,15 +277,17 @@ TEST(CliDic, ASeedOnABlankAreaStillMeasuresTheTexturedPartWithPerPointStatuses) 
 
 TEST(CliDic, IncrementsAndSpecimenCoordinatesAreWrittenOnRequest) {
   const Frames f("cli_dic_extra");
-  std::ofstream(f.dir / "dic.toml") << "[dic]\nstep = 20\nroi = [20, 20, 140, 100]\n\n[physical]\nmm_per_px = 0.1\ncentre_px = [80.0, 60.0]\n\n"
-                                       "[output]\nincrements = true\noverlays = false\n";
+  std::ofstream(f.dir / "dic.toml")
+      << "[dic]\nstep = 20\nroi = [20, 20, 140, 100]\n\n[physical]\nmm_per_px = 0.1\ncentre_px = [80.0, 60.0]\n\n"
+         "[output]\nincrements = true\noverlays = false\n";
   const fs::path out = f.dir / "out";
   const auto r = run_tricot("dic " + q(f.dir / "dic.toml") + " -q -o " + q(out) + f.args());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto inc = read_rows(out / "increments.csv");
   ASSERT_GT(inc.size(), 1u);
   EXPECT_EQ(first_line(out / "increments.csv"), "from,to,id,x,y,u,v,zncc,status,sigma_x,sigma_y");
-  for (std::size_t i = 1; i < inc.size(); ++i) EXPECT_NEAR(std::stod(inc[i][5]), 1.5, kShiftTol);  // each step moves 1.5 px
+  for (std::size_t i = 1; i < inc.size(); ++i)
+    EXPECT_NEAR(std::stod(inc[i][5]), 1.5, kShiftTol);  // each step moves 1.5 px
   const auto sp = read_rows(out / "specimen.csv");
   EXPECT_EQ(sp[0][2], "X0");
   for (std::size_t i = 1; i < sp.size(); ++i) {
@@ -299,7 +306,8 @@ TEST(CliDic, APolygonOrAMaskFromTheConfigLimitsTheGrid) {
     for (int x = 80; x < kW; ++x) mask.at(x, y) = 255;
   std::ofstream(f.dir / "mask.png", std::ios::binary) << image::encode_gray(mask, ".png");
   std::ofstream(f.dir / "mask.toml") << "[dic]\nstep = 10\nroi_mask = \"mask.png\"\n[output]\noverlays = false\n";
-  std::ofstream(f.dir / "poly.toml") << "[dic]\nstep = 10\nroi_polygon = [20, 20, 140, 20, 20, 100]\n[output]\noverlays = false\n";
+  std::ofstream(f.dir / "poly.toml")
+      << "[dic]\nstep = 10\nroi_polygon = [20, 20, 140, 20, 20, 100]\n[output]\noverlays = false\n";
   const auto m = run_tricot("dic " + q(f.dir / "mask.toml") + " -q -o " + q(f.dir / "m") + f.args());
   ASSERT_EQ(m.exit_code, 0) << m.err;
   const auto p = run_tricot("dic " + q(f.dir / "poly.toml") + " -q -o " + q(f.dir / "p") + f.args());
@@ -370,7 +378,8 @@ import numpy as np
 d = m.point_data["displacement"]; s = m.point_data["status"]
 ok = s == 0
 print(len(m.points), int(ok.sum()), len(m.cells_dict["quad"]))
-print("%.4f %.4f %.4f" % (np.abs(d[ok, 0] - 1.0).max(), np.abs(d[ok, 1] + 0.5).max(), np.nanmax(np.abs(m.point_data["exx"]))))
+print("%.4f %.4f %.4f" % (np.abs(d[ok, 0] - 1.0).max(), np.abs(d[ok, 1] + 0.5).max(),
+                          np.nanmax(np.abs(m.point_data["exx"]))))
 print(int(np.asarray(m.field_data["vsg_px"]).ravel()[0]))
 )");
   std::istringstream in(got);
@@ -392,13 +401,18 @@ TEST(CliDic, FieldsCanBeTurnedOffOrWrittenEveryNthFrame) {
   const auto files = moving_frames(dir, 4);
   std::ofstream(dir / "every.toml") << "[output]\noverlays = false\nfields_every = 2\n";
   std::ofstream(dir / "off.toml") << "[output]\nfields = false\n";
-  ASSERT_EQ(run_tricot("dic " + q(dir / "every.toml") + " -q --step 20" + kRoi + " -o " + q(dir / "every") + args_of(files)).exit_code, 0);
+  ASSERT_EQ(
+      run_tricot("dic " + q(dir / "every.toml") + " -q --step 20" + kRoi + " -o " + q(dir / "every") + args_of(files))
+          .exit_code,
+      0);
   EXPECT_TRUE(fs::exists(dir / "every" / "fields" / "frame_0000.vtu"));
   EXPECT_FALSE(fs::exists(dir / "every" / "fields" / "frame_0001.vtu"));
   EXPECT_TRUE(fs::exists(dir / "every" / "fields" / "frame_0002.vtu"));
   EXPECT_TRUE(fs::exists(dir / "every" / "fields" / "frame_0003.vtu"));  // the last frame always
   EXPECT_FALSE(fs::exists(dir / "every" / "overlays"));
-  ASSERT_EQ(run_tricot("dic " + q(dir / "off.toml") + " -q --step 20" + kRoi + " -o " + q(dir / "off") + args_of(files)).exit_code, 0);
+  ASSERT_EQ(run_tricot("dic " + q(dir / "off.toml") + " -q --step 20" + kRoi + " -o " + q(dir / "off") + args_of(files))
+                .exit_code,
+            0);
   EXPECT_FALSE(fs::exists(dir / "off" / "fields"));
   EXPECT_FALSE(fs::exists(dir / "off" / "fields.pvd"));
   EXPECT_TRUE(fs::exists(dir / "off" / "points.csv"));

@@ -41,7 +41,8 @@ const Chain& raw() {
     auto r = run_tricot("synth " + (c.dir / "experiment.toml").string() + " -o " + (c.dir / "raw").string() + " -q");
     EXPECT_EQ(r.exit_code, 0) << r.err;
     std::string images;
-    for (int k = 0; k <= 20; ++k) images += " " + (c.dir / "raw" / "tension" / "images" / fmt::format("frame_{:04d}.png", k)).string();
+    for (int k = 0; k <= 20; ++k)
+      images += " " + (c.dir / "raw" / "tension" / "images" / fmt::format("frame_{:04d}.png", k)).string();
     r = run_tricot("dic " + (c.dir / "dic.toml").string() + images + " -o " + (c.dir / "raw" / "dic").string() + " -q");
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return c;
@@ -55,7 +56,8 @@ void identify_and_check(const std::string& field_kind) {
   lab.replace(lab.find("field_kind = \"cumulative\""), 25, "field_kind = \"" + field_kind + "\"");
   io::write_atomic(c.dir / ("lab-" + field_kind + ".toml"), lab);
   const fs::path exp = c.dir / ("experiment-" + field_kind), out = c.dir / ("identify-" + field_kind);
-  auto r = run_tricot("experiment " + (c.dir / ("lab-" + field_kind + ".toml")).string() + " -o " + exp.string() + " -q");
+  auto r =
+      run_tricot("experiment " + (c.dir / ("lab-" + field_kind + ".toml")).string() + " -o " + exp.string() + " -q");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::printf("%s", r.out.c_str());
   const auto sync = nlohmann::json::parse(io::read_text(exp / "sync.json"));
@@ -66,8 +68,8 @@ void identify_and_check(const std::string& field_kind) {
   EXPECT_EQ(j["covariance_from"], "measurement_sigma");
   for (const auto& [name, truth] : kTruth) {
     const double value = j["parameters"][name].get<double>(), se = j["std_error"][name].get<double>();
-    std::printf("%s %s = %.6g (truth %.6g, %+.3f %%), std error %.3g: %.2f SE\n", field_kind.c_str(), name.c_str(), value,
-                truth, 100 * (value / truth - 1), se, std::abs(value - truth) / se);
+    std::printf("%s %s = %.6g (truth %.6g, %+.3f %%), std error %.3g: %.2f SE\n", field_kind.c_str(), name.c_str(),
+                value, truth, 100 * (value / truth - 1), se, std::abs(value - truth) / se);
     EXPECT_NEAR(value / truth, 1.0, kRelativeTolerance) << name;
     EXPECT_LE(std::abs(value - truth), kStdErrors * se) << name;
   }

@@ -36,8 +36,8 @@ constexpr double kOffsetToleranceS = 0.010;
 constexpr double kForceSigmas = 4;
 // Camera noise, fraction of full scale (as the lab engine's chain test).
 constexpr double kImageNoise = 0.01;
-constexpr int kSize = 200;           // px
-constexpr double kMmPerPx = 0.25;    // 50 mm across the image
+constexpr int kSize = 200;         // px
+constexpr double kMmPerPx = 0.25;  // 50 mm across the image
 // forces.csv writes 9 significant digits.
 constexpr double kCsvDigits = 1e-8;
 // points.csv writes positions to 1e-5 px: a DIC folder read back gives the grip proxy to ~1e-5 px,
@@ -70,7 +70,8 @@ Lab make_lab(const std::string& name, synth::LabRecordOptions o = {}) {
   for (std::size_t k = 0; k < lab.record.frame_time.size(); ++k) {
     const double ly = 1 + lab.record.grip_true[k] / 25.0, lx = 1 / std::sqrt(ly);
     const image::Image img = synth::add_noise(
-        synth::render(pattern, kSize, kSize, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / lx, c(1) + (x(1) - c(1)) / ly); }),
+        synth::render(pattern, kSize, kSize,
+                      [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / lx, c(1) + (x(1) - c(1)) / ly); }),
         kImageNoise, 100 + k);
     const std::string file = fmt::format("img_{:04d}.png", k);
     io::write_atomic(lab.dir / "images" / file, image::encode_gray(img, ".png", 8));
@@ -142,10 +143,12 @@ TEST(Experiment, RecoversTheClockOffsetWithTheCrossheadAndGivesForcesWithinTheNo
   EXPECT_NEAR(j["pull"]["clock_offset_s"].get<double>(), lab.options.clock_offset_s, kOffsetToleranceS);
   EXPECT_NEAR(j["pull"]["tare_N"].get<double>(), lab.options.tare_N, 3 * lab.record.force_noise_N);
   const io::Table f = io::read_csv(r.out / "pull" / "forces.csv");
-  EXPECT_EQ(f.columns, (std::vector<std::string>{"step", "time", "load", "edge_displacement", "edge_force", "force_per_width"}));
+  EXPECT_EQ(f.columns,
+            (std::vector<std::string>{"step", "time", "load", "edge_displacement", "edge_force", "force_per_width"}));
   ASSERT_EQ(f.rows.size() + 1, lab.record.frame_time.size());
   for (std::size_t k = 0; k < f.rows.size(); ++k) {
-    EXPECT_NEAR(f.rows[k][4], lab.record.force_true[k + 1], kForceSigmas * lab.record.force_noise_N) << "step " << k + 1;
+    EXPECT_NEAR(f.rows[k][4], lab.record.force_true[k + 1], kForceSigmas * lab.record.force_noise_N)
+        << "step " << k + 1;
     EXPECT_NEAR(f.rows[k][3], lab.record.grip_true[k + 1], 0.01) << "step " << k + 1;  // half the cross-head (σ 1 µm)
     EXPECT_NEAR(f.rows[k][5], f.rows[k][4] / 40.0, kCsvDigits * std::abs(f.rows[k][5]) + 1e-300);
   }
@@ -158,7 +161,8 @@ TEST(Experiment, RecoversTheClockOffsetWithTheCrossheadAndGivesForcesWithinTheNo
 TEST(Experiment, AKilledRerunLeavesNoMix) {
   const Lab& lab = shared_lab();
   const fs::path root = scratch_dir("experiment_no_mix_" + std::to_string(::getpid()));
-  const fs::path with = write_file(root / "with.toml", lab_file()), without = write_file(root / "without.toml", lab_file({}, ""));
+  const fs::path with = write_file(root / "with.toml", lab_file()),
+                 without = write_file(root / "without.toml", lab_file({}, ""));
   // The lab file names its inputs relative to itself: the record lives in lab.dir.
   const auto relink = [&](const fs::path& f) {
     std::string t = io::read_text(f);
@@ -226,7 +230,8 @@ TEST(Experiment, ReusesATricotDicFolderAndWritesIncrementalFields) {
   ASSERT_EQ(c.cli.exit_code, 0) << c.cli.err;
   const io::Table a = io::read_csv(c.out / "pull" / "forces.csv"), b = io::read_csv(first.out / "pull" / "forces.csv");
   ASSERT_EQ(a.rows.size(), b.rows.size());
-  for (std::size_t k = 0; k < a.rows.size(); ++k) EXPECT_NEAR(a.rows[k][4], b.rows[k][4], kReadBackN) << "step " << k + 1;
+  for (std::size_t k = 0; k < a.rows.size(); ++k)
+    EXPECT_NEAR(a.rows[k][4], b.rows[k][4], kReadBackN) << "step " << k + 1;
 
   std::string inc = lab_file();
   inc.replace(inc.find("field_kind = \"cumulative\""), 25, "field_kind = \"incremental\"");
@@ -247,7 +252,8 @@ TEST(Experiment, ReadsACsvLogWithUnitsInTheHeader) {
   const Lab& lab = shared_lab();
   std::string csv = "time (s),Force [N],Crosshead [mm]\n";
   for (std::size_t i = 0; i < lab.record.log_time.size(); ++i)
-    csv += fmt::format("{:.4f},{:.6f},{:.6f}\n", lab.record.log_time[i], lab.record.log_force[i], lab.record.log_crosshead[i]);
+    csv += fmt::format("{:.4f},{:.6f},{:.6f}\n", lab.record.log_time[i], lab.record.log_force[i],
+                       lab.record.log_crosshead[i]);
   write_file(lab.dir / "load.csv", csv);
   std::string text = lab_file({}, "crosshead");
   for (auto [from, to] : {std::pair{"log = \"load.txt\"", "log = \"load.csv\""}, std::pair{"\"Temps\"", "\"time\""},
@@ -304,7 +310,8 @@ TEST(ExperimentErrors, TimeThatGoesBackwardsNamesItsLine) {
   write_file(lab.dir / "backwards.csv", "time,force,crosshead\n0,0,0\n0.01,0,0\n0.005,0,0\n0.03,0,0\n0.04,0,0\n");
   std::string file = lab_file();
   file.replace(file.find("load.txt"), 8, "backwards.csv");
-  for (auto [from, to] : {std::pair{"\"Temps\"", "\"time\""}, std::pair{"\"Force\"", "\"force\""}, std::pair{"\"Traverse\"", "\"crosshead\""}})
+  for (auto [from, to] : {std::pair{"\"Temps\"", "\"time\""}, std::pair{"\"Force\"", "\"force\""},
+                          std::pair{"\"Traverse\"", "\"crosshead\""}})
     file.replace(file.find(from), std::string(from).size(), to);
   expect_one_line_error(experiment(lab, file, "backwards").cli, 2, "backwards.csv:4");
 }
@@ -315,7 +322,8 @@ TEST(ExperimentErrors, ATextOrNanRowNamesItsLineAndColumn) {
     write_file(lab.dir / "text.csv", "time,force,crosshead\n0,0,0\n0.01," + bad + ",0\n0.02,0,0\n0.03,0,0\n0.04,0,0\n");
     std::string file = lab_file();
     file.replace(file.find("load.txt"), 8, "text.csv");
-    for (auto [from, to] : {std::pair{"\"Temps\"", "\"time\""}, std::pair{"\"Force\"", "\"force\""}, std::pair{"\"Traverse\"", "\"crosshead\""}})
+    for (auto [from, to] : {std::pair{"\"Temps\"", "\"time\""}, std::pair{"\"Force\"", "\"force\""},
+                            std::pair{"\"Traverse\"", "\"crosshead\""}})
       file.replace(file.find(from), std::string(from).size(), to);
     expect_one_line_error(experiment(lab, file, "text").cli, 2, "text.csv:3");
   }
@@ -344,7 +352,8 @@ TEST(ExperimentErrors, AMissingFrameInTheNumberingIsNamed) {
 
 TEST(ExperimentErrors, AnUnreadableFrameIsNamed) {
   spoiled_images("images_unreadable", [](const fs::path& p) { write_file(p, "not a png"); });
-  expect_one_line_error(experiment(shared_lab(), with_images("images_unreadable"), "unreadable").cli, 3, "img_0005.png");
+  expect_one_line_error(experiment(shared_lab(), with_images("images_unreadable"), "unreadable").cli, 3,
+                        "img_0005.png");
 }
 
 TEST(ExperimentErrors, AFrameOfAnotherSizeIsNamed) {

@@ -49,7 +49,8 @@ class Identify : public ::testing::Test {
     // ctest runs each test in its own process, two at a time: one folder per process.
     root_ = scratch_dir("identify_experiment_" + std::to_string(::getpid()));
     write_file(root_ / "experiment.toml", test::small_experiment());
-    const auto r = run_tricot("synth " + (root_ / "experiment.toml").string() + " -o " + (root_ / "exp").string() + " -q");
+    const auto r =
+        run_tricot("synth " + (root_ / "experiment.toml").string() + " -o " + (root_ / "exp").string() + " -q");
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
 
@@ -58,8 +59,8 @@ class Identify : public ::testing::Test {
     const fs::path dir = root_ / name;
     fs::remove_all(dir);
     write_file(dir / "project.toml", project);
-    return run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " -q --no-plots " +
-                      flags);
+    return run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() +
+                      " -q --no-plots " + flags);
   }
   static json result(const std::string& name) {
     return json::parse(io::read_text(root_ / name / "out" / "result.json"));
@@ -106,8 +107,8 @@ TEST_F(Identify, ResultJsonHasEveryKeyOfTheContract) {
   for (const char* key : {"parameters", "std_error", "correlation", "objective", "iterations", "evaluations",
                           "termination", "message", "wall_seconds", "jacobian"})
     EXPECT_TRUE(j.contains(key)) << key;
-  for (const char* key : {"condition_number", "least_identifiable", "restarts", "failed_evaluations",
-                          "stability_passed", "start"})
+  for (const char* key :
+       {"condition_number", "least_identifiable", "restarts", "failed_evaluations", "stability_passed", "start"})
     EXPECT_TRUE(j.contains(key)) << key;
   ASSERT_EQ(j["correlation"].size(), 4u);
   for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(j["correlation"][i][i].get<double>(), 1.0, 1e-12);
@@ -221,8 +222,8 @@ TEST_F(Identify, AKilledRerunLeavesTheEarlierRunWholeAndARerunReplacesIt) {
   EXPECT_EQ(io::read_text(out / "checkpoint.json"), earlier_checkpoint);
   EXPECT_TRUE(fs::exists(out / ".tricot-identify" / "checkpoint.json"));  // the rerun's, apart
   // Resumed, the rerun replaces it: four coefficients in result.json and in the checkpoint.
-  const auto resumed = run_tricot("identify " + (dir / "project.toml").string() + " -o " + out.string() +
-                                  " -q --no-plots --resume");
+  const auto resumed =
+      run_tricot("identify " + (dir / "project.toml").string() + " -o " + out.string() + " -q --no-plots --resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_EQ(result("rerun")["parameters"].size(), 4u);
   EXPECT_EQ(json::parse(io::read_text(out / "checkpoint.json"))["names"].size(), 4u);
@@ -232,7 +233,8 @@ TEST_F(Identify, ResumeRefusesACheckpointOfOtherData) {
   ASSERT_NE(identify("other", small_project("../exp"), "--kill-after 2").exit_code, 0);
   const fs::path dir = root_ / "other";
   write_file(dir / "project.toml", small_project("../exp", "[data]\nfield = 0.5\n"));
-  const auto r = run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " --resume");
+  const auto r =
+      run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " --resume");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("checkpoint.json"), std::string::npos) << r.err;
 }
@@ -264,7 +266,8 @@ class ScopedEnv {
   }
   ~ScopedEnv() {
     for (const auto& [name, value] : saved_)
-      if (value) ::setenv(name.c_str(), value->c_str(), 1); else ::unsetenv(name.c_str());
+      if (value) ::setenv(name.c_str(), value->c_str(), 1);
+      else ::unsetenv(name.c_str());
   }
   ScopedEnv(const ScopedEnv&) = delete;
   ScopedEnv& operator=(const ScopedEnv&) = delete;
@@ -299,23 +302,28 @@ TEST_F(Identify, RefusesSeveralSlurmTasksThatNoMpiWorldJoins) {
   write_file(dir / "project.toml", small_project("../exp"));
   const std::string args = "identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " -q";
   for (const std::string task : {"0", "1"}) {
-    ScopedEnv env(EnvVars{{"SLURM_STEP_NUM_TASKS", "2"}, {"SLURM_STEP_ID", "0"}, {"SLURM_NTASKS", "2"}, {"SLURM_PROCID", task}});
+    ScopedEnv env(
+        EnvVars{{"SLURM_STEP_NUM_TASKS", "2"}, {"SLURM_STEP_ID", "0"}, {"SLURM_NTASKS", "2"}, {"SLURM_PROCID", task}});
     const auto r = run_tricot(args);
     EXPECT_EQ(r.exit_code, 2) << "task " << task << ": " << r.err;
     if (task == "0") {
-      EXPECT_EQ(r.err.rfind("tricot: error: mpi: Slurm started 2 tasks of tricot and no MPI world joins them", 0), 0u) << r.err;
+      EXPECT_EQ(r.err.rfind("tricot: error: mpi: Slurm started 2 tasks of tricot and no MPI world joins them", 0), 0u)
+          << r.err;
       EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     } else {
       EXPECT_EQ(r.err, "") << "only task 0 prints";
     }
     EXPECT_FALSE(fs::exists(dir / "out")) << "task " << task;
   }
-  ScopedEnv one(EnvVars{{"SLURM_STEP_NUM_TASKS", "1"}, {"SLURM_STEP_ID", "0"}, {"SLURM_NTASKS", "1"}, {"SLURM_PROCID", "0"}});
+  ScopedEnv one(
+      EnvVars{{"SLURM_STEP_NUM_TASKS", "1"}, {"SLURM_STEP_ID", "0"}, {"SLURM_NTASKS", "1"}, {"SLURM_PROCID", "0"}});
   EXPECT_EQ(run_tricot(args + " --no-plots").exit_code, 0) << "one task is one run";
 }
 
 TEST_F(Identify, FiniteDifferencesReachTheSameAnswer) {
-  ASSERT_EQ(identify("fd", small_project("../exp", std::string(kStopOnDelta) + "jacobian = \"finite_difference\"\n")).exit_code, 0);
+  ASSERT_EQ(identify("fd", small_project("../exp", std::string(kStopOnDelta) + "jacobian = \"finite_difference\"\n"))
+                .exit_code,
+            0);
   const json j = result("fd");
   EXPECT_EQ(j["jacobian"], "finite_difference");
   for (std::size_t k = 0; k < kNames.size(); ++k)
@@ -339,8 +347,9 @@ TEST_F(Identify, PointsOutsideTheSpecimenAreNamed) {
 }
 
 TEST_F(Identify, AZeroStartWithoutScaleNamesTheParameter) {
-  const auto r = identify("zero_start", small_project("../exp", "", "[[parameter]]\nname = \"C10\"\n"
-                                                                      "[[parameter]]\nname = \"C03\"\nstart = 0.0\n"));
+  const auto r = identify("zero_start", small_project("../exp", "",
+                                                      "[[parameter]]\nname = \"C10\"\n"
+                                                      "[[parameter]]\nname = \"C03\"\nstart = 0.0\n"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("].scale: parameter C03 starts at 0 and has no scale"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("project.toml:"), std::string::npos) << r.err;
@@ -349,18 +358,23 @@ TEST_F(Identify, AZeroStartWithoutScaleNamesTheParameter) {
 TEST_F(Identify, AnUnknownCoefficientIsNamedWithAHint) {
   const auto r = identify("unknown", small_project("../exp", "", "[[parameter]]\nname = \"C30\"\n"));
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("].name: not a coefficient of the mooney_rivlin law in [law]; did you mean 'C10'?"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("].name: not a coefficient of the mooney_rivlin law in [law]; did you mean 'C10'?"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST_F(Identify, AForceScaleNamesItsTestAndNeedsADisplacementGrip) {
   // `<test>.force_scale` (docs/theory.md §2): of a [[test]] of the project, under displacement control.
-  const auto unknown = identify("scale_unknown", small_project("../exp", "", "[[parameter]]\nname = \"C10\"\n"
-                                                                             "[[parameter]]\nname = \"tensoin.force_scale\"\n"));
+  const auto unknown = identify("scale_unknown", small_project("../exp", "",
+                                                               "[[parameter]]\nname = \"C10\"\n"
+                                                               "[[parameter]]\nname = \"tensoin.force_scale\"\n"));
   EXPECT_EQ(unknown.exit_code, 2);
-  EXPECT_NE(unknown.err.find("].name: not a coefficient of the mooney_rivlin law in [law]"), std::string::npos) << unknown.err;
+  EXPECT_NE(unknown.err.find("].name: not a coefficient of the mooney_rivlin law in [law]"), std::string::npos)
+      << unknown.err;
   EXPECT_NE(unknown.err.find("or <test>.force_scale of a [[test]]"), std::string::npos) << unknown.err;
-  const auto force = identify("scale_force", small_project("../exp", "", "[[parameter]]\nname = \"C10\"\n"
-                                                                         "[[parameter]]\nname = \"tension.force_scale\"\n"));
+  const auto force = identify("scale_force", small_project("../exp", "",
+                                                           "[[parameter]]\nname = \"C10\"\n"
+                                                           "[[parameter]]\nname = \"tension.force_scale\"\n"));
   EXPECT_EQ(force.exit_code, 2);
   EXPECT_NE(force.err.find("parameters.tension.force_scale: a force scale needs a displacement-controlled grip"),
             std::string::npos)
@@ -395,7 +409,6 @@ TEST_F(Identify, HelpTeachesTheProjectFormat) {
   for (const char* s : {"[experiment]", "[[parameter]]", "[data]", "[identify]", "--resume", "result.json"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
 }
-
 
 // Eq. 9 (docs/theory.md §9): the strip is pulled along y with material_angle 0, so its steps are points of
 // the wale surface (course: null). The identified law of a converged inverse crime reproduces the
@@ -488,13 +501,13 @@ TEST_F(Identify, APracticalDomainOutsideTheDataNamesTheKeyAndTheDataRange) {
   EXPECT_NE(r.err.find("a domain that meets the data"), std::string::npos) << r.err;
 }
 
-
 // [data] domain_weight > 0 (paper §4.3.2, weighted): every step stays in f, those a restriction would
 // cut weigh domain_weight. The strip is pulled along the wale; its steps past εW = 0.3 are outside.
 TEST_F(Identify, ADomainWeightKeepsEveryStepAndWeighsTheOnesOutside) {
   const std::string domain = "[data]\ndomain_course = [-1.0, 1.0]\ndomain_wale = [-1.0, 0.3]\n";
   ASSERT_EQ(identify("restricted", small_project("../exp", std::string(kStopOnDelta) + domain)).exit_code, 0);
-  const auto r = identify("weighted", small_project("../exp", std::string(kStopOnDelta) + domain + "domain_weight = 0.5\n"));
+  const auto r =
+      identify("weighted", small_project("../exp", std::string(kStopOnDelta) + domain + "domain_weight = 0.5\n"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json restricted = result("restricted"), weighted = result("weighted");
   EXPECT_EQ(restricted["domain"]["mode"], "restricted");
@@ -549,7 +562,7 @@ TEST_F(Identify, ByMeshLevelsReachesTheSameAnswerWithFewerFineEvaluations) {
     EXPECT_NEAR(j["parameters"][kNames[k]].get<double>() / one["parameters"][kNames[k]].get<double>(), 1.0, kRecovered);
   }
   EXPECT_TRUE(j["converged"].get<bool>());
-  EXPECT_TRUE(j["stability_passed"].get<bool>());  // the test ran on the coarse level
+  EXPECT_TRUE(j["stability_passed"].get<bool>());    // the test ran on the coarse level
   EXPECT_EQ(j["start"]["C10"].get<double>(), 0.05);  // the project's start, not the coarse answer
   ASSERT_EQ(j["levels"].size(), 2u);
   EXPECT_LT(j["levels"][0]["dofs"].get<int>(), j["levels"][1]["dofs"].get<int>());
@@ -560,13 +573,15 @@ TEST_F(Identify, ByMeshLevelsReachesTheSameAnswerWithFewerFineEvaluations) {
 
 TEST_F(Identify, ACoarseMeshThatIsNotTwoWholeNumbersOrNotCoarserNamesTheKey) {
   for (const char* bad : {"[2]", "[2.5, 4]"}) {
-    const auto r = identify("coarse_bad", small_project("../exp", std::string("[identify]\ncoarse_mesh = ") + bad + "\n"));
+    const auto r =
+        identify("coarse_bad", small_project("../exp", std::string("[identify]\ncoarse_mesh = ") + bad + "\n"));
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_NE(r.err.find("identify.coarse_mesh: two whole numbers of elements"), std::string::npos) << r.err;
   }
   const auto r = identify("coarse_fine", small_project("../exp", "[identify]\ncoarse_mesh = [3, 8]\n"));
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("identify.coarse_mesh: not coarser than the mesh of test 'tension'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("identify.coarse_mesh: not coarser than the mesh of test 'tension'"), std::string::npos)
+      << r.err;
 }
 
 TEST_F(Identify, ARunByMeshLevelsRefusesToResume) {
@@ -640,11 +655,11 @@ transverse_strain = 0.0
 pull_strain = 0.3
 steps = 3
 )";
-  write_file(dir / "experiment.toml", rig + "[law]\ntype = \"reference_fabric\"\n[synth]\nfield = true\nnx = 3\nny = 3\ninset = 2.75\n");
+  write_file(dir / "experiment.toml",
+             rig + "[law]\ntype = \"reference_fabric\"\n[synth]\nfield = true\nnx = 3\nny = 3\ninset = 2.75\n");
   const auto s = run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "exp").string() + " -q");
   ASSERT_EQ(s.exit_code, 0) << s.err;
-  write_file(dir / "project.toml",
-             rig + R"([law]
+  write_file(dir / "project.toml", rig + R"([law]
 type = "response_surface"
 [law.response_surface]
 preset = "paper14"
@@ -662,7 +677,8 @@ stability_test = false
 [design]
 transverse_strains = [0.0, 0.2]
 )");
-  const auto r = run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " --no-plots");
+  const auto r =
+      run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " --no-plots");
   ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 4) << r.err;  // 4: LM stopped at max_iterations
   const json d = json::parse(io::read_text(dir / "out" / "result.json"))["design"];
   ASSERT_TRUE(d.is_object()) << d;
@@ -676,7 +692,8 @@ transverse_strains = [0.0, 0.2]
     ASSERT_FALSE(c.contains("failed")) << c;
     EXPECT_EQ(c["transverse_strain"].get<double>(), 0.2);
     EXPECT_LE(c["worst_relative_std_error_with"].get<double>(), now * (1 + 1e-9)) << c;
-    if (c["score"].get<double>() > best_score) best_score = c["score"].get<double>(), best = c["name"].get<std::string>();
+    if (c["score"].get<double>() > best_score)
+      best_score = c["score"].get<double>(), best = c["name"].get<std::string>();
   }
   EXPECT_EQ(d["best"].get<std::string>(), best);
   EXPECT_NE(r.out.find("the added test that helps most"), std::string::npos) << r.out;

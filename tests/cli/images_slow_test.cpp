@@ -68,11 +68,12 @@ TEST(Cruciform, TheReferenceKnitFromItsImagesWithinOnePercentAndTwoStandardError
   // six coefficients from 30 % off, on a 3 mm mesh against the truth's 2.5 mm. Measured (seed 7):
   // k_C −0.006 %, k_W −0.016 %, k_P −0.014 %, k_X −0.44 % (s.e. 0.07, 0.06, 0.06, 0.77 %: pinned),
   // k_WL +0.5 % (0.3 s.e.), k_CL −17 % (1.0 s.e.).
-  const nlohmann::json r = from_images("cruciform",
-                                       {"cruciform.geo", "experiment.toml", "dic.toml", "lab.toml", "project-template.toml"},
-                                       {"course-2to1", "wale-4to1"});
-  const nlohmann::json truth = {{"k_C", 0.25}, {"k_W", 0.06}, {"k_X", 0.15}, {"k_P", 0.1}, {"k_CL", 0.05}, {"k_WL", 0.01}};
-  EXPECT_GE(expect_the_truth(r, truth), 4);  // k_C, k_W, k_P, k_X
+  const nlohmann::json r =
+      from_images("cruciform", {"cruciform.geo", "experiment.toml", "dic.toml", "lab.toml", "project-template.toml"},
+                  {"course-2to1", "wale-4to1"});
+  const nlohmann::json truth = {{"k_C", 0.25}, {"k_W", 0.06},  {"k_X", 0.15},
+                                {"k_P", 0.1},  {"k_CL", 0.05}, {"k_WL", 0.01}};
+  EXPECT_GE(expect_the_truth(r, truth), 4);                // k_C, k_W, k_P, k_X
   EXPECT_NEAR(r["chi2_per_dof"].get<double>(), 0.7, 0.2);  // σ of the tracks (0.002 mm) a little above the DIC's
 }
 
@@ -83,9 +84,9 @@ TEST(StripWithAHole, TheOneSidedPullFromItsImagesWithItsDriftInTheField) {
   // (2.26 s.e.), λ +0.05 % (0.54 s.e.); on the truth's own mesh μ is at 1.96 s.e., as the FE-data
   // identification of the same experiment (2.28 s.e. on 3 mm, 1.99 on 2 mm): the force's noise draw,
   // which both share, not the images.
-  const nlohmann::json r = from_images("strip-with-hole",
-                                       {"strip.geo", "experiment.toml", "dic.toml", "roi.png", "lab.toml", "project-template.toml"},
-                                       {"one-sided"}, "experiment", "from-images");
+  const nlohmann::json r = from_images(
+      "strip-with-hole", {"strip.geo", "experiment.toml", "dic.toml", "roi.png", "lab.toml", "project-template.toml"},
+      {"one-sided"}, "experiment", "from-images");
   ASSERT_TRUE(r["converged"].get<bool>()) << r["message"];
   for (const auto& [name, want] : {std::pair{"mu", 0.5}, std::pair{"lambda", 1.0}}) {
     const double got = r["parameters"][name].get<double>(), se = r["std_error"][name].get<double>();
@@ -99,9 +100,9 @@ TEST(TwoPad, TheSkinFromItsImagesWithinTwoStandardErrors) {
   // 2.5 mm off them. The skin's μ and λ from half the truth, the lesion's law known, on a 1.5 mm mesh
   // against the truth's 1 mm. Measured (seed 1): μ −0.37 % (1.10 s.e.), λ −0.12 % (0.45 s.e.),
   // χ²/dof 0.94.
-  const nlohmann::json r = from_images("two-pad",
-                                       {"pads.geo", "experiment.toml", "dic.toml", "roi.png", "lab.toml", "project-template.toml"},
-                                       {"pads"}, "experiment", "from-images");
+  const nlohmann::json r = from_images(
+      "two-pad", {"pads.geo", "experiment.toml", "dic.toml", "roi.png", "lab.toml", "project-template.toml"}, {"pads"},
+      "experiment", "from-images");
   const nlohmann::json truth = {{"mu", 0.05}, {"lambda", 0.2}};
   EXPECT_GE(expect_the_truth(r, truth), 2);
   EXPECT_NEAR(r["chi2_per_dof"].get<double>(), 1.0, 0.25);

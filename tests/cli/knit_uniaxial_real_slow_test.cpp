@@ -25,7 +25,9 @@ namespace fs = std::filesystem;
 // single curve through the repeats is 5.4 % and 6.6 % off the worst one.
 constexpr double kAcrylicForceRmsOfPeak = 0.03, kCottonForceRmsOfPeak = 0.05;
 
-bool have_the_data() { return fs::exists(test::shared_data() / "knit-uniaxial" / "acrylic-garter-X" / "video1" / "tracks.csv"); }
+bool have_the_data() {
+  return fs::exists(test::shared_data() / "knit-uniaxial" / "acrylic-garter-X" / "video1" / "tracks.csv");
+}
 
 // The example's lab file `lab` (with `templ`) in a scratch tree laid out as the repository, then
 // `tricot experiment` and `tricot identify` into ROOT/out; returns ROOT.
@@ -35,10 +37,13 @@ fs::path run_example(const std::string& name, const char* lab, const char* templ
   fs::create_directories(example);
   fs::create_directories(root / "shared");
   fs::create_directory_symlink(fs::absolute(test::shared_data()), root / "shared" / "data");
-  for (const char* f : {lab, templ}) fs::copy_file(test::source_dir() / "examples" / "knit-uniaxial-real" / f, example / f);
-  const auto e = test::run_tricot("experiment " + (example / lab).string() + " -o " + (root / "experiment").string() + " -q");
+  for (const char* f : {lab, templ})
+    fs::copy_file(test::source_dir() / "examples" / "knit-uniaxial-real" / f, example / f);
+  const auto e =
+      test::run_tricot("experiment " + (example / lab).string() + " -o " + (root / "experiment").string() + " -q");
   EXPECT_EQ(e.exit_code, 0) << e.err;
-  const auto r = test::run_tricot("identify " + (root / "experiment" / "project.toml").string() + " -o " + (root / "out").string() + " -q");
+  const auto r = test::run_tricot("identify " + (root / "experiment" / "project.toml").string() + " -o " +
+                                  (root / "out").string() + " -q");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return root;
 }
@@ -58,11 +63,14 @@ void expect_repeats_fitted(const fs::path& root, double worst) {
       const io::LogTable fit = io::read_log(root / "out" / ("fit_" + name + ".csv"));
       const auto model = fit.numbers("model_edge_force"), measured = fit.numbers("edge_force");
       double s2 = 0, peak = 0;
-      for (std::size_t k = 0; k < model.size(); ++k) s2 += std::pow(model[k] - measured[k], 2), peak = std::max(peak, std::abs(measured[k]));
+      for (std::size_t k = 0; k < model.size(); ++k)
+        s2 += std::pow(model[k] - measured[k], 2), peak = std::max(peak, std::abs(measured[k]));
       EXPECT_LT(std::sqrt(s2 / double(model.size())), worst * peak) << name;
-      EXPECT_NEAR(j["fit"][name]["force_rms_N"].get<double>(), std::sqrt(s2 / double(model.size())), 1e-9 * peak) << name;
+      EXPECT_NEAR(j["fit"][name]["force_rms_N"].get<double>(), std::sqrt(s2 / double(model.size())), 1e-9 * peak)
+          << name;
       const io::LogTable field = io::read_log(root / "out" / ("fit_field_" + name + ".csv"));
-      const auto u = field.numbers("u"), vv = field.numbers("v"), mu = field.numbers("model_u"), mv = field.numbers("model_v");
+      const auto u = field.numbers("u"), vv = field.numbers("v"), mu = field.numbers("model_u"),
+                 mv = field.numbers("model_v");
       double e2 = 0;
       for (std::size_t k = 0; k < u.size(); ++k) e2 += std::pow(mu[k] - u[k], 2) + std::pow(mv[k] - vv[k], 2);
       EXPECT_NEAR(j["fit"][name]["points_rms_mm"].get<double>(), std::sqrt(e2 / double(u.size())), 1e-6) << name;
@@ -109,7 +117,9 @@ TEST(KnitUniaxialReal, TheWholeSpecimenDrivenByItsClampsLeavesTheQuartersResidua
   for (const auto& [name, fit] : q["fit"].items()) {
     const double rq = fit["points_rms_mm"].get<double>(), rf = f["fit"][name]["points_rms_mm"].get<double>();
     EXPECT_NEAR(rf / rq, 1.0, 0.03) << name << ": quarter " << rq << " mm, full " << rf << " mm";
-    EXPECT_NEAR(f["fit"][name]["force_rms_N"].get<double>(), fit["force_rms_N"].get<double>(), 0.02 * fit["force_rms_N"].get<double>()) << name;
+    EXPECT_NEAR(f["fit"][name]["force_rms_N"].get<double>(), fit["force_rms_N"].get<double>(),
+                0.02 * fit["force_rms_N"].get<double>())
+        << name;
   }
 }
 

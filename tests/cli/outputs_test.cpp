@@ -19,11 +19,13 @@ namespace tricot {
 namespace {
 
 namespace fs = std::filesystem;
-using test::run_tricot;
 using test::expect_no_mix;
+using test::run_tricot;
 using test::write_file;
 
-fs::path root_for(const std::string& name) { return test::scratch_dir("outputs_" + name + "_" + std::to_string(::getpid())); }
+fs::path root_for(const std::string& name) {
+  return test::scratch_dir("outputs_" + name + "_" + std::to_string(::getpid()));
+}
 
 TEST(Outputs, AKilledSimulateRerunLeavesNoMixAndARerunNoStaleSteps) {
   const fs::path root = root_for("simulate");
@@ -32,7 +34,8 @@ TEST(Outputs, AKilledSimulateRerunLeavesNoMixAndARerunNoStaleSteps) {
   four.replace(four.find("steps = 10"), 10, "steps = 4");
   write_file(root / "four.toml", four);
   expect_no_mix(
-      "simulate", root, [&](const fs::path& o) { return "simulate " + (root / "ten.toml").string() + " -q -o " + o.string(); },
+      "simulate", root,
+      [&](const fs::path& o) { return "simulate " + (root / "ten.toml").string() + " -q -o " + o.string(); },
       [&](const fs::path& o) { return "simulate " + (root / "four.toml").string() + " -q -o " + o.string(); });
   EXPECT_TRUE(fs::exists(root / "out" / "tension" / "step_0004.vtu"));
   EXPECT_FALSE(fs::exists(root / "out" / "tension" / "step_0005.vtu"));  // the earlier run's tenth step is gone
@@ -70,7 +73,8 @@ TEST(Outputs, AKilledDicRerunLeavesNoMix) {
     for (int k = 0; k < n; ++k) cmd += " " + images[k].string();
     return cmd;
   };
-  expect_no_mix("dic", root, [&](const fs::path& o) { return run(4, o); }, [&](const fs::path& o) { return run(2, o); });
+  expect_no_mix(
+      "dic", root, [&](const fs::path& o) { return run(4, o); }, [&](const fs::path& o) { return run(2, o); });
   EXPECT_FALSE(fs::exists(root / "out" / "overlays" / "frame_0003.png"));  // the earlier run's last overlay
 }
 

@@ -24,10 +24,13 @@ constexpr double kWeakest = 0.1;  // a6
 TEST(PaperScale, TheExampleRecoversItsTruthByMeshLevelsWithAtMostFiveFineEvaluations) {
   const fs::path dir = test::scratch_dir("paper_scale");
   const fs::path example = test::source_dir() / "examples" / "paper-scale";
-  for (const char* f : {"experiment.toml", "project.toml"}) fs::copy_file(example / f, dir / f, fs::copy_options::overwrite_existing);
-  const auto synth = test::run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "experiment").string() + " -q");
+  for (const char* f : {"experiment.toml", "project.toml"})
+    fs::copy_file(example / f, dir / f, fs::copy_options::overwrite_existing);
+  const auto synth =
+      test::run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "experiment").string() + " -q");
   ASSERT_EQ(synth.exit_code, 0) << synth.err;
-  const auto r = test::run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() + " -q --no-plots");
+  const auto r = test::run_tricot("identify " + (dir / "project.toml").string() + " -o " + (dir / "out").string() +
+                                  " -q --no-plots");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(io::read_text(dir / "out" / "result.json"));
   EXPECT_EQ(j["termination"], "objective_below_epsilon");

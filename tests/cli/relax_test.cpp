@@ -35,7 +35,8 @@ Relaxed relax(const std::string& name, const synth::RelaxationRecordOptions& o, 
   io::write_atomic(dir / "relaxation.txt", io::to_log_text(synth::labview_log(synth::make_relaxation_record(o))));
   Relaxed r;
   r.out = dir / "out";
-  r.cli = run_tricot("relax " + (dir / "relaxation.txt").string() + " --time Temps --force Force -o " + r.out.string() + " " + flags);
+  r.cli = run_tricot("relax " + (dir / "relaxation.txt").string() + " --time Temps --force Force -o " + r.out.string() +
+                     " " + flags);
   if (r.cli.exit_code == 0) r.result = nlohmann::json::parse(io::read_text(r.out / "relax.json"));
   return r;
 }

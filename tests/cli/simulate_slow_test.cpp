@@ -85,8 +85,8 @@ TEST(SimulateExamples, BiaxialFabricReachesTheFullStrainRangeWithoutCutbacks) {
       }
       if (c == 20) {
         const double d = t.rows.back()[t.column("edge_displacement")];
-        EXPECT_GE(0.5 * (std::pow(1 + d / kHalf, 2) - 1), 0.99);                    // along the grip
-        EXPECT_GE(0.5 * (std::pow(1 + 20.0 / kHalf, 2) - 1), 0.40);                 // across
+        EXPECT_GE(0.5 * (std::pow(1 + d / kHalf, 2) - 1), 0.99);     // along the grip
+        EXPECT_GE(0.5 * (std::pow(1 + 20.0 / kHalf, 2) - 1), 0.40);  // across
       }
     }
   EXPECT_TRUE(fs::exists(out / "forces.png"));
@@ -139,7 +139,8 @@ TEST(SimulateExamples, BiaxialFabricReachesTheFullStrainRangeWithoutCutbacks) {
   // The cell strains of the last step agree with the imposed homogeneous stretch.
   const std::string info = test::read_with_meshio(out / "course-c20" / "step_0021.vtu", R"(
 E = m.cell_data["green_lagrange_strain"][0]
-print(len(m.cells[0].data), repr(float(E[:, 0].min())), repr(float(E[:, 0].max())), repr(float(E[:, 4].min())), repr(float(E[:, 4].max())))
+print(len(m.cells[0].data), repr(float(E[:, 0].min())), repr(float(E[:, 0].max())), repr(float(E[:, 4].min())),
+      repr(float(E[:, 4].max())))
 )");
   std::istringstream in(info);
   std::size_t cells = 0;

@@ -105,8 +105,8 @@ loads = [2.0, 5.0, 10.0]
   ASSERT_EQ(t.rows.size(), 3u);
   for (const auto& row : t.rows) {
     const double lambda = 1 + row[2] / 10.0;  // quarter height 10 mm
-    const double P = fem::mooney_rivlin_nominal_stress(fem::paper_mooney_rivlin_terms(),
-                                                       fem::HomogeneousMode::uniaxial, lambda);
+    const double P =
+        fem::mooney_rivlin_nominal_stress(fem::paper_mooney_rivlin_terms(), fem::HomogeneousMode::uniaxial, lambda);
     EXPECT_NEAR(row[4], P, kHomogeneousTolerance * P) << "step " << row[0];
     EXPECT_NEAR(row[3], row[4] * 10.0, 1e-12 * row[3]);  // edge force = force per width × full width
   }
@@ -118,7 +118,8 @@ loads = [2.0, 5.0, 10.0]
 s = m.cell_data["cauchy_stress"][0]
 u = m.point_data["displacement"]
 e = m.cell_data["ellipticity"][0]
-print(m.cells[0].type, len(m.cells[0].data), repr(float(u[:, 0].min())), repr(float(s[:, 4].min())), repr(float(s[:, 4].max())), repr(float(abs(s[:, 0]).max())), repr(float(e.min())), repr(float(e.max())))
+print(m.cells[0].type, len(m.cells[0].data), repr(float(u[:, 0].min())), repr(float(s[:, 4].min())),
+      repr(float(s[:, 4].max())), repr(float(abs(s[:, 0]).max())), repr(float(e.min())), repr(float(e.max())))
 )");
   std::istringstream in(info);
   std::string type;
@@ -223,7 +224,8 @@ struct BadInput {
 
 BadInput run_bad(const std::string& name, const std::string& text, const std::string& flags = "") {
   const auto file = write_case(name, text);
-  const auto r = run_tricot("simulate " + file.string() + " -o " + (file.parent_path() / "out").string() + " -q " + flags);
+  const auto r =
+      run_tricot("simulate " + file.string() + " -o " + (file.parent_path() / "out").string() + " -q " + flags);
   EXPECT_EQ(lines(r.err), 1) << r.err;
   EXPECT_EQ(r.err.rfind("tricot: error: ", 0), 0u) << r.err;
   return {r.exit_code, r.err, file.parent_path() / "out"};
@@ -237,7 +239,8 @@ std::string replace(std::string s, const std::string& from, const std::string& t
 
 TEST(SimulateBadInput, TheBaseCaseIsGood) {
   const auto file = write_case("base", kStrip);
-  EXPECT_EQ(run_tricot("simulate " + file.string() + " -o " + (file.parent_path() / "out").string() + " -q").exit_code, 0);
+  EXPECT_EQ(run_tricot("simulate " + file.string() + " -o " + (file.parent_path() / "out").string() + " -q").exit_code,
+            0);
 }
 
 TEST(SimulateBadInput, AMisspelledKeySuggestsTheRightOne) {
@@ -268,7 +271,8 @@ TEST(SimulateBadInput, ANanIsRejected) {
 // Issue 29: only force control needs increasing loads; a displacement-controlled grip may hold and
 // go back (a lab record's holds and unloading).
 TEST(SimulateBadInput, AForceStepListGoingBackwardsNamesTheStep) {
-  const auto r = run_bad("backwards", replace(kStrip, "load_max = 2.0", "control = \"force\"\nloads = [1.0, 3.0, 2.0]"));
+  const auto r =
+      run_bad("backwards", replace(kStrip, "load_max = 2.0", "control = \"force\"\nloads = [1.0, 3.0, 2.0]"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("test[0].loads: under force control the loads must increase strictly (step 3 goes backwards)"),
             std::string::npos)
@@ -276,7 +280,8 @@ TEST(SimulateBadInput, AForceStepListGoingBackwardsNamesTheStep) {
 }
 
 TEST(SimulateBadInput, AForceFirstLoadBelowZeroIsRejected) {
-  const auto r = run_bad("negative_load", replace(kStrip, "load_max = 2.0", "control = \"force\"\nloads = [-1.0, 1.0]"));
+  const auto r =
+      run_bad("negative_load", replace(kStrip, "load_max = 2.0", "control = \"force\"\nloads = [-1.0, 1.0]"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("test[0].loads: the first load must be positive (got -1.0"), std::string::npos) << r.err;
 }
@@ -373,8 +378,10 @@ TEST(SimulateBadInput, TwoTestsWithOneNameAreRejected) {
 }
 
 TEST(SimulateBadInput, MooneyRivlinValuesMustMatchTheTerms) {
-  const auto r = run_bad("mr_values", replace(kStrip, "type = \"neo_hookean\"",
-                                              "type = \"mooney_rivlin\"\n[law.mooney_rivlin]\nterms = [\"C10\", \"C01\"]\nvalues = [0.1]"));
+  const auto r =
+      run_bad("mr_values",
+              replace(kStrip, "type = \"neo_hookean\"",
+                      "type = \"mooney_rivlin\"\n[law.mooney_rivlin]\nterms = [\"C10\", \"C01\"]\nvalues = [0.1]"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("law.mooney_rivlin.values: one value per term (got 1 values, expected 2 as in terms)"),
             std::string::npos)
@@ -407,7 +414,8 @@ transverse_strain = 0.4
 pull_strain = 0.65
 steps = 21
 )");
-  const auto r = run_tricot("simulate " + file.string() + " -o " + (file.parent_path() / "out").string() + " -q --no-vtu");
+  const auto r =
+      run_tricot("simulate " + file.string() + " -o " + (file.parent_path() / "out").string() + " -q --no-vtu");
   EXPECT_EQ(r.exit_code, 4) << r.err;
   EXPECT_EQ(lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("after 2 Newton iterations"), std::string::npos) << r.err;

@@ -80,8 +80,9 @@ TEST(PolarDecomposition, AngleRotationAndStretchDerivativesMatchFiniteDifference
     EXPECT_TRUE(JacobianMatches(theta, vec(s.F), Eigen::MatrixXd(J.theta_F.transpose()), kFdTol)) << s.name;
     EXPECT_TRUE(JacobianMatches(R, vec(s.F), J.R_F, kFdTol)) << s.name;
     EXPECT_TRUE(JacobianMatches(U, vec(s.F), J.U_F, kFdTol)) << s.name;
-    worst = std::max({worst, tricot::test::jacobian_error(theta, vec(s.F), Eigen::MatrixXd(J.theta_F.transpose())),
-                      tricot::test::jacobian_error(R, vec(s.F), J.R_F), tricot::test::jacobian_error(U, vec(s.F), J.U_F)});
+    worst =
+        std::max({worst, tricot::test::jacobian_error(theta, vec(s.F), Eigen::MatrixXd(J.theta_F.transpose())),
+                  tricot::test::jacobian_error(R, vec(s.F), J.R_F), tricot::test::jacobian_error(U, vec(s.F), J.U_F)});
   }
   record_scientific("max_polar_fd_rel_error", worst);
 }

@@ -21,9 +21,14 @@ struct Case {
   std::vector<std::array<int, 4>> nb;
 };
 
-Case make_case(int w, int h, const synth::InverseMotion& motion, const Roi& roi, int step, synth::SpeckleOptions so = {}) {
+Case make_case(int w, int h, const synth::InverseMotion& motion, const Roi& roi, int step,
+               synth::SpeckleOptions so = {}) {
   const synth::SpecklePattern P(so, -w, -h, 2 * w, 2 * h);
-  Case c{prepare_frame(synth::render(P, w, h, synth::no_motion)), prepare_frame(synth::render(P, w, h, motion)), {}, {}, {}};
+  Case c{prepare_frame(synth::render(P, w, h, synth::no_motion)),
+         prepare_frame(synth::render(P, w, h, motion)),
+         {},
+         {},
+         {}};
   c.grid = make_grid(roi, w, h, 31, step);
   for (const auto& p : c.grid) c.centres.push_back(p.x);
   c.nb = grid_neighbours(c.grid);
@@ -34,7 +39,8 @@ Case make_case(int w, int h, const synth::InverseMotion& motion, const Roi& roi,
 
 TEST(CorrelatePair, FindsALargeTranslationFromOneSeedAndPropagatesEverywhere) {
   const Vec2 d(23.4, -17.8);
-  Case c = make_case(240, 200, [&](const Vec2& x) { return Vec2(x - d); }, Roi::rectangle(20, 40, 200, 160), 15);
+  Case c = make_case(
+      240, 200, [&](const Vec2& x) { return Vec2(x - d); }, Roi::rectangle(20, 40, 200, 160), 15);
   const PairResult r = correlate_pair(c.f, c.g, c.centres, c.nb, DicOptions{});
   EXPECT_EQ(r.ok, static_cast<int>(c.centres.size())) << r.message;
   EXPECT_EQ(r.seeds_tried, 1);
@@ -46,8 +52,9 @@ TEST(CorrelatePair, FindsALargeTranslationFromOneSeedAndPropagatesEverywhere) {
 
 TEST(CorrelatePair, MeasuresAUniformFivePercentStrainInOneStep) {
   const Vec2 c0(120, 100);
-  Case c = make_case(240, 200, [&](const Vec2& x) { return Vec2(c0(0) + (x(0) - c0(0)) / 1.05, c0(1) + (x(1) - c0(1)) / 1.02); },
-                     Roi::whole_image(), 10);
+  Case c = make_case(
+      240, 200, [&](const Vec2& x) { return Vec2(c0(0) + (x(0) - c0(0)) / 1.05, c0(1) + (x(1) - c0(1)) / 1.02); },
+      Roi::whole_image(), 10);
   const PairResult r = correlate_pair(c.f, c.g, c.centres, c.nb, DicOptions{});
   int inside = 0;
   for (std::size_t k = 0; k < c.centres.size(); ++k) {
@@ -55,7 +62,8 @@ TEST(CorrelatePair, MeasuresAUniformFivePercentStrainInOneStep) {
     const Vec2 u(0.05 * (X(0) - c0(0)), 0.02 * (X(1) - c0(1)));
     // subsets near the left/right border are pushed out of the image by the stretch
     if (r.points[k].status == PointStatus::out_of_image) continue;
-    ASSERT_EQ(r.points[k].status, PointStatus::ok) << X.transpose() << " " << to_string(r.points[k].status) << " " << r.message;
+    ASSERT_EQ(r.points[k].status, PointStatus::ok)
+        << X.transpose() << " " << to_string(r.points[k].status) << " " << r.message;
     ++inside;
     EXPECT_NEAR(r.points[k].p(0), u(0), kNoiseFreeTol);
     EXPECT_NEAR(r.points[k].p(6), u(1), kNoiseFreeTol);
@@ -68,7 +76,8 @@ TEST(CorrelatePair, SeedOnABlankAreaIsReportedAndTheNextSeedTakesOver) {
   // The left half of the image is blank (a flat gray level); the user's seed lies there.
   const Vec2 d(1.3, 0.6);
   synth::SpeckleOptions so;
-  Case c = make_case(240, 160, [&](const Vec2& x) { return Vec2(x - d); }, Roi::whole_image(), 10, so);
+  Case c = make_case(
+      240, 160, [&](const Vec2& x) { return Vec2(x - d); }, Roi::whole_image(), 10, so);
   for (Frame* fr : {&c.f, &c.g}) {
     for (int y = 0; y < 160; ++y)
       for (int x = 0; x < 110; ++x) fr->image.at(x, y) = 0.5f;
@@ -100,7 +109,8 @@ TEST(CorrelatePair, BlankCurrentImageGivesNoGoodPointAndNoCrash) {
 
 TEST(CorrelatePair, GuessesAreUsedAndFailuresRecoveredByPropagation) {
   const Vec2 d(4.2, 2.1);
-  Case c = make_case(200, 160, [&](const Vec2& x) { return Vec2(x - d); }, Roi::rectangle(20, 20, 175, 135), 15);
+  Case c = make_case(
+      200, 160, [&](const Vec2& x) { return Vec2(x - d); }, Roi::rectangle(20, 20, 175, 135), 15);
   std::vector<std::optional<Shape>> guesses(c.centres.size(), translation(4, 2));
   guesses[3] = translation(60, -40);  // hopeless guess: must be recovered from a neighbour
   guesses[7] = std::nullopt;          // no guess at all

@@ -45,7 +45,8 @@ TEST(Grid, RoiOutsideTheImageIsAnInputErrorSayingSo) {
     make_grid(Roi::rectangle(200, 200, 300, 300), 100, 80, 21, 10);
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "dic.roi: region of interest lies outside the image (got 200,200,300,300, expected within 0,0,99,79)");
+    EXPECT_EQ(std::string(e.what()),
+              "dic.roi: region of interest lies outside the image (got 200,200,300,300, expected within 0,0,99,79)");
   }
 }
 

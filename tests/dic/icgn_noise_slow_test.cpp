@@ -19,12 +19,12 @@ using namespace tricot::dic;
 namespace {
 
 /// The bounds at 2 % noise with 31 px subsets.
-constexpr double kBiasTol = 0.002;    ///< px, mean error
-constexpr double kRandomTol = 0.01;   ///< px, standard deviation of the error
-constexpr double kNoise = 0.02;       ///< Gaussian noise, fraction of full scale, in both images
-constexpr double kPrefilter = 0.7;    ///< px: Gaussian pre-filter against the noise-induced interpolation bias
-constexpr int kRealisations = 2;      ///< noise draws per bounded case (each a fresh pair of noisy images)
-constexpr int kSize = 400;            ///< px, square images
+constexpr double kBiasTol = 0.002;   ///< px, mean error
+constexpr double kRandomTol = 0.01;  ///< px, standard deviation of the error
+constexpr double kNoise = 0.02;      ///< Gaussian noise, fraction of full scale, in both images
+constexpr double kPrefilter = 0.7;   ///< px: Gaussian pre-filter against the noise-induced interpolation bias
+constexpr int kRealisations = 2;     ///< noise draws per bounded case (each a fresh pair of noisy images)
+constexpr int kSize = 400;           ///< px, square images
 
 /// A fine, full-contrast speckle (2 px blobs on black): what a DIC practitioner would paint.
 synth::SpeckleOptions speckle() {
@@ -40,7 +40,7 @@ struct Stats {
   double bias_u = 0, sd_u = 0, bias_v = 0, sd_v = 0;
   double bias_grad = 0;  ///< mean error of the displacement gradient (max over its four entries)
   int n = 0;
-  int second = 0;        ///< points matched to second order (order = auto)
+  int second = 0;  ///< points matched to second order (order = auto)
 };
 
 /// Correlates the reference with the moved image at every grid point, over kRealisations noise draws,
@@ -93,7 +93,8 @@ Stats measure(const synth::InverseMotion& motion, const std::function<Vec2(const
 }
 
 void print(const char* label, const Stats& s) {
-  std::printf("%-26s %+.5f  %.5f  %+.5f  %.5f  %.1e  %d\n", label, s.bias_u, s.sd_u, s.bias_v, s.sd_v, s.bias_grad, s.n);
+  std::printf("%-26s %+.5f  %.5f  %+.5f  %.5f  %.1e  %d\n", label, s.bias_u, s.sd_u, s.bias_v, s.sd_v, s.bias_grad,
+              s.n);
 }
 
 void header(const char* title) {
@@ -112,9 +113,9 @@ TEST(IcgnNoise, BiasAndRandomErrorStayWithinBoundsOverSubPixelShiftsAtTwoPercent
     for (int i = 0; i <= 10; ++i) {
       const double u = 0.1 * i, v = 0.05 * i;
       // without the pre-filter: one noise draw, printed for comparison
-      const Stats s = measure([&](const Vec2& x) { return Vec2(x(0) - u, x(1) - v); },
-                              [&](const Vec2&) { return Vec2(u, v); }, Mat2::Zero(), prefilter, true, 100 + i,
-                              prefilter > 0 ? kRealisations : 1);
+      const Stats s =
+          measure([&](const Vec2& x) { return Vec2(x(0) - u, x(1) - v); }, [&](const Vec2&) { return Vec2(u, v); },
+                  Mat2::Zero(), prefilter, true, 100 + i, prefilter > 0 ? kRealisations : 1);
       char label[32];
       std::snprintf(label, sizeof label, "shift (%.2f, %.2f) px", u, v);
       print(label, s);
@@ -135,15 +136,17 @@ TEST(IcgnNoise, TricotDicsDefaultOrderAutoKeepsTheBoundsOverSubPixelShiftsAndASt
   // it (the F-test then counts the pre-filter's noise correlation, icgn.hpp).
   for (double prefilter : {0.0, kPrefilter}) {
     char title[128];
-    std::snprintf(title, sizeof title, "order = auto: shifts and a 5 %% / -2.5 %% strain, 2 %% noise, 31 px subsets, pre-filter %.1f px",
+    std::snprintf(title, sizeof title,
+                  "order = auto: shifts and a 5 %% / -2.5 %% strain, 2 %% noise, 31 px subsets, pre-filter %.1f px",
                   prefilter);
     header(title);
     int second = 0, n = 0;
     const int draws = prefilter > 0 ? kRealisations : 1;
     for (int i = 0; i <= 10; i += 2) {
       const double u = 0.1 * i, v = 0.05 * i;
-      const Stats s = measure([&](const Vec2& x) { return Vec2(x(0) - u, x(1) - v); }, [&](const Vec2&) { return Vec2(u, v); },
-                              Mat2::Zero(), prefilter, true, 100 + i, draws, ShapeOrder::automatic);
+      const Stats s =
+          measure([&](const Vec2& x) { return Vec2(x(0) - u, x(1) - v); }, [&](const Vec2&) { return Vec2(u, v); },
+                  Mat2::Zero(), prefilter, true, 100 + i, draws, ShapeOrder::automatic);
       char label[32];
       std::snprintf(label, sizeof label, "shift (%.2f, %.2f) px", u, v);
       print(label, s);
@@ -196,9 +199,9 @@ TEST(IcgnNoise, RotationIsMeasuredInOneStep) {
   for (double deg : {1.0, 5.0, 10.0}) {
     const double t = deg * std::numbers::pi / 180;
     const Mat2 R = (Mat2() << std::cos(t), -std::sin(t), std::sin(t), std::cos(t)).finished();
-    const Stats s = measure([&](const Vec2& x) { return Vec2(c + R.transpose() * (x - c)); },
-                            [&](const Vec2& X) { return Vec2(c + R * (X - c) - X); }, R - Mat2::Identity(), kPrefilter,
-                            false, 500);
+    const Stats s =
+        measure([&](const Vec2& x) { return Vec2(c + R.transpose() * (x - c)); },
+                [&](const Vec2& X) { return Vec2(c + R * (X - c) - X); }, R - Mat2::Identity(), kPrefilter, false, 500);
     char label[32];
     std::snprintf(label, sizeof label, "rotation %.0f deg", deg);
     print(label, s);

@@ -19,14 +19,13 @@ constexpr double kNoiseFreeTol = 2e-3;
 /// Gradients: the same error spread over a 31 px subset.
 constexpr double kGradientTol = 2e-4;
 
-synth::SpecklePattern pattern(int size) {
-  return synth::SpecklePattern(synth::SpeckleOptions{}, 0, 0, size, size);
-}
+synth::SpecklePattern pattern(int size) { return synth::SpecklePattern(synth::SpeckleOptions{}, 0, 0, size, size); }
 
 /// Reference and current frames of a motion X = φ⁻¹(x).
 std::pair<Frame, Frame> frames(int size, const synth::InverseMotion& motion) {
   const auto P = pattern(size);
-  return {prepare_frame(synth::render(P, size, size, synth::no_motion)), prepare_frame(synth::render(P, size, size, motion))};
+  return {prepare_frame(synth::render(P, size, size, synth::no_motion)),
+          prepare_frame(synth::render(P, size, size, motion))};
 }
 
 /// 140 px frames of u(X) = a (X − c)² along x (x = X + a (X − c)², inverted by Newton).
@@ -80,7 +79,8 @@ TEST(Icgn, RecoversASubPixelTranslation) {
 TEST(Icgn, RecoversAFivePercentUniformStrainInOneStep) {
   // x = c + (1.05, 0.97)·(X − c) about c = (60, 60)
   const Vec2 c(60, 60);
-  auto [f, g] = frames(140, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / 1.05, c(1) + (x(1) - c(1)) / 0.97); });
+  auto [f, g] =
+      frames(140, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / 1.05, c(1) + (x(1) - c(1)) / 0.97); });
   const Vec2 X(75, 50);
   const PointMatch m = icgn(f, g, X, Shape::Zero(), IcgnOptions{});
   ASSERT_EQ(m.status, PointStatus::ok);
@@ -157,7 +157,8 @@ TEST(Icgn, PredictedSigmaMatchesTheScatterOnNoisyImages) {
     const double noise = 0.02;  // of full scale, both images
     const auto P = pattern(size);
     const image::Image ref = synth::render(P, size, size, synth::no_motion);
-    const image::Image cur = synth::render(P, size, size, [&](const Vec2& x) { return Vec2(x(0) - shift, x(1) + 0.25); });
+    const image::Image cur =
+        synth::render(P, size, size, [&](const Vec2& x) { return Vec2(x(0) - shift, x(1) + 0.25); });
     double s2_pred_u = 0, s2_pred_v = 0, eu = 0, eu2 = 0, ev = 0, ev2 = 0;
     int n = 0;
     for (std::uint64_t draw = 0; draw < 3; ++draw) {
@@ -175,8 +176,8 @@ TEST(Icgn, PredictedSigmaMatchesTheScatterOnNoisyImages) {
     }
     const double sd_u = std::sqrt(eu2 / n - (eu / n) * (eu / n)), sd_v = std::sqrt(ev2 / n - (ev / n) * (ev / n));
     const double pred_u = std::sqrt(s2_pred_u / n), pred_v = std::sqrt(s2_pred_v / n);
-    std::printf("shift %.2f px: sd_u %.5f predicted %.5f, sd_v %.5f predicted %.5f px (%d matches)\n", shift, sd_u, pred_u,
-                sd_v, pred_v, n);
+    std::printf("shift %.2f px: sd_u %.5f predicted %.5f, sd_v %.5f predicted %.5f px (%d matches)\n", shift, sd_u,
+                pred_u, sd_v, pred_v, n);
     EXPECT_NEAR(pred_u / sd_u, 1.0, kSigmaRatioTol) << "shift " << shift;
     EXPECT_NEAR(pred_v / sd_v, 1.0, kSigmaRatioTol) << "shift " << shift;
   }
@@ -197,7 +198,8 @@ TEST(Icgn, AGaussianWindowRecoversAUniformStrainAndAQuadraticDisplacementLikeUni
   o.weight_sigma = 7;
   {
     const Vec2 c(60, 60);
-    auto [f, g] = frames(140, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / 1.05, c(1) + (x(1) - c(1)) / 0.97); });
+    auto [f, g] =
+        frames(140, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / 1.05, c(1) + (x(1) - c(1)) / 0.97); });
     const Vec2 X(75, 50);
     const PointMatch m = icgn(f, g, X, Shape::Zero(), o);
     ASSERT_EQ(m.status, PointStatus::ok);
@@ -264,15 +266,18 @@ TEST(Icgn, AutomaticOrderKeepsFirstOrderOnAnAffineFieldAndTakesSecondOrderOnAQua
   const auto P = pattern(size);
   const image::Image ref = synth::add_noise(synth::render(P, size, size, synth::no_motion), 0.02, 7);
   const image::Image affine = synth::add_noise(
-      synth::render(P, size, size, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / 1.05, c(1) + (x(1) - c(1)) / 0.97); }),
+      synth::render(P, size, size,
+                    [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / 1.05, c(1) + (x(1) - c(1)) / 0.97); }),
       0.02, 8);
-  const image::Image quadratic = synth::add_noise(synth::render(P, size, size, [&](const Vec2& x) {
-                                                    double X = x(0);
-                                                    for (int k = 0; k < 30; ++k)
-                                                      X -= (X + a * (X - c(0)) * (X - c(0)) - x(0)) / (1 + 2 * a * (X - c(0)));
-                                                    return Vec2(X, x(1));
-                                                  }),
-                                                  0.02, 9);
+  const image::Image quadratic =
+      synth::add_noise(synth::render(P, size, size,
+                                     [&](const Vec2& x) {
+                                       double X = x(0);
+                                       for (int k = 0; k < 30; ++k)
+                                         X -= (X + a * (X - c(0)) * (X - c(0)) - x(0)) / (1 + 2 * a * (X - c(0)));
+                                       return Vec2(X, x(1));
+                                     }),
+                       0.02, 9);
   const Frame f = prepare_frame(ref), ga = prepare_frame(affine), gq = prepare_frame(quadratic);
   int second_affine = 0, second_quadratic = 0, n = 0;
   for (int y = 50; y <= 110; y += 10)

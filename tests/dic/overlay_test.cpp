@@ -53,7 +53,8 @@ TEST(Overlay, PointsAreColouredByTheirValueAndTheRestStaysGray) {
   ASSERT_EQ(out.width, 200);
   // a point on the left (|u| = 2, the low end) and one on the right (|u| = 4, the high end) differ
   const auto left = pixel(out, static_cast<int>(c.f.x[0](0)), static_cast<int>(c.f.x[0](1)));
-  const auto right = pixel(out, static_cast<int>(c.f.x[c.grid.size() - 1](0)), static_cast<int>(c.f.x[c.grid.size() - 1](1)));
+  const auto right =
+      pixel(out, static_cast<int>(c.f.x[c.grid.size() - 1](0)), static_cast<int>(c.f.x[c.grid.size() - 1](1)));
   EXPECT_FALSE(gray(left));
   EXPECT_FALSE(gray(right));
   EXPECT_NE(left, right);

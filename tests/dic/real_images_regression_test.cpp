@@ -26,7 +26,7 @@ constexpr int kStep = 20;  ///< px: every 20th pixel keeps the test short; the d
 
 fs::path data(const std::string& folder) { return test::shared_data() / folder; }
 
-#define REQUIRE_DATA(folder)                                                                  \
+#define REQUIRE_DATA(folder) \
   if (!fs::exists(data(folder))) GTEST_SKIP() << data(folder) << " is missing (../shared/data)"
 
 /// One image pair over the whole-image grid (31 px subsets).
@@ -193,7 +193,8 @@ TEST(TensionSeries, FortyFivePercentInOneStepAndThroughTheSeriesGivesTheNominalS
   constexpr double kStrainTol = 1e-3;
   const int stretches[] = {30, 35, 40, 45};
   std::vector<image::Image> images{image::load_image(data("synthetic-tension") / "utn_00.png").image};
-  for (int s : stretches) images.push_back(image::load_image(data("synthetic-tension") / ("utn_" + std::to_string(s) + ".png")).image);
+  for (int s : stretches)
+    images.push_back(image::load_image(data("synthetic-tension") / ("utn_" + std::to_string(s) + ".png")).image);
   auto median_exx = [](const TrackedFrame& f) {
     std::vector<double> v;
     for (std::size_t k = 0; k < f.strain.size(); ++k)
@@ -211,10 +212,11 @@ TEST(TensionSeries, FortyFivePercentInOneStepAndThroughTheSeriesGivesTheNominalS
     const SequenceResult r = track_sequence(seq, Roi::whole_image(), o);
     const TrackedFrame& last = r.frames.back();
     const double exx = median_exx(last), nominal = 0.5 * (1.45 * 1.45 - 1);
-    std::printf("%s mode, utn_00 -> utn_45 in %zu step(s): %d/%d ok (textured: %d), mean ZNCC %.4f, median exx %.5f "
-                "(nominal %.5f)\n",
-                to_string(mode), seq.size() - 1, last.ok, static_cast<int>(r.grid.size()), r.frames.front().ok,
-                last.mean_zncc, exx, nominal);
+    std::printf(
+        "%s mode, utn_00 -> utn_45 in %zu step(s): %d/%d ok (textured: %d), mean ZNCC %.4f, median exx %.5f "
+        "(nominal %.5f)\n",
+        to_string(mode), seq.size() - 1, last.ok, static_cast<int>(r.grid.size()), r.frames.front().ok, last.mean_zncc,
+        exx, nominal);
     EXPECT_GT(last.ok, static_cast<int>(0.9 * r.frames.front().ok)) << last.message;
     EXPECT_GT(last.mean_zncc, 0.9);
     EXPECT_NEAR(exx, nominal, kStrainTol);

@@ -56,7 +56,7 @@ TEST(SeedGuess, SatellitesGiveTheDisplacementGradient) {
   const Frame g = prepare_frame(synth::render(P, 240, 120, [](const Vec2& x) { return Vec2(x(0) / 1.1, x(1)); }));
   const SeedGuess s = seed_guess(f, g, Vec2(100, 60), 31, 20);
   ASSERT_TRUE(s.found);
-  EXPECT_NEAR(s.p(0), 10, 1.0);   // integer start: within a pixel
+  EXPECT_NEAR(s.p(0), 10, 1.0);        // integer start: within a pixel
   EXPECT_NEAR(s.p(1), 0.1, 1.0 / 31);  // integer satellites: within a pixel over 31 px
   EXPECT_NEAR(s.p(8), 0.0, 1.0 / 31);
 }
@@ -71,7 +71,7 @@ TEST(WideSeedGuess, FindsAFortyFivePercentStretchFarBeyondTheSearchRadius) {
   const SeedGuess s = wide_seed_guess(f, g, X, 31);
   ASSERT_TRUE(s.found);
   EXPECT_NEAR(s.p(0), t.forward(X)(0) - X(0), 2.0);
-  EXPECT_NEAR(s.p(1), 0.45, 0.07);   // the fine grid of stretches is 6 % apart
+  EXPECT_NEAR(s.p(1), 0.45, 0.07);  // the fine grid of stretches is 6 % apart
   EXPECT_NEAR(s.p(8), -0.15, 0.07);
   const PointMatch m = icgn(f, g, X, s.p, IcgnOptions{});
   ASSERT_EQ(m.status, PointStatus::ok);

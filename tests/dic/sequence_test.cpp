@@ -100,7 +100,8 @@ TEST(Sequence, DriftGrowsNoFasterThanTheSquareRootOfTheNumberOfIncrements) {
   s.frames = 20;
   const double fine = test::rms_error(s, test::track(s, options(SequenceMode::incremental)), 20).first;
   EXPECT_LT(coarse, kTrackingTol);
-  EXPECT_LE(fine, std::sqrt(20.0 / 5.0) * coarse) << "5 increments: " << coarse << " px, 20 increments: " << fine << " px";
+  EXPECT_LE(fine, std::sqrt(20.0 / 5.0) * coarse)
+      << "5 increments: " << coarse << " px, 20 increments: " << fine << " px";
 }
 
 TEST(Sequence, ReferenceModeCorrelatesEveryFrameWithTheFirst) {
@@ -250,7 +251,6 @@ TEST(Sequence, TheReferenceFramesStrainIsExactlyZero) {
   EXPECT_GT(valid, 0);
 }
 
-
 namespace {
 
 /// Bit for bit, NaN equal to NaN (a lost point's position).
@@ -329,7 +329,8 @@ TEST(Sequence, ACheckpointOfAnotherGridOrATruncatedOneIsRefusedWithTheResumeKey)
   t.add(b);
   const std::string c = t.checkpoint();
   const auto other = make_grid(s.roi(), s.width, s.height, o.dic.icgn.subset_size, o.dic.step + 2);
-  for (const auto& [g, bytes] : {std::pair{other, c}, std::pair{grid, c.substr(0, c.size() / 2)}, std::pair{grid, std::string("x")}}) {
+  for (const auto& [g, bytes] :
+       {std::pair{other, c}, std::pair{grid, c.substr(0, c.size() / 2)}, std::pair{grid, std::string("x")}}) {
     try {
       SequenceTracker r(b, b, g, o, bytes);
       ADD_FAILURE() << "accepted";

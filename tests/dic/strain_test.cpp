@@ -85,7 +85,8 @@ double measured_strain_transfer(double period, ShapeOrder order, int window) {
     for (int it = 0; it < 30; ++it) X = x(0) - A * std::sin(k * X);  // x = X + A sin(kX), a contraction
     return Vec2(X, x(1));
   };
-  const Frame f = prepare_frame(synth::render(P, w, h, synth::no_motion)), g = prepare_frame(synth::render(P, w, h, motion));
+  const Frame f = prepare_frame(synth::render(P, w, h, synth::no_motion)),
+              g = prepare_frame(synth::render(P, w, h, motion));
   const auto grid = make_grid(Roi::whole_image(), w, h, N, step);
   std::vector<Vec2> centres;
   for (const auto& p : grid) centres.push_back(p.x);
@@ -102,7 +103,8 @@ double measured_strain_transfer(double period, ShapeOrder order, int window) {
   so.window = window;
   const auto E = green_lagrange(grid, x, good, so);
   int i0 = grid[0].i, i1 = i0, j0 = grid[0].j, j1 = j0;
-  for (const auto& p : grid) i0 = std::min(i0, p.i), i1 = std::max(i1, p.i), j0 = std::min(j0, p.j), j1 = std::max(j1, p.j);
+  for (const auto& p : grid)
+    i0 = std::min(i0, p.i), i1 = std::max(i1, p.i), j0 = std::min(j0, p.j), j1 = std::max(j1, p.j);
   Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   const int m = window / 2;
@@ -168,7 +170,7 @@ TEST(StrainResolution, SecondOrderWhereItPaysLeavesOnlyTheFitsAttenuation) {
 TEST(StrainResolution, DISABLED_PrintsTheMeasuredAndPredictedTransfers) {
   for (int window : {5, 9})
     for (double p : {60.0, 100.0, 150.0, 191.5, 300.0})
-      std::printf("window %d p %.1f first measured %.4f predicted %.4f | auto measured %.4f fit alone %.4f\n", window, p,
-                  measured_strain_transfer(p, ShapeOrder::first, window), strain_transfer(p, 31, 10, window),
+      std::printf("window %d p %.1f first measured %.4f predicted %.4f | auto measured %.4f fit alone %.4f\n", window,
+                  p, measured_strain_transfer(p, ShapeOrder::first, window), strain_transfer(p, 31, 10, window),
                   measured_strain_transfer(p, ShapeOrder::automatic, window), strain_transfer(p, 0, 10, window));
 }

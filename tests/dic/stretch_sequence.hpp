@@ -41,7 +41,8 @@ struct StretchSequence {
   image::Image image(const synth::SpecklePattern& P, int k) const {
     const Vec2 l = stretch(k);
     const Vec2 t = shift(k);
-    return synth::render(P, width, height, [&](const Vec2& x) { return Vec2(centre + (x - centre - t).cwiseQuotient(l)); });
+    return synth::render(P, width, height,
+                         [&](const Vec2& x) { return Vec2(centre + (x - centre - t).cwiseQuotient(l)); });
   }
 };
 

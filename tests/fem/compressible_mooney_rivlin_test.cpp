@@ -75,8 +75,10 @@ TEST(CompressibleMooneyRivlin, TangentAndCoefficientDerivativesMatchFiniteDiffer
     const Eigen::VectorXd c0 = law.coefficients();
     for (const auto& [what, F] : states()) {
       auto P_of_F = [&](const Eigen::VectorXd& f) -> Eigen::VectorXd { return flatten(eval(law, unflatten(f)).P); };
-      EXPECT_TRUE(test::JacobianMatches(P_of_F, flatten(F), eval(law, F).A, kTangentTol)) << what << " " << to_string(k);
-      test::record(std::string("tangent ") + what + " " + to_string(k), test::jacobian_error(P_of_F, flatten(F), eval(law, F).A));
+      EXPECT_TRUE(test::JacobianMatches(P_of_F, flatten(F), eval(law, F).A, kTangentTol))
+          << what << " " << to_string(k);
+      test::record(std::string("tangent ") + what + " " + to_string(k),
+                   test::jacobian_error(P_of_F, flatten(F), eval(law, F).A));
       const LawOutput out = eval(law, F, true);
       ASSERT_EQ(out.dP_dc.size(), kTerms.size() + 1);
       Eigen::MatrixXd J(4, c0.size());

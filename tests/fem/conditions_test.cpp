@@ -18,10 +18,10 @@
 namespace tricot::fem {
 namespace {
 
-constexpr double kSame = 1e-10;        // two formulations of one model: Newton's tolerance apart at most
-constexpr double kPatch = 1e-10;       // a homogeneous state is reproduced to round-off
-constexpr double kTightNewton = 1e-13; // runs that are differenced
-constexpr double kFdSimulate = 1e-7;   // issue 28: sensitivities within 1e-7 of central differences
+constexpr double kSame = 1e-10;         // two formulations of one model: Newton's tolerance apart at most
+constexpr double kPatch = 1e-10;        // a homogeneous state is reproduced to round-off
+constexpr double kTightNewton = 1e-13;  // runs that are differenced
+constexpr double kFdSimulate = 1e-7;    // issue 28: sensitivities within 1e-7 of central differences
 
 using test::record;
 
@@ -97,11 +97,11 @@ TEST_P(AnyElement, AFullStripPulledByItsTopIsHomogeneousWithTheForceAsItsResulta
 }
 
 TEST_P(AnyElement, SensitivitiesOfTheResultantAndTheFieldMatchCentralDifferencesWithTiedSides) {
-  TestModel t = full_strip(GetParam(), {3, 6, 4});  // load, then partly unload
+  TestModel t = full_strip(GetParam(), {3, 6, 4});           // load, then partly unload
   t.conditions.push_back({"right", 0, {-0.5, -1.0, -0.8}});  // and squeeze the side through ties
-  t.conditions.back().tie = 0.3;                                // ending 20 mm short of the top,
+  t.conditions.back().tie = 0.3;                             // ending 20 mm short of the top,
   t.conditions.back().tie_end = Vec2(t.mesh.X.row(0).maxCoeff(), t.mesh.X.row(1).maxCoeff() - 20);
-  t.conditions.back().tie_taper = 10;                           // tapered
+  t.conditions.back().tie_taper = 10;  // tapered
   t.material_angle = 20;
   test::TestingLaw law(1.0, 2.0, 0.5);
   SolveOptions o = tight();
@@ -152,8 +152,8 @@ TEST(Conditions, TheQuarterModelWrittenAsNamedConditionsGivesTheBuiltInAnswer) {
   TestModel named = built_in;
   named.side = SideEdge::free;
   named.guide.clear();
-  named.conditions = {{"left", 0, {}}, {"bottom", 1, {}}, {"top", 0, {}}, {"top", 1, {2, 4, 6}},
-                      {"right", 0, {-0.5, -1.0, -1.5}}};
+  named.conditions = {
+      {"left", 0, {}}, {"bottom", 1, {}}, {"top", 0, {}}, {"top", 1, {2, 4, 6}}, {"right", 0, {-0.5, -1.0, -1.5}}};
   named.force_boundary = "top";
   named.force_scale = 2;  // the quarter's grip carries half the specimen's force
   const SimulationResult a = simulate(built_in, law, tight()), b = simulate(named, law, tight());

@@ -153,8 +153,8 @@ TEST(CorotationalOrthotropic, FlattenedElementCarriesVanishingShear) {
 
 TEST(SimpleShearClosedForms, AllRatesAgreeWithLinearElasticityAtSmallShear) {
   const double G = 2.0, gamma = 1e-4;
-  for (const auto& s : {simple_shear_log_rate(G, gamma), simple_shear_jaumann(G, gamma),
-                        simple_shear_green_naghdi(G, gamma)}) {
+  for (const auto& s :
+       {simple_shear_log_rate(G, gamma), simple_shear_jaumann(G, gamma), simple_shear_green_naghdi(G, gamma)}) {
     EXPECT_NEAR(s.s12, G * gamma, 1e-6 * G * gamma);
     EXPECT_NEAR(s.s11, G * gamma * gamma / 2, 1e-4 * G * gamma * gamma);
     EXPECT_EQ(s.s22, -s.s11);

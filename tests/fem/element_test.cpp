@@ -75,8 +75,8 @@ ElementResponse respond(const Mesh& m, const Eigen::VectorXd& u, const Law& law,
   req.sensitivities = sensitivities;
   LawOutput scratch;
   ElementResponse r;
-  const ElementStatus s = element_response(element_geometry(m, 0), element_displacements(m, 0, u), law,
-                                           material_axes(25), req, scratch, r);
+  const ElementStatus s =
+      element_response(element_geometry(m, 0), element_displacements(m, 0, u), law, material_axes(25), req, scratch, r);
   EXPECT_EQ(s, ElementStatus::ok);
   return r;
 }
@@ -206,9 +206,9 @@ TEST_P(ElementTypes, InvertedStateIsReported) {
   LawOutput scratch;
   ElementResponse r;
   const test::TestingLaw law;
-  EXPECT_EQ(element_response(element_geometry(m, 0), element_displacements(m, 0, u), law, Mat2::Identity(), {},
-                             scratch, r),
-            ElementStatus::inverted);
+  EXPECT_EQ(
+      element_response(element_geometry(m, 0), element_displacements(m, 0, u), law, Mat2::Identity(), {}, scratch, r),
+      ElementStatus::inverted);
   EXPECT_LT(r.min_detF, 0);
 }
 

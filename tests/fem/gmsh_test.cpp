@@ -107,7 +107,8 @@ TEST(Gmsh, MshFilesInFormats22And41AsciiAndBinaryGiveTheSameMesh) {
       EXPECT_EQ(m.nodes(), meshed.nodes());
       EXPECT_EQ(m.elements(), meshed.elements());
       EXPECT_NEAR(area(m), area(meshed), kArea * area(meshed));
-      for (const char* name : {"left", "right", "hole"}) EXPECT_EQ(m.boundary(name).size(), meshed.boundary(name).size());
+      for (const char* name : {"left", "right", "hole"})
+        EXPECT_EQ(m.boundary(name).size(), meshed.boundary(name).size());
     }
 }
 
@@ -121,7 +122,8 @@ const std::string kFiveNodes = "5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 3 3 0\n
 TEST(Gmsh, BadMeshesAreRefusedWithOneLineNamingTheFile) {
   const fs::path dir = test::scratch_dir("gmsh_bad");
   // Two triangles of the square, and a third whose three nodes lie on a line (degenerate).
-  const fs::path flat = write(dir, "flat.msh", msh22(kFiveNodes, "1 2 2 1 1 1 2 3\n2 2 2 1 1 1 3 4\n3 2 2 1 1 1 3 5\n", 3));
+  const fs::path flat =
+      write(dir, "flat.msh", msh22(kFiveNodes, "1 2 2 1 1 1 2 3\n2 2 2 1 1 1 3 4\n3 2 2 1 1 1 3 5\n", 3));
   const std::string e1 = error_of([&] { read_gmsh(flat.string()); });
   EXPECT_NE(e1.find("flat.msh"), std::string::npos) << e1;
   EXPECT_NE(e1.find("inverted or degenerate"), std::string::npos) << e1;
@@ -137,7 +139,8 @@ TEST(Gmsh, BadMeshesAreRefusedWithOneLineNamingTheFile) {
   EXPECT_NE(e3.find("which tricot does not take"), std::string::npos) << e3;
   EXPECT_NE(e3.find("mesh.file"), std::string::npos) << e3;
   // A tetrahedron: a 3-D mesh.
-  const fs::path tet = write(dir, "tet.msh", msh22("4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n", "1 4 2 1 1 1 2 3 4\n", 1));
+  const fs::path tet =
+      write(dir, "tet.msh", msh22("4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n", "1 4 2 1 1 1 2 3 4\n", 1));
   const std::string e4 = error_of([&] { read_gmsh(tet.string()); });
   EXPECT_NE(e4.find("a 3-D mesh"), std::string::npos) << e4;
   // A missing file is a FileError (exit 3).

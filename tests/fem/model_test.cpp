@@ -77,10 +77,10 @@ TEST(TestModel, ADisplacementPathWithHoldsAndUnloadingSolvesAndAnElasticLawRetra
   constexpr double kNewton = 1e-6;  // relative: the solver's default tolerance, with a margin
   const double F1 = r.steps[1].edge_force;
   EXPECT_GT(F1, 0);
-  EXPECT_NEAR(r.steps[2].edge_force, F1, kNewton * F1);                    // the hold
+  EXPECT_NEAR(r.steps[2].edge_force, F1, kNewton * F1);                     // the hold
   EXPECT_NEAR(r.steps[3].edge_force, r.steps[0].edge_force, kNewton * F1);  // back to 0.5
-  EXPECT_NEAR(r.steps[4].edge_force, 0.0, kNewton * F1);                   // unloaded
-  EXPECT_NEAR(r.steps[5].edge_force, F1, kNewton * F1);                    // reloaded to 1.0
+  EXPECT_NEAR(r.steps[4].edge_force, 0.0, kNewton * F1);                    // unloaded
+  EXPECT_NEAR(r.steps[5].edge_force, F1, kNewton * F1);                     // reloaded to 1.0
 }
 
 TEST(TestModel, GuideValuesMustMatchTheSideEdge) {

@@ -30,8 +30,8 @@ constexpr double kNewtonTol = 1e-14;
 
 /// Many (i, j), including cross terms and I2-only terms, to exercise the general form.
 std::vector<MooneyRivlinTerm> rich_terms() {
-  return {{1, 0, 0.1}, {0, 1, 0.03}, {1, 1, -0.004}, {2, 0, -0.02}, {0, 2, 0.002},
-          {2, 1, 0.012}, {0, 3, 0.008}, {3, 0, 0.001}};
+  return {{1, 0, 0.1},   {0, 1, 0.03},  {1, 1, -0.004}, {2, 0, -0.02},
+          {0, 2, 0.002}, {2, 1, 0.012}, {0, 3, 0.008},  {3, 0, 0.001}};
 }
 
 /// The deformation gradients the tangent is checked at.
@@ -162,7 +162,8 @@ TEST(MooneyRivlin, SmallStrainUniaxialModulusIsSixC10LikeAnIncompressibleNeoHook
     for (int j = 0; j < 2; ++j)
       for (int k = 0; k < 2; ++k)
         for (int l = 0; l < 2; ++l)
-          A_exact(2 * i + j, 2 * k + l) = mu * ((i == k) * (j == l) + (i == l) * (j == k)) + 2 * mu * (i == j) * (k == l);
+          A_exact(2 * i + j, 2 * k + l) =
+              mu * ((i == k) * (j == l) + (i == l) * (j == k)) + 2 * mu * (i == j) * (k == l);
   EXPECT_LT((A_mr - A_exact).cwiseAbs().maxCoeff(), 1e-14);
   EXPECT_LT((A_nh - A_exact).cwiseAbs().maxCoeff(), 1e-5 * mu);
 }

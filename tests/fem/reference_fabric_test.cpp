@@ -109,7 +109,9 @@ TEST(ReferenceFabric, HasTheMagnitudesAndShapeOfACompressionKnit) {
   EXPECT_LT(FC100, 1.0);
   EXPECT_GT(FC100 / FW100, 2.5);  // wale several times softer at equal strain
   // J shape: near-linear below the locking onset, then much stiffer.
-  auto slope_C = [&](double e, double eW) { return (law.forces(e + 1e-6, eW)(0) - law.forces(e - 1e-6, eW)(0)) / 2e-6; };
+  auto slope_C = [&](double e, double eW) {
+    return (law.forces(e + 1e-6, eW)(0) - law.forces(e - 1e-6, eW)(0)) / 2e-6;
+  };
   auto slope_W = [&](double e) { return (law.forces(0, e + 1e-6)(1) - law.forces(0, e - 1e-6)(1)) / 2e-6; };
   EXPECT_LT(slope_C(0.5, 0) / slope_C(0.0, 0), 1.2);
   EXPECT_GT(slope_C(1.2, 0) / slope_C(0.0, 0), 3.0);
@@ -147,7 +149,7 @@ TEST(ReferenceFabric, ShrinksAcrossAFreeSidePullAndLoadsAHeldWidth) {
     EXPECT_GT(held(0) / held(1), 0.3) << eW;
     EXPECT_LT(held(0) / held(1), 3.0) << eW;
     tricot::test::record("held_width_FC_over_FW_" + std::to_string(static_cast<int>(std::lround(100 * eW))),
-                      held(0) / held(1));
+                         held(0) / held(1));
   }
 }
 

@@ -43,7 +43,7 @@ TEST(RegionLaws, EachRegionTakesItsOwnLawAndItsCoefficientsAreNamedByRegion) {
   EXPECT_EQ((at(law, F, 7).P - test::eval(sheet, F).P).norm(), 0);  // no such region: the sheet's
   EXPECT_EQ(law.coefficient_names(), (std::vector<std::string>{"mu", "lambda", "lesion.C10", "lesion.C01"}));
   EXPECT_TRUE(law.linear_in_coefficients());  // both laws are linear in their coefficients
-  RegionLaws copy = law;                       // a clone is independent
+  RegionLaws copy = law;                      // a clone is independent
   copy.set_coefficients(Eigen::Vector4d(0.6, 1.1, 0.5, 0.2));
   EXPECT_EQ(law.coefficients(), Eigen::Vector4d(0.5, 1.0, 0.4, 0.1));
   EXPECT_EQ(copy.coefficients(), Eigen::Vector4d(0.6, 1.1, 0.5, 0.2));

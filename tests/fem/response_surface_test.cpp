@@ -35,9 +35,9 @@ constexpr double kRoundOff = 1e-13;
 Eigen::VectorXd paper14_coefficients() {
   Eigen::VectorXd c(14);
   c << 0.25, -0.10, 0.20, -0.08, 0.03, 0.004,  // a1..a6
-      0.03, -0.01,                              // b1, b2
-      0.06, 0.02, -0.01, 0.015,                 // c1..c4
-      0.02, 0.01;                               // d1, d2
+      0.03, -0.01,                             // b1, b2
+      0.06, 0.02, -0.01, 0.015,                // c1..c4
+      0.02, 0.01;                              // d1, d2
   return c;
 }
 
@@ -292,35 +292,35 @@ TEST(ResponseSurface, CompressionBranchIsC1AtZeroAndItsTangentAndSensitivitiesMa
   constexpr double h = 1e-7;
   constexpr double kOneSided = 1e-6;  // O(h) one-sided truncation with O(1) coefficients
   for (Compression mode : {Compression::almansi, Compression::linear}) {
-  ResponseSurface law = paper14();
-  law.set_compression(mode);
-  for (double sign : {-1.0, 1.0}) {
-    EXPECT_NEAR((law.forces(sign * h, 0)(0) - law.forces(0, 0)(0)) / (sign * h), 0.25, kOneSided);
-    EXPECT_NEAR((law.forces(0, sign * h)(1) - law.forces(0, 0)(1)) / (sign * h), 0.06, kOneSided);
-    EXPECT_NEAR((law.forces(0, sign * h)(0) - law.forces(0, 0)(0)) / (sign * h), 0.03, kOneSided);
-  }
+    ResponseSurface law = paper14();
+    law.set_compression(mode);
+    for (double sign : {-1.0, 1.0}) {
+      EXPECT_NEAR((law.forces(sign * h, 0)(0) - law.forces(0, 0)(0)) / (sign * h), 0.25, kOneSided);
+      EXPECT_NEAR((law.forces(0, sign * h)(1) - law.forces(0, 0)(1)) / (sign * h), 0.06, kOneSided);
+      EXPECT_NEAR((law.forces(0, sign * h)(0) - law.forces(0, 0)(0)) / (sign * h), 0.03, kOneSided);
+    }
   }
   // Compressed states (the free strips of the rig): tangent and ∂P/∂c against central differences.
   Mat2 squeeze_wale, squeeze_both;
   squeeze_wale << 1.5, 0.1, -0.05, 0.62;  // εW ≈ −0.31
   squeeze_both << 0.8, 0.05, 0.02, 0.75;
   for (Compression mode : {Compression::almansi, Compression::linear})
-  for (ResponseSurface l : {paper14(), general()})
-    for (const Mat2& F : {squeeze_wale, squeeze_both}) {
-      l.set_compression(mode);
-      const Mat2 Q = rot(20);
-      LawOutput out;
-      l.evaluate({F, Q}, {true, true}, out);
-      auto P = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return flatten(P_of(l, unflatten(Vec4(x)), Q)); };
-      EXPECT_TRUE(JacobianMatches(P, flatten(F), out.A, kFdTol));
-      const Eigen::Index n = l.coefficients().size();
-      Eigen::MatrixXd J(4, n);
-      for (Eigen::Index k = 0; k < n; ++k) J.col(k) = flatten(out.dP_dc[k]);
-      auto Pc = [&](const Eigen::VectorXd& c) -> Eigen::VectorXd {
-        ResponseSurface m = l;
-        m.set_coefficients(c);
-        return flatten(P_of(m, F, Q));
-      };
-      EXPECT_TRUE(JacobianMatches(Pc, l.coefficients(), J, kFdTol));
-    }
+    for (ResponseSurface l : {paper14(), general()})
+      for (const Mat2& F : {squeeze_wale, squeeze_both}) {
+        l.set_compression(mode);
+        const Mat2 Q = rot(20);
+        LawOutput out;
+        l.evaluate({F, Q}, {true, true}, out);
+        auto P = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return flatten(P_of(l, unflatten(Vec4(x)), Q)); };
+        EXPECT_TRUE(JacobianMatches(P, flatten(F), out.A, kFdTol));
+        const Eigen::Index n = l.coefficients().size();
+        Eigen::MatrixXd J(4, n);
+        for (Eigen::Index k = 0; k < n; ++k) J.col(k) = flatten(out.dP_dc[k]);
+        auto Pc = [&](const Eigen::VectorXd& c) -> Eigen::VectorXd {
+          ResponseSurface m = l;
+          m.set_coefficients(c);
+          return flatten(P_of(m, F, Q));
+        };
+        EXPECT_TRUE(JacobianMatches(Pc, l.coefficients(), J, kFdTol));
+      }
 }

@@ -46,7 +46,8 @@ TEST(RigRefined, HeldWidthTestsConvergeQuadraticallyAtAbout24000Dofs) {
       for (size_t i = 0; i < s.residuals.size(); ++i) {
         table << " " << s.residuals[i];
         if (i > 0 && s.residuals[i] > floor) {
-          EXPECT_LE(s.residuals[i], kQuadraticConstant * s.residuals[i - 1] * s.residuals[i - 1]) << o.name << " step " << k + 1;
+          EXPECT_LE(s.residuals[i], kQuadraticConstant * s.residuals[i - 1] * s.residuals[i - 1])
+              << o.name << " step " << k + 1;
         }
       }
       table << "; ";

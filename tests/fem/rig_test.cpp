@@ -104,7 +104,8 @@ TEST(Rig, HeldWidthLoadsTheGuideAndTheFieldIsNotHomogeneous) {
 // the full pull, both directions. No inversion, no cutback, quadratic Newton; fields recorded.
 TEST(Rig, HarshestCampaignTestsConvergeQuadraticallyOnThePapersMesh) {
   const ReferenceFabric law;
-  for (const RigOptions& o : {campaign_test(PullDirection::course, 0.6, 1.0), campaign_test(PullDirection::wale, 0.75, 0.65)}) {
+  for (const RigOptions& o :
+       {campaign_test(PullDirection::course, 0.6, 1.0), campaign_test(PullDirection::wale, 0.75, 0.65)}) {
     const TestModel t = make_rig_test(o);
     const SimulationResult r = simulate(t, law);
     ASSERT_TRUE(r.usable()) << r.message;

@@ -21,11 +21,11 @@
 namespace tricot::fem {
 namespace {
 
-constexpr double kPatch = 1e-10;       // issue 2: a uniform strain is reproduced to 1e-10
-constexpr double kFdTangent = 1e-6;    // central differences, h = 1e-6: round-off ~1e-10 of the entries
-constexpr double kFdSimulate = 1e-5;   // brief: sensitivities match FD of whole simulations to 1e-5
-constexpr double kTightNewton = 1e-13; // Newton tolerance for runs that are differenced
-constexpr double kRoundOff = 1e-12;    // residual floor / grip force: round-off ends ≤ 5e-15 × the force
+constexpr double kPatch = 1e-10;        // issue 2: a uniform strain is reproduced to 1e-10
+constexpr double kFdTangent = 1e-6;     // central differences, h = 1e-6: round-off ~1e-10 of the entries
+constexpr double kFdSimulate = 1e-5;    // brief: sensitivities match FD of whole simulations to 1e-5
+constexpr double kTightNewton = 1e-13;  // Newton tolerance for runs that are differenced
+constexpr double kRoundOff = 1e-12;     // residual floor / grip force: round-off ends ≤ 5e-15 × the force
 
 using test::record;
 
@@ -179,7 +179,8 @@ struct Global {
     Eigen::VectorXd u;
     detail::expand(dofs, z, L, u);
     detail::Assembled a;
-    EXPECT_TRUE(assembler->assemble(u, {true, true}, a)) << int(a.status) << " element " << a.element << " detF " << a.min_detF;
+    EXPECT_TRUE(assembler->assemble(u, {true, true}, a))
+        << int(a.status) << " element " << a.element << " detF " << a.min_detF;
     return a;
   }
   Eigen::VectorXd residual(const Eigen::VectorXd& z, const detail::Load& L) const {
@@ -222,7 +223,8 @@ TEST(GlobalTangent, MatchesFiniteDifferencesOfTheResidual) {
     EXPECT_TRUE(test::JacobianMatches(R, z, K, kFdTangent));
     // ∂R_f/∂c of the guide and ∂(Σ_top f_y)/∂z, used by the predictor and the force sensitivity.
     auto R_of_c = [&](const Eigen::VectorXd& c) -> Eigen::VectorXd { return g.residual(z, {L.d, L.F, c(0)}); };
-    EXPECT_TRUE(test::JacobianMatches(R_of_c, Eigen::VectorXd::Constant(1, L.c), Eigen::MatrixXd(a.g_guide), kFdTangent));
+    EXPECT_TRUE(
+        test::JacobianMatches(R_of_c, Eigen::VectorXd::Constant(1, L.c), Eigen::MatrixXd(a.g_guide), kFdTangent));
     auto top = [&](const Eigen::VectorXd& zz) -> Eigen::VectorXd {
       const detail::Assembled b = g.at(zz, L);
       double s = 0;
@@ -232,7 +234,8 @@ TEST(GlobalTangent, MatchesFiniteDifferencesOfTheResidual) {
     EXPECT_TRUE(test::JacobianMatches(top, z, Eigen::MatrixXd(a.h_top.transpose()), kFdTangent));
     if (control == GripControl::displacement) {
       auto R_of_d = [&](const Eigen::VectorXd& d) -> Eigen::VectorXd { return g.residual(z, {d(0), 0, L.c}); };
-      EXPECT_TRUE(test::JacobianMatches(R_of_d, Eigen::VectorXd::Constant(1, L.d), Eigen::MatrixXd(a.g_grip), kFdTangent));
+      EXPECT_TRUE(
+          test::JacobianMatches(R_of_d, Eigen::VectorXd::Constant(1, L.d), Eigen::MatrixXd(a.g_grip), kFdTangent));
     }
   }
 }
@@ -519,7 +522,8 @@ TEST(Simulate, ABriefReportSaysTheStepsTheNewtonWorkAndTheFinalForce) {
   char force[160];
   std::snprintf(force, sizeof force, "; final force %.5g N (%.5g N/mm) at %.5g mm", r.steps.back().edge_force,
                 r.steps.back().force_per_width, r.steps.back().edge_displacement);
-  EXPECT_EQ(r.brief_report(), "3 steps, " + std::to_string(iterations) + " Newton iterations, 0 cutbacks, 781 ms" + force);
+  EXPECT_EQ(r.brief_report(),
+            "3 steps, " + std::to_string(iterations) + " Newton iterations, 0 cutbacks, 781 ms" + force);
   r.steps.clear();
   EXPECT_EQ(r.brief_report(), "no step converged, 781 ms");
 }

@@ -86,8 +86,7 @@ std::vector<test::State> states(const WrinklingLaw& law, const Mat2& Q) {
   auto state_at = [&](double l1, double l2) { return law.state({stretch(l1, l2), Q}).state; };
   const double l1 = 1.25;
   // Along λ2 from 0.55 (well compressed across: wrinkled) to 1.25 (equibiaxial: taut).
-  const double taut_switch =
-      bisect([&](double l2) { return state_at(l1, l2) == MembraneState::taut; }, 0.55, 1.25);
+  const double taut_switch = bisect([&](double l2) { return state_at(l1, l2) == MembraneState::taut; }, 0.55, 1.25);
   std::vector<test::State> s = {
       {"taut", stretch(1.3, 1.15)},
       {"wrinkled", stretch(1.3, 0.7)},
@@ -104,8 +103,7 @@ std::vector<test::State> states(const WrinklingLaw& law, const Mat2& Q) {
       0.55, 1.25);
   s.push_back({"wrinkled within the smoothed switch", stretch(l1, sharp * (1 + 3e-4))});
   // Along λ1 from 0.8 (slack) to 1.25 (wrinkled) at λ2 = 0.7.
-  const double slack_switch =
-      bisect([&](double a) { return state_at(a, 0.7) == MembraneState::wrinkled; }, 0.8, 1.25);
+  const double slack_switch = bisect([&](double a) { return state_at(a, 0.7) == MembraneState::wrinkled; }, 0.8, 1.25);
   // 1e-3 here: the wrinkle angle is singular at the slack switch (the tension that fixes it vanishes),
   // its derivatives grow like 1/tension, and central differences need the room.
   s.push_back({"wrinkled near the slack switch", stretch(slack_switch * (1 + 1e-3), 0.7)});
@@ -130,8 +128,8 @@ TEST(WrinklingLaw, APullAndASqueezeAcrossWrinkleWithZeroTransverseStress) {
   o.residual_stiffness = 0;  // the pure tension field
   const WrinklingLaw law(inner, o);
   const double l1 = 1.3, l2 = 0.8;
-  const double l2_free = bisect([&](double b) { return P_of(inner, Vec2(l1, b).asDiagonal(), Mat2::Identity())(1, 1) > 0; },
-                                0.3, 1.3);
+  const double l2_free =
+      bisect([&](double b) { return P_of(inner, Vec2(l1, b).asDiagonal(), Mat2::Identity())(1, 1) > 0; }, 0.3, 1.3);
   ASSERT_GT(l2_free, l2);
   const Mat2 F = Vec2(l1, l2).asDiagonal();
   const WrinkleState st = law.state({F, Mat2::Identity()});
@@ -249,7 +247,8 @@ TEST(WrinklingLaw, PureShearOfAnIsotropicLawGivesATensionFieldAt45Degrees) {
     F << 1, g, g, 1;
     for (const auto& [name, law_ptr] : std::vector<std::pair<std::string, std::shared_ptr<Law>>>{
              {"neo-Hookean", std::make_shared<NeoHookean>(0.1, 0.2)},
-             {"corotational isotropic", std::make_shared<CorotationalOrthotropic>(CorotationalOrthotropic::isotropic(1, 2))},
+             {"corotational isotropic",
+              std::make_shared<CorotationalOrthotropic>(CorotationalOrthotropic::isotropic(1, 2))},
              {"Mooney-Rivlin", std::make_shared<MooneyRivlin>(paper_mooney_rivlin_terms())}}) {
       WrinklingOptions o;
       o.residual_stiffness = 0;
@@ -350,8 +349,9 @@ TEST(WrinklingLaw, BadOptionsThrowNamingTheKey) {
 TEST(WrinklingLaw, NewtonConvergesQuadraticallyOnAStripPulledAndNarrowed) {
   // A neo-Hookean quarter specimen 10 × 25 mm, 4 × 8 Q8, clamped grip pulled 5 mm (20 %) in 5 steps,
   // side edge narrowed with it by a guide to −1 mm (−2 mm inverts the corner element, where the
-  // clamp holds u_x = 0 against the guide, with or without wrinkles): the guide squeezes the sheet across while the grip pulls
-  // it, so most of it wrinkles (the clamp keeps the corner taut). No cutback: each step's history is one Newton run.
+  // clamp holds u_x = 0 against the guide, with or without wrinkles): the guide squeezes the sheet across while the
+  // grip pulls it, so most of it wrinkles (the clamp keeps the corner taut). No cutback: each step's history is one
+  // Newton run.
   const WrinklingLaw law(NeoHookean(0.1, 0.2));
   MeshOptions m;
   m.type = ElementType::Q8, m.nx = 4, m.ny = 8, m.width = 10, m.height = 25;

@@ -33,9 +33,10 @@ TEST(Uncertainty, LinearModelWithKnownSigmaGivesSigmaSquaredTimesInverseNormalMa
   Eigen::VectorXd y = A * truth;
   for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
   const Eigen::MatrixXd AA = A;
-  test::AnalyticProblem p({Parameter{"a", 1.0}, Parameter{"b", 1.0}, Parameter{"c", -1.0}},
-                          [AA](const Eigen::VectorXd& J) { return (AA * J).eval(); },
-                          [AA](const Eigen::VectorXd&) { return AA; }, y, sigma);
+  test::AnalyticProblem p(
+      {Parameter{"a", 1.0}, Parameter{"b", 1.0}, Parameter{"c", -1.0}},
+      [AA](const Eigen::VectorXd& J) { return (AA * J).eval(); }, [AA](const Eigen::VectorXd&) { return AA; }, y,
+      sigma);
   IdentifyOptions o;
   o.delta = 1e-12;  // run to round-off, to compare with the closed form
   o.epsilon = 0;

@@ -11,8 +11,8 @@ namespace {
 
 TEST(ScaledResiduals, ScalesEachGroupByItsRmsAndWeightAsEquationOne) {
   ScaledResiduals d;
-  const Eigen::Vector2d a(3, 4);          // RMS = √12.5
-  const Eigen::Vector3d b(0.1, 0.2, 0.2); // RMS = 0.1732…
+  const Eigen::Vector2d a(3, 4);           // RMS = √12.5
+  const Eigen::Vector3d b(0.1, 0.2, 0.2);  // RMS = 0.1732…
   d.add("a", GroupKind::edge_force, 0, a, 2.0);
   d.add("b", GroupKind::field_u, 0, b, 1.0);
   ASSERT_EQ(d.size(), 5);
@@ -83,14 +83,17 @@ TEST(ScaledResiduals, RowWeightsScaleEachRowsShareOfFAndItsVariance) {
   EXPECT_NEAR(var(0), 1.0, 1e-15);  // w ω_i / N
   EXPECT_NEAR(var(1), 0.25, 1e-15);
   EXPECT_EQ(var(2), 0.0);
-  EXPECT_THROW(d.weight_rows(d.groups()[0], Eigen::Vector2d(1, 1)), InputError);       // one per row
-  EXPECT_THROW(d.weight_rows(d.groups()[0], Eigen::Vector3d(1, -1, 1)), InputError);   // ≥ 0
+  EXPECT_THROW(d.weight_rows(d.groups()[0], Eigen::Vector2d(1, 1)), InputError);      // one per row
+  EXPECT_THROW(d.weight_rows(d.groups()[0], Eigen::Vector3d(1, -1, 1)), InputError);  // ≥ 0
 }
 
 TEST(ScaledResiduals, APerValueSigmaMustBePositiveAndOnePerValue) {
   ScaledResiduals d;
-  EXPECT_THROW(d.add("f", GroupKind::field_u, 0, Eigen::Vector2d(1, 2), 1.0, Eigen::VectorXd(Eigen::Vector2d(0.1, 0.0))), InputError);
-  EXPECT_THROW(d.add("f", GroupKind::field_u, 0, Eigen::Vector2d(1, 2), 1.0, Eigen::VectorXd(Eigen::Vector3d(1, 1, 1))), InputError);
+  EXPECT_THROW(
+      d.add("f", GroupKind::field_u, 0, Eigen::Vector2d(1, 2), 1.0, Eigen::VectorXd(Eigen::Vector2d(0.1, 0.0))),
+      InputError);
+  EXPECT_THROW(d.add("f", GroupKind::field_u, 0, Eigen::Vector2d(1, 2), 1.0, Eigen::VectorXd(Eigen::Vector3d(1, 1, 1))),
+               InputError);
 }
 
 TEST(ScaledResiduals, AllZeroDataWithoutSigmaIsAnError) {

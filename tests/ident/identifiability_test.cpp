@@ -21,9 +21,9 @@ constexpr double kRoundOff = 1e-10;
 // In relative units (D = diag(2, 4)) the information matrix is closed form.
 TEST(Identifiability, ReportsPinnedCoefficientsWeakDirectionAndEachTestsShare) {
   Eigen::MatrixXd S(3, 2);
-  S << 1, 1,       // test A
-       1, 1,       // test A
-       0.01, -0.01;  // test B
+  S << 1, 1,        // test A
+      1, 1,         // test A
+      0.01, -0.01;  // test B
   const Eigen::Vector2d J(2, 4), scale(1, 1);
   const IdentifiabilityReport r = identifiability(S, J, scale, {{0, 1}, {2}});
   // A = S D: rows (2, 4), (2, 4), (0.02, −0.04); M = AᵀA.

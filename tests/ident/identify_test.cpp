@@ -39,7 +39,8 @@ TEST(Identify, RejectsOutOfRangeOptionsNamingTheKey) {
 }
 
 TEST(Identify, RecoversANoiseFreeCurveFromThreeStarts) {
-  for (const Eigen::Vector3d& factor : {Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d(2, 2, 2), Eigen::Vector3d(0.5, 2, 1.5)}) {
+  for (const Eigen::Vector3d& factor :
+       {Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d(2, 2, 2), Eigen::Vector3d(0.5, 2, 1.5)}) {
     const AnalyticProblem p = test::curve_fit(kTruth, kTruth.cwiseProduct(factor));
     const IdentifyResult r = identify(p);
     ASSERT_TRUE(r.converged()) << r.message;
@@ -205,7 +206,7 @@ TEST(Identify, StepsAreCutWhereTheBarrierWouldGrowMoreThanAllowed) {
   ASSERT_TRUE(plain.converged() && cut.converged()) << plain.message << cut.message;
   EXPECT_NEAR(plain.parameters(0), 203.0 / 101, 1e-4);
   EXPECT_NEAR(cut.parameters(0), 203.0 / 101, 1e-4);
-  EXPECT_GT(plain_worst, 20);  // ~25: the step to a ≈ 3 (radius 1e4: nearly undamped)
+  EXPECT_GT(plain_worst, 20);             // ~25: the step to a ≈ 3 (radius 1e4: nearly undamped)
   EXPECT_NEAR(worst, 0.01 * 2.25, 1e-9);  // the first step's end, cut to 1 % of f(0) to 2⁻⁴⁰
   EXPECT_LT(cut.evaluations, plain.evaluations);
 }
@@ -277,8 +278,9 @@ AnalyticProblem coupled_linear(const Eigen::Vector2d& truth, const Eigen::Vector
   std::vector<Parameter> params{Parameter{"p", start(0)}, Parameter{"q", start(1)}};
   params[0].lower = 0;
   params[0].scale = params[1].scale = 1;
-  return AnalyticProblem(params, [A](const Eigen::VectorXd& J) { return (A * J).eval(); },
-                         [A](const Eigen::VectorXd&) { return A; }, A * truth);
+  return AnalyticProblem(
+      params, [A](const Eigen::VectorXd& J) { return (A * J).eval(); }, [A](const Eigen::VectorXd&) { return A; },
+      A * truth);
 }
 
 TEST(Identify, HoldsAVariableOnItsBoundWhereFDecreasesOutOfTheBox) {
@@ -303,7 +305,8 @@ TEST(Identify, HoldsAVariableOnItsBoundWhereFDecreasesOutOfTheBox) {
   // LM steps in q alone once p is held: 7 iterations to round-off. Ceres's projected steps alone (stop
   // 21): not converged after 200 iterations and 335 evaluations, f 0.4 % above the minimum.
   EXPECT_LE(r.iterations, 8);
-  EXPECT_TRUE(std::any_of(log.begin(), log.end(), [](const std::string& l) { return l.find("held at its bound") != std::string::npos; }));
+  EXPECT_TRUE(std::any_of(log.begin(), log.end(),
+                          [](const std::string& l) { return l.find("held at its bound") != std::string::npos; }));
 }
 
 // From a start on the bound, LM's first step is projected back onto it and accepted (q improves):
@@ -328,7 +331,8 @@ TEST(Identify, HoldsAVariableThatAnAcceptedStepLeftOnItsBound) {
   EXPECT_NEAR(r.parameters(1), q, 1e-10) << r.brief_report();
   ASSERT_GE(r.history.size(), 2u);
   EXPECT_EQ(r.history[1].parameters(0), 0.0);  // the first accepted step: projected onto p = 0
-  EXPECT_TRUE(std::any_of(log.begin(), log.end(), [](const std::string& l) { return l.find("held at its bound") != std::string::npos; }));
+  EXPECT_TRUE(std::any_of(log.begin(), log.end(),
+                          [](const std::string& l) { return l.find("held at its bound") != std::string::npos; }));
   EXPECT_EQ(r.failed_evaluations, 0);
   // 6 iterations, 8 evaluations. Held only after a rejected step (stop 23), p never was: 74 projected
   // steps, each accepted, and LM stopped on δ with q short of its answer (f 0.4913).
@@ -467,9 +471,8 @@ TEST(Identify, TheCheckpointAfterTheLastAcceptedStepSaysLmHasConverged) {
   const IdentifyResult full = identify(p, o);
   ASSERT_EQ(full.termination, Termination::objective_below_epsilon);
   // The first checkpoint at the final iteration is written after its ε test: phase stability.
-  const auto last_lm = std::find_if(saved.begin(), saved.end(), [&](const Checkpoint& c) {
-    return c.iterations == full.iterations;
-  });
+  const auto last_lm =
+      std::find_if(saved.begin(), saved.end(), [&](const Checkpoint& c) { return c.iterations == full.iterations; });
   ASSERT_NE(last_lm, saved.end());
   EXPECT_EQ(last_lm->phase, Phase::stability);
   EXPECT_EQ(last_lm->termination, Termination::objective_below_epsilon);

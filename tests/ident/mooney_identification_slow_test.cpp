@@ -30,11 +30,12 @@ TEST(MooneyIdentification, ClampedStripRecoversTheTruthFromAFinerMeshFromThreeSt
   Experiment data;
   data.tests.push_back(measure(fine, sim, points));
 
-  for (const Eigen::Vector4d& factor : {Eigen::Vector4d(0.5, 0.5, 0.5, 0.5), Eigen::Vector4d(2, 2, 2, 2),
-                                       Eigen::Vector4d(1.5, 0.7, 0.5, 1.8)}) {
+  for (const Eigen::Vector4d& factor :
+       {Eigen::Vector4d(0.5, 0.5, 0.5, 0.5), Eigen::Vector4d(2, 2, 2, 2), Eigen::Vector4d(1.5, 0.7, 0.5, 1.8)}) {
     std::vector<Parameter> params;
     for (int k = 0; k < 4; ++k)
-      params.push_back(Parameter{"C" + std::to_string(truth[k].i) + std::to_string(truth[k].j), factor(k) * truth[k].C});
+      params.push_back(
+          Parameter{"C" + std::to_string(truth[k].i) + std::to_string(truth[k].j), factor(k) * truth[k].C});
     const Objective objective({model}, data, fem::MooneyRivlin(truth), params);
     const IdentifyResult r = identify(objective);
     ASSERT_TRUE(r.converged()) << r.message;

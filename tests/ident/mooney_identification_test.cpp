@@ -26,11 +26,12 @@ TEST(MooneyIdentification, RecoversTheFourCoefficientsFromEdgeAndFieldDataFromTh
   Experiment data;
   data.tests.push_back(measure(fine, sim, test::field_points(3, 5)));
 
-  for (const Eigen::Vector4d& factor : {Eigen::Vector4d(0.5, 0.5, 0.5, 0.5), Eigen::Vector4d(2, 2, 2, 2),
-                                       Eigen::Vector4d(1.5, 0.7, 0.5, 1.8)}) {
+  for (const Eigen::Vector4d& factor :
+       {Eigen::Vector4d(0.5, 0.5, 0.5, 0.5), Eigen::Vector4d(2, 2, 2, 2), Eigen::Vector4d(1.5, 0.7, 0.5, 1.8)}) {
     std::vector<Parameter> params;
     for (int k = 0; k < 4; ++k)
-      params.push_back(Parameter{"C" + std::to_string(truth[k].i) + std::to_string(truth[k].j), factor(k) * truth[k].C});
+      params.push_back(
+          Parameter{"C" + std::to_string(truth[k].i) + std::to_string(truth[k].j), factor(k) * truth[k].C});
     const Objective objective({coarse}, data, fem::MooneyRivlin(truth), params);
     const IdentifyResult r = identify(objective);
     ASSERT_TRUE(r.converged()) << r.message;
@@ -67,13 +68,15 @@ TEST(MooneyIdentification, ByMeshLevelsReachesTheFineAnswerWithFewerFineEvaluati
   EXPECT_EQ(levels.levels[1].restarts, 0);      // no stability test on the fine one
   EXPECT_EQ(levels.levels[1].start, levels.levels[0].parameters);
   for (int k = 0; k < 4; ++k) {
-    EXPECT_NEAR(levels.result.parameters(k), direct.parameters(k), 1e-6 * std::abs(direct.parameters(k))) << params[k].name;
+    EXPECT_NEAR(levels.result.parameters(k), direct.parameters(k), 1e-6 * std::abs(direct.parameters(k)))
+        << params[k].name;
     // The coarse answer differs by the discretisation: the fine level moves it.
     EXPECT_GT(std::abs(levels.levels[0].parameters(k) - direct.parameters(k)), 1e-4 * std::abs(direct.parameters(k)));
   }
   EXPECT_LT(levels.levels[1].evaluations, direct.evaluations / 2);
   EXPECT_GT(levels.coarse_evaluations, 0);
-  EXPECT_EQ(levels.evaluations(), levels.levels[0].evaluations + levels.levels[1].evaluations + levels.coarse_evaluations);
+  EXPECT_EQ(levels.evaluations(),
+            levels.levels[0].evaluations + levels.levels[1].evaluations + levels.coarse_evaluations);
 
   // With finite differences (the paper's Jacobian) the levels reach the same answer.
   IdentifyOptions fd = o;
@@ -81,11 +84,13 @@ TEST(MooneyIdentification, ByMeshLevelsReachesTheFineAnswerWithFewerFineEvaluati
   const LevelsResult by_fd = identify_by_levels({&coarse, &fine}, fd);
   ASSERT_TRUE(by_fd.result.converged()) << by_fd.result.message;
   for (int k = 0; k < 4; ++k)
-    EXPECT_NEAR(by_fd.result.parameters(k), direct.parameters(k), 1e-4 * std::abs(direct.parameters(k))) << params[k].name;
+    EXPECT_NEAR(by_fd.result.parameters(k), direct.parameters(k), 1e-4 * std::abs(direct.parameters(k)))
+        << params[k].name;
 
   std::vector<Parameter> other = params;
   other[0].scale = 7;
-  const Objective mismatched({test::uniaxial(4, 8, 10, fem::GripControl::force)}, data, fem::MooneyRivlin(truth), other);
+  const Objective mismatched({test::uniaxial(4, 8, 10, fem::GripControl::force)}, data, fem::MooneyRivlin(truth),
+                             other);
   EXPECT_THROW(identify_by_levels({&coarse, &mismatched}, o), InputError);
   IdentifyOptions both = o;
   both.start = Eigen::Vector4d::Ones();

@@ -146,7 +146,8 @@ TEST(Objective, AForceScaleIsZeroAtItsTruthAndItsJacobianMatchesFiniteDifference
   io.delta = 1e-10;
   const IdentifyResult got = identify(from_off, io);
   ASSERT_TRUE(got.converged()) << got.message;
-  for (std::size_t k = 0; k < 4; ++k) EXPECT_NEAR(got.parameters(Eigen::Index(k)), kTruth[k].C, 1e-6 * std::abs(kTruth[k].C));
+  for (std::size_t k = 0; k < 4; ++k)
+    EXPECT_NEAR(got.parameters(Eigen::Index(k)), kTruth[k].C, 1e-6 * std::abs(kTruth[k].C));
   EXPECT_NEAR(got.parameters(4), 1.2, 1e-6);
 }
 
@@ -282,8 +283,10 @@ struct RigCampaign {
 RigCampaign rig_campaign() {
   RigCampaign c;
   const fem::ReferenceFabric truth;
-  for (auto [pull, transverse] : {std::pair{fem::PullDirection::wale, 0.0}, {fem::PullDirection::wale, 0.3},
-                                  {fem::PullDirection::course, 0.0}, {fem::PullDirection::course, 0.2}}) {
+  for (auto [pull, transverse] : {std::pair{fem::PullDirection::wale, 0.0},
+                                  {fem::PullDirection::wale, 0.3},
+                                  {fem::PullDirection::course, 0.0},
+                                  {fem::PullDirection::course, 0.2}}) {
     fem::RigOptions o;
     o.name = std::string(fem::to_string(pull)) + "-" + std::to_string(static_cast<int>(100 * transverse));
     o.pull = pull, o.transverse_strain = transverse, o.pull_strain = 0.3, o.steps = 4, o.nx = 4, o.ny = 4;
@@ -393,7 +396,7 @@ TEST(Objective, TheLastJacobianEvaluationAndItsSimulationsServeItsPointOnly) {
   ASSERT_TRUE(b_again.ok && a_again.ok);
   EXPECT_TRUE((b_again.r.array() == b.r.array()).all() && (b_again.jacobian.array() == b.jacobian.array()).all());
   const double scale = a.r.cwiseAbs().maxCoeff();
-  EXPECT_GT((a.r - b.r).cwiseAbs().maxCoeff(), 1e-4 * scale);  // the two points differ
+  EXPECT_GT((a.r - b.r).cwiseAbs().maxCoeff(), 1e-4 * scale);        // the two points differ
   EXPECT_LT((a_again.r - a.r).cwiseAbs().maxCoeff(), 1e-8 * scale);  // J's evaluation, not J2's
   EXPECT_LT((a_again.jacobian - a.jacobian).cwiseAbs().maxCoeff(), 1e-7 * a.jacobian.cwiseAbs().maxCoeff());
 

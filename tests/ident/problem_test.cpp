@@ -27,7 +27,8 @@ TEST(Problem, ExactJacobianOfTheScaledResidualsMatchesFiniteDifferences) {
 TEST(Problem, FiniteDifferenceJacobiansAgreeWithTheExactOne) {
   const auto p = test::curve_fit(kTruth, kAt);
   const Evaluation exact = evaluate(p, kAt, true, {});
-  for (auto [d, tol] : {std::pair{Difference::central, kCentralAgreement}, std::pair{Difference::forward, kForwardAgreement}}) {
+  for (auto [d, tol] :
+       {std::pair{Difference::central, kCentralAgreement}, std::pair{Difference::forward, kForwardAgreement}}) {
     JacobianOptions o;
     o.mode = JacobianMode::finite_difference;
     o.difference = d;

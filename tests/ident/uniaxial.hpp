@@ -16,7 +16,7 @@ constexpr double kWidth = 10, kHeight = 25;  // quarter model, mm
 /// test, whose data is the grip's displacement). Displacement control: the grip moves to
 /// 0.8 × height (the strip stretches to λ ≈ 1.8).
 inline fem::TestModel uniaxial(int nx, int ny, int steps, fem::GripControl control, double force = 7.0,
-                                double grading = 1) {
+                               double grading = 1) {
   fem::MeshOptions o;
   o.width = kWidth, o.height = kHeight, o.nx = nx, o.ny = ny, o.type = fem::ElementType::Q8;
   o.grading = grading;

@@ -109,7 +109,8 @@ TEST(LoadImage, FrameOfAnotherSizeIsAFileErrorNamingItAndBothSizes) {
     require_same_size(Image(40, 30), Image(41, 30), "frame_2.png");
     FAIL() << "no error";
   } catch (const FileError& e) {
-    EXPECT_EQ(std::string(e.what()), "frame_2.png: image size differs from the reference image (got 41x30, expected 40x30)");
+    EXPECT_EQ(std::string(e.what()),
+              "frame_2.png: image size differs from the reference image (got 41x30, expected 40x30)");
   }
 }
 

@@ -99,9 +99,7 @@ TEST(Config, OverridesReplaceValuesAndCountAsGiven) {
   EXPECT_THROW(n.set("width", std::string("x")), std::logic_error);
 }
 
-TEST(Config, MissingFileIsAFileError) {
-  EXPECT_THROW(read_config(schema(), "/nonexistent/case.toml"), FileError);
-}
+TEST(Config, MissingFileIsAFileError) { EXPECT_THROW(read_config(schema(), "/nonexistent/case.toml"), FileError); }
 
 TEST(ClosestName, FindsTyposAndTranspositionsButNotStrangers) {
   EXPECT_EQ(closest_name("widht", {"width", "height"}), "width");

@@ -27,7 +27,8 @@ TEST(Csv, NanCellNamesFileLineAndColumn) {
     read_csv(dir / "b.csv");
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), (dir / "b.csv").string() + ":3: force: not a finite number (got \"nan\", expected a finite number)");
+    EXPECT_EQ(std::string(e.what()),
+              (dir / "b.csv").string() + ":3: force: not a finite number (got \"nan\", expected a finite number)");
   }
 }
 

@@ -58,8 +58,9 @@ TEST(Log, ReadsALabviewTabFileWithDecimalCommaAndATenLineHeader) {
 }
 
 TEST(Log, ReadsACsvWithUnitsInTheHeaderAndMetadataAbove) {
-  const LogTable t = parse_log("# Instron export\nSpecimen,K12\nTime (s),Extension (mm),Load (N)\n0.0,0.00,0.10\n0.5,0.25,2.5\n1.0,0.50,4.75\n",
-                               "instron.csv");
+  const LogTable t = parse_log(
+      "# Instron export\nSpecimen,K12\nTime (s),Extension (mm),Load (N)\n0.0,0.00,0.10\n0.5,0.25,2.5\n1.0,0.50,4.75\n",
+      "instron.csv");
   EXPECT_EQ(t.format.delimiter, ',');
   EXPECT_FALSE(t.format.decimal_comma);
   EXPECT_EQ(t.metadata.size(), 2u);
@@ -104,12 +105,14 @@ TEST(Log, AnEmptyCellIsAMissingValueWhereAskedAndTextStillAnError) {
   EXPECT_EQ(error_of([&] { t.numbers("x"); }), "tracks.csv:3: x [mm]: empty cell (got \"\", expected a finite number)");
   const LogTable u = parse_log("frame,x\n0,1\n1,lost\n", "tracks.csv");
   EXPECT_EQ(error_of([&] { u.numbers_or_empty("x"); }),
-            "tracks.csv:3: x: not a finite number (got \"lost\", expected a finite number, or an empty cell for a missing value)");
+            "tracks.csv:3: x: not a finite number (got \"lost\", expected a finite number, or an empty cell for a "
+            "missing value)");
 }
 
 TEST(Log, TimeGoingBackwardsNamesTheLine) {
   const LogTable t = parse_log("t [s]\tF [N]\n0,0\t1\n0,1\t1\n0,05\t1\n", "back.txt");
-  EXPECT_EQ(error_of([&] { t.times("t"); }), "back.txt:4: t [s]: time goes backwards (got 0.05, expected > 0.1 (line 3))");
+  EXPECT_EQ(error_of([&] { t.times("t"); }),
+            "back.txt:4: t [s]: time goes backwards (got 0.05, expected > 0.1 (line 3))");
 }
 
 TEST(Log, RowWithTooManyCellsIsAnError) {
@@ -159,7 +162,8 @@ TEST(FrameTimes, ComeFromTheLastNumberWithAUnitInTheFileName) {
 
 TEST(Log, AFileWithAByteOrderMarkAndCrlfLineEndsReadsAsWithout) {
   const auto dir = test::scratch_dir("log_bom_crlf");
-  std::ofstream(dir / "excel.csv", std::ios::binary) << "\xEF\xBB\xBFTime (s),Load (N)\r\n0.0,0.10\r\n0.5,2.5\r\n1.0,4.75\r\n";
+  std::ofstream(dir / "excel.csv", std::ios::binary)
+      << "\xEF\xBB\xBFTime (s),Load (N)\r\n0.0,0.10\r\n0.5,2.5\r\n1.0,4.75\r\n";
   const LogTable t = read_log(dir / "excel.csv");
   EXPECT_EQ(t.columns.front(), "Time (s)");
   EXPECT_EQ(t.numbers("time"), (std::vector<double>{0, 0.5, 1.0}));

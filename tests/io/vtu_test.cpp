@@ -21,12 +21,12 @@ constexpr double kRoundTrip = 0;
 // Two Q8 cells side by side on [0, 2] × [0, 1]: 13 points (corners, then mid-sides).
 VtuGrid two_quadratic_quads() {
   // Corners 0..5 on a 3 × 2 grid, mid-sides 6..12.
-  const double P[13][2] = {{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1},          // corners
+  const double P[13][2] = {{0, 0},   {1, 0},   {2, 0},   {0, 1},   {1, 1},   {2, 1},  // corners
                            {0.5, 0}, {1.5, 0}, {1, 0.5}, {2, 0.5}, {0.5, 1}, {1.5, 1}, {0, 0.5}};
   VtuGrid g;
   for (const auto& p : P) g.points.insert(g.points.end(), {p[0] + 0.1 * p[1], p[1], 0.0});
   g.cell_type = VtkCell::quadratic_quad;
-  g.connectivity = {0, 1, 4, 3, 6, 8, 10, 12,   // corners ccw, then mid-sides 0-1, 1-2, 2-3, 3-0
+  g.connectivity = {0, 1, 4, 3, 6, 8, 10, 12,  // corners ccw, then mid-sides 0-1, 1-2, 2-3, 3-0
                     1, 2, 5, 4, 7, 9, 11, 8};
   VtuField u{"displacement", 3, {}};
   for (int i = 0; i < 13; ++i) u.values.insert(u.values.end(), {0.1 * P[i][1], 0.25 * i, 0.0});
@@ -101,8 +101,8 @@ TEST(Vtu, BinaryIsAtMostHalfTheSizeOfTheText) {
   for (int ej = 0; ej < 40; ++ej)
     for (int ei = 0; ei < 40; ++ei) {
       const int i = 2 * ei, j = 2 * ej;
-      g.connectivity.insert(g.connectivity.end(), {at(i, j), at(i + 2, j), at(i + 2, j + 2), at(i, j + 2),
-                                                   at(i + 1, j), at(i + 2, j + 1), at(i + 1, j + 2), at(i, j + 1)});
+      g.connectivity.insert(g.connectivity.end(), {at(i, j), at(i + 2, j), at(i + 2, j + 2), at(i, j + 2), at(i + 1, j),
+                                                   at(i + 2, j + 1), at(i + 1, j + 2), at(i, j + 1)});
       const double x = std::exp(0.01 * (ei + 40 * ej));
       s.values.insert(s.values.end(), {x, x / 3, 0, x / 3, x / 7, 0, 0, 0, 0});
     }
@@ -144,7 +144,8 @@ TEST(Vtu, FieldDataIsWrittenBeforeThePieceAndMeshioReadsItBack) {
   const std::string text = to_vtu(g, VtuFormat::binary);
   EXPECT_NE(text.find("<FieldData>"), std::string::npos);
   EXPECT_LT(text.find("<FieldData>"), text.find("<Piece"));
-  EXPECT_NE(text.find("Name=\"vsg_px\" NumberOfTuples=\"1\" format=\"ascii\"> 71 </DataArray>"), std::string::npos) << text;
+  EXPECT_NE(text.find("Name=\"vsg_px\" NumberOfTuples=\"1\" format=\"ascii\"> 71 </DataArray>"), std::string::npos)
+      << text;
   if (!have_meshio()) GTEST_SKIP() << "python3 lacks meshio (apt-get install python3-meshio)";
   const auto dir = test::scratch_dir("vtu_field_data");
   write_vtu(dir / "f.vtu", g);

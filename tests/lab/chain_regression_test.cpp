@@ -52,14 +52,15 @@ TEST(LabChain, ImagesThroughDicGiveTheGripMotionThatSynchronisesTheLoadCell) {
   auto image = [&](double grip) {
     const double ly = 1 + grip / geometry.half_length(), lx = 1 / std::sqrt(ly);  // uniaxial, isochoric
     const Vec2 c = frame.centre_px;
-    const image::Image clean =
-        synth::render(pattern, size, size, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / lx, c(1) + (x(1) - c(1)) / ly); });
+    const image::Image clean = synth::render(
+        pattern, size, size, [&](const Vec2& x) { return Vec2(c(0) + (x(0) - c(0)) / lx, c(1) + (x(1) - c(1)) / ly); });
     return synth::add_noise(clean, image_noise, ++noise_seed);
   };
   dic::SequenceOptions so;
   so.dic.step = 15;
   const auto roi = dic::Roi::rectangle(60, 40, size - 61, size - 41);
-  dic::SequenceTracker tracker(image(record.grip_true[0]), dic::make_grid(roi, size, size, so.dic.icgn.subset_size, so.dic.step), so);
+  dic::SequenceTracker tracker(image(record.grip_true[0]),
+                               dic::make_grid(roi, size, size, so.dic.icgn.subset_size, so.dic.step), so);
   for (std::size_t k = 1; k < record.frame_time.size(); ++k) tracker.add(image(record.grip_true[k]));
   const dic::SequenceResult& seq = tracker.result();
 
@@ -80,7 +81,8 @@ TEST(LabChain, ImagesThroughDicGiveTheGripMotionThatSynchronisesTheLoadCell) {
     double e2 = 0, s2 = 0;
     for (std::size_t a = 0; a < field.X.size(); ++a) {
       const Eigen::Index i = Eigen::Index(a);
-      e2 += std::pow(field.u(last, i) - (lx - 1) * field.X[a](0), 2) + std::pow(field.v(last, i) - (ly - 1) * field.X[a](1), 2);
+      e2 += std::pow(field.u(last, i) - (lx - 1) * field.X[a](0), 2) +
+            std::pow(field.v(last, i) - (ly - 1) * field.X[a](1), 2);
       s2 += std::pow(field.sigma_u(last, i), 2) + std::pow(field.sigma_v(last, i), 2);
     }
     const double rms_error = std::sqrt(e2 / (2.0 * field.X.size())), rms_sigma = std::sqrt(s2 / (2.0 * field.X.size()));
@@ -89,7 +91,8 @@ TEST(LabChain, ImagesThroughDicGiveTheGripMotionThatSynchronisesTheLoadCell) {
   }
 
   const lab::ImageTimes images{record.frame_time, grip, {}};
-  const lab::SyncResult with = lab::synchronise({"log", record.log_time, record.log_force, record.log_crosshead}, images);
+  const lab::SyncResult with =
+      lab::synchronise({"log", record.log_time, record.log_force, record.log_crosshead}, images);
   const lab::SyncResult without = lab::synchronise({"log", record.log_time, record.log_force, {}}, images);
   std::printf("with cross-head: %s\nwithout: %s\n", with.brief_report().c_str(), without.brief_report().c_str());
   EXPECT_NEAR(with.clock_offset_s, o.clock_offset_s, offset_tolerance_s);

@@ -31,7 +31,8 @@ TEST(Relaxation, RecoversTau360sWithin2PercentFromANoisyRecord) {
   const auto record = synth::make_relaxation_record(o);
   // read back through the LabVIEW text, as the lab's file would be read
   const io::LogTable t = io::parse_log(io::to_log_text(synth::labview_log(record)), "relax.lvm");
-  const RelaxationResult r = fit_relaxation(t.times("temps"), t.numbers("force"), t.numbers("traverse"), {}, "relax.lvm");
+  const RelaxationResult r =
+      fit_relaxation(t.times("temps"), t.numbers("force"), t.numbers("traverse"), {}, "relax.lvm");
   EXPECT_EQ(r.termination, RelaxationTermination::converged);
   ASSERT_EQ(r.chosen_terms, 1) << r.brief_report();
   EXPECT_NEAR(r.best().terms[0].tau_s / 360.0, 1.0, tau_tolerance) << r.brief_report();

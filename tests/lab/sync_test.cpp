@@ -114,8 +114,8 @@ TEST(Sync, ForcesAtImageTimesAreWithinTheExpectedNoiseOfTheTruth) {
   double ss = 0;
   for (std::size_t k = 0; k < r.force.size(); ++k) ss += std::pow(r.force[k] - record.force_true[k], 2);
   const double rms = std::sqrt(ss / double(r.force.size()));
-  std::printf("%s; force at %zu images: rms error %.4f N, expected %.4f N (log noise %.4f N)\n", r.brief_report().c_str(),
-              r.force.size(), rms, expected, record.force_noise_N);
+  std::printf("%s; force at %zu images: rms error %.4f N, expected %.4f N (log noise %.4f N)\n",
+              r.brief_report().c_str(), r.force.size(), rms, expected, record.force_noise_N);
   EXPECT_LT(rms, noise_margin * expected) << "rms " << rms << " expected " << expected;
   EXPECT_GT(rms, expected / noise_margin) << "rms " << rms << " expected " << expected;
 }

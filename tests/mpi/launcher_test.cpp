@@ -29,15 +29,16 @@ class Environment {
   }
   ~Environment() {
     for (const auto& [name, value] : saved_)
-      if (value) ::setenv(name.c_str(), value->c_str(), 1); else ::unsetenv(name.c_str());
+      if (value) ::setenv(name.c_str(), value->c_str(), 1);
+      else ::unsetenv(name.c_str());
   }
   Environment(const Environment&) = delete;
   Environment& operator=(const Environment&) = delete;
 
  private:
-  static constexpr const char* kNames[] = {"SLURM_STEP_NUM_TASKS", "SLURM_STEP_ID", "SLURM_NTASKS", "SLURM_PROCID",
-                                           "OMPI_COMM_WORLD_RANK", "OMPI_COMM_WORLD_SIZE", "PMIX_RANK",
-                                           "PMI_RANK", "PMI_SIZE"};
+  static constexpr const char* kNames[] = {
+      "SLURM_STEP_NUM_TASKS", "SLURM_STEP_ID", "SLURM_NTASKS", "SLURM_PROCID", "OMPI_COMM_WORLD_RANK",
+      "OMPI_COMM_WORLD_SIZE", "PMIX_RANK",     "PMI_RANK",     "PMI_SIZE"};
   std::map<std::string, std::optional<std::string>> saved_;
 };
 
@@ -75,7 +76,8 @@ TEST(LauncherRank, IsMpisRankBeforeSlurms) {
 }
 
 TEST(World, RefusesSeveralSlurmTasksThatNoMpiWorldJoins) {
-  Environment env(Vars{{"SLURM_STEP_NUM_TASKS", "2"}, {"SLURM_STEP_ID", "0"}, {"SLURM_NTASKS", "2"}, {"SLURM_PROCID", "0"}});
+  Environment env(
+      Vars{{"SLURM_STEP_NUM_TASKS", "2"}, {"SLURM_STEP_ID", "0"}, {"SLURM_NTASKS", "2"}, {"SLURM_PROCID", "0"}});
   try {
     World world;
     FAIL() << "two Slurm tasks in a world of " << world.size() << " were not refused";

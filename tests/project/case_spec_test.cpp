@@ -250,7 +250,6 @@ TEST(CaseSpec, WrinklingWrapsTheLawInATensionFieldMembrane) {
   EXPECT_EQ(message_of([&] { code.law(); }), "law.residual_stiffness: out of range (got 0.5, expected [0, 0.5))");
 }
 
-
 // [mesh] whole = true: a custom test on the generator gets the whole width × height rectangle centred
 // on the origin (the frame of a full specimen between its clamps), its edges named as the quarter's.
 TEST(CaseSpec, AWholeGeneratedMeshIsTheRectangleCentredOnTheOrigin) {

@@ -57,7 +57,8 @@ TEST(DicSpec, OrderAutoAndAGaussianWindowReachTheEngineAndAWindowBelowOnePixelIs
   // Issue 16: second order where it pays is tricot dic's default; first order is asked for by name.
   EXPECT_EQ(DicSpec{}.settings(image::Image(200, 100)).sequence.dic.icgn.order, dic::ShapeOrder::automatic);
   const io::Node first = io::parse_config(dic_schema(), "[dic]\norder = \"first\"\n", "dic.toml");
-  EXPECT_EQ(DicSpec::from_config(first).settings(image::Image(200, 100)).sequence.dic.icgn.order, dic::ShapeOrder::first);
+  EXPECT_EQ(DicSpec::from_config(first).settings(image::Image(200, 100)).sequence.dic.icgn.order,
+            dic::ShapeOrder::first);
   const io::Node bad = io::parse_config(dic_schema(), "[dic]\nweight_sigma = 0.5\n", "dic.toml");
   EXPECT_EQ(message_of(DicSpec::from_config(bad)),
             "dic.toml:2: dic.weight_sigma: out of range (got 0.500000, expected 0 (uniform weights) or 1 to 1000 px)");
@@ -68,7 +69,8 @@ TEST(DicSpec, AnEvenSubsetIsNamedOnceByTheEnginesKey) {
   spec.dic.subset_size = 30;
   EXPECT_EQ(message_of(spec), "dic.subset_size: must be odd (got 30, expected an odd number of px from 7 to 301)");
   spec.dic.origin.set_by_flag("subset_size", "--subset");
-  EXPECT_EQ(message_of(spec), "command line: --subset: must be odd (got 30, expected an odd number of px from 7 to 301)");
+  EXPECT_EQ(message_of(spec),
+            "command line: --subset: must be odd (got 30, expected an odd number of px from 7 to 301)");
 }
 
 TEST(DicSpec, AnErrorOfAFileNamesItsLine) {

@@ -76,8 +76,9 @@ TEST(ExperimentFiles, EdgeDataWithoutAColumnIsNotMeasured) {
 }
 
 TEST(ExperimentFiles, FieldRowsMayComeInAnyOrder) {
-  const fs::path dir = folder_with_field("experiment_files_order",
-                                         "step,id,x,y,u,v\n2,5,1,2,0.3,0.4\n1,9,3,4,0.5,0.6\n1,5,1,2,0.1,0.2\n2,9,3,4,0.7,0.8\n");
+  const fs::path dir =
+      folder_with_field("experiment_files_order",
+                        "step,id,x,y,u,v\n2,5,1,2,0.3,0.4\n1,9,3,4,0.5,0.6\n1,5,1,2,0.1,0.2\n2,9,3,4,0.7,0.8\n");
   const ident::TestData r = read_test_data(dir, "t", ident::FieldKind::cumulative);
   ASSERT_EQ(r.point_ids, (std::vector<int>{5, 9}));
   EXPECT_EQ(r.u(0, 0), 0.1);
@@ -87,8 +88,9 @@ TEST(ExperimentFiles, FieldRowsMayComeInAnyOrder) {
 }
 
 TEST(ExperimentFiles, ReadsThePerPointSigmaOfTricotExperiment) {
-  const fs::path dir = folder_with_field("experiment_files_sigma", "step,id,x,y,u,v,sigma_u,sigma_v\n1,5,1,2,0.1,0.2,0.001,0.002\n"
-                                                                   "2,5,1,2,0.3,0.4,0.003,0.004\n");
+  const fs::path dir = folder_with_field("experiment_files_sigma",
+                                         "step,id,x,y,u,v,sigma_u,sigma_v\n1,5,1,2,0.1,0.2,0.001,0.002\n"
+                                         "2,5,1,2,0.3,0.4,0.003,0.004\n");
   const ident::TestData r = read_test_data(dir, "t", ident::FieldKind::cumulative);
   ASSERT_EQ(r.sigma_u.rows(), 2);
   EXPECT_EQ(r.sigma_u(0, 0), 0.001);
@@ -97,7 +99,8 @@ TEST(ExperimentFiles, ReadsThePerPointSigmaOfTricotExperiment) {
 }
 
 TEST(ExperimentFiles, AFieldWithoutSigmaColumnsHasNoPerPointSigma) {
-  const fs::path dir = folder_with_field("experiment_files_no_sigma", "step,id,x,y,u,v\n1,5,1,2,0.1,0.2\n2,5,1,2,0.3,0.4\n");
+  const fs::path dir =
+      folder_with_field("experiment_files_no_sigma", "step,id,x,y,u,v\n1,5,1,2,0.1,0.2\n2,5,1,2,0.3,0.4\n");
   EXPECT_EQ(read_test_data(dir, "t", ident::FieldKind::cumulative).sigma_u.size(), 0);
 }
 
@@ -107,25 +110,28 @@ TEST(ExperimentFiles, NanInTheFieldNamesFileLineAndColumn) {
 }
 
 TEST(ExperimentFiles, ARepeatedPointAtOneStepNamesBothLines) {
-  const fs::path dir =
-      folder_with_field("experiment_files_repeat", "step,id,x,y,u,v\n1,1,1,2,0.1,0.2\n2,1,1,2,0.3,0.4\n2,1,1,2,0.3,0.4\n");
+  const fs::path dir = folder_with_field("experiment_files_repeat",
+                                         "step,id,x,y,u,v\n1,1,1,2,0.1,0.2\n2,1,1,2,0.3,0.4\n2,1,1,2,0.3,0.4\n");
   const std::string e = error_of(dir);
   EXPECT_NE(e.find("field.csv:4: id: point 1 appears twice at step 2 (also line 3)"), std::string::npos) << e;
 }
 
 TEST(ExperimentFiles, APointThatMovesBetweenStepsIsAnError) {
-  const fs::path dir = folder_with_field("experiment_files_moves", "step,id,x,y,u,v\n1,1,1,2,0.1,0.2\n2,1,1.5,2,0.3,0.4\n");
+  const fs::path dir =
+      folder_with_field("experiment_files_moves", "step,id,x,y,u,v\n1,1,1,2,0.1,0.2\n2,1,1.5,2,0.3,0.4\n");
   const std::string e = error_of(dir);
   EXPECT_NE(e.find("field.csv:3: x: point 1 moved"), std::string::npos) << e;
 }
 
 TEST(ExperimentFiles, APointMissingAtAStepIsNamed) {
-  const fs::path dir = folder_with_field("experiment_files_missing", "step,id,x,y,u,v\n1,1,1,2,0.1,0.2\n1,2,3,2,0.1,0.2\n2,1,1,2,0.3,0.4\n");
+  const fs::path dir = folder_with_field("experiment_files_missing",
+                                         "step,id,x,y,u,v\n1,1,1,2,0.1,0.2\n1,2,3,2,0.1,0.2\n2,1,1,2,0.3,0.4\n");
   EXPECT_NE(error_of(dir).find("point 2 has no row for step 2"), std::string::npos) << error_of(dir);
 }
 
 TEST(ExperimentFiles, AFieldStepBeyondTheForcesIsNamed) {
-  const fs::path dir = folder_with_field("experiment_files_step", "step,id,x,y,u,v\n1,1,1,2,0.1,0.2\n3,1,1,2,0.3,0.4\n");
+  const fs::path dir =
+      folder_with_field("experiment_files_step", "step,id,x,y,u,v\n1,1,1,2,0.1,0.2\n3,1,1,2,0.3,0.4\n");
   EXPECT_NE(error_of(dir).find("field.csv:3: step: step out of range"), std::string::npos) << error_of(dir);
 }
 
@@ -150,7 +156,8 @@ TEST(ExperimentFiles, ATruthWhoseNumberOverflowsIsAnInputErrorNamingTheFile) {
     (void)read_truth(dir);
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find((dir / kTruthFile).string() + ": not valid JSON"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find((dir / kTruthFile).string() + ": not valid JSON"), std::string::npos)
+        << e.what();
   }
 }
 

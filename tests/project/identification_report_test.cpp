@@ -20,7 +20,8 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 // report.json and result.json both write doubles in nlohmann's shortest round-trip form, so their
-// numbers compare exactly (EXPECT_EQ). The 95 % interval is J ± 1.959963984540054·s.e. (normal quantile): a few ulps of J.
+// numbers compare exactly (EXPECT_EQ). The 95 % interval is J ± 1.959963984540054·s.e. (normal quantile): a few ulps of
+// J.
 constexpr double kIntervalRoundOff = 1e-15;
 
 const json& section(const json& report, const std::string& id) {

@@ -87,8 +87,9 @@ TEST(IdentificationSpec, ABadValueBuiltInCodeIsNamedByItsDottedKey) {
 TEST(IdentificationSpec, ProjectsThatIdentifyNothingOrTwiceAreRejected) {
   IdentificationSpec s = small_project();
   s.parameter.clear();
-  EXPECT_EQ(message_of(s),
-            "parameter: the project identifies nothing (got no [[parameter]], expected one [[parameter]] per coefficient)");
+  EXPECT_EQ(
+      message_of(s),
+      "parameter: the project identifies nothing (got no [[parameter]], expected one [[parameter]] per coefficient)");
   s = small_project();
   s.parameter.push_back(s.parameter.front());
   EXPECT_EQ(message_of(s), "parameter.name: this coefficient is identified twice (got \"C10\", expected unique names)");

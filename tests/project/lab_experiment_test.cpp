@@ -32,16 +32,16 @@ TEST(ExperimentSpec, ABadValueBuiltInCodeNamesItsKeyValueAndRange) {
   ExperimentSpec s;
   s.control = "forse";
   EXPECT_EQ(message_of(s),
-            "experiment.control: not a valid choice; did you mean 'force'? (got \"forse\", expected one of displacement, force)");
+            "experiment.control: not a valid choice; did you mean 'force'? (got \"forse\", expected one of "
+            "displacement, force)");
   s = {};
   s.sigma_edge_displacement = -1;
   EXPECT_EQ(message_of(s), "experiment.sigma_edge_displacement: out of range (got -1.0, expected 0 to 1000000)");
 }
 
 TEST(ExperimentSpec, AFileIsReadWithItsTemplateBesideIt) {
-  const io::Node root = io::parse_config(lab_schema(),
-                                         "[experiment]\ncontrol = \"force\"\nproject_template = \"tpl.toml\"\n",
-                                         "lab/lab.toml");
+  const io::Node root = io::parse_config(
+      lab_schema(), "[experiment]\ncontrol = \"force\"\nproject_template = \"tpl.toml\"\n", "lab/lab.toml");
   const ExperimentSpec s = ExperimentSpec::from_config(root.section("experiment"));
   EXPECT_TRUE(s.force_control());
   EXPECT_EQ(s.project_template, std::filesystem::path("lab") / "tpl.toml");

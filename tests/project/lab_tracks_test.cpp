@@ -41,7 +41,8 @@ std::string error_of(const auto& f) {
 // Obstacle 4: `direction = "course"` used to write a comment only, so an orthotropic law was fitted
 // as if the course test were pulled along the wale.
 TEST(LabProjectTable, ACourseTestGetsMaterialAngle90AndAWaleTest0) {
-  const io::Node root = lab_file("[[test]]\nname = \"c\"\ndirection = \"course\"\n[[test]]\nname = \"w\"\ndirection = \"wale\"\n");
+  const io::Node root =
+      lab_file("[[test]]\nname = \"c\"\ndirection = \"course\"\n[[test]]\nname = \"w\"\ndirection = \"wale\"\n");
   LabTestResult r;
   r.loads = {0.5, 1.0};
   const ExperimentSpec e;
@@ -56,12 +57,17 @@ TEST(LabProjectTable, ACourseTestGetsMaterialAngle90AndAWaleTest0) {
 }
 
 TEST(LabProjectTable, ModelLinesThatContradictTheDirectionAreAnErrorAtModel) {
-  const io::Node root = lab_file("[[test]]\nname = \"c\"\ndirection = \"course\"\nmodel = \"kind = \\\"rig\\\"\\npull = \\\"wale\\\"\"\n");
+  const io::Node root = lab_file(
+      "[[test]]\nname = \"c\"\ndirection = \"course\"\nmodel = \"kind = \\\"rig\\\"\\npull = \\\"wale\\\"\"\n");
   LabTestResult r{"c", {}, 0, 0, 0, 0, {1.0}, 0};
-  EXPECT_EQ(error_of([&] { (void)project_test_table(root.array("test")[0], r, ExperimentSpec{}); }).rfind("lab.toml:4: test[0].model: its pull contradicts direction = \"course\"", 0), 0u)
+  EXPECT_EQ(error_of([&] {
+              (void)project_test_table(root.array("test")[0], r, ExperimentSpec{});
+            }).rfind("lab.toml:4: test[0].model: its pull contradicts direction = \"course\"", 0),
+            0u)
       << error_of([&] { (void)project_test_table(root.array("test")[0], r, ExperimentSpec{}); });
   // Lines that agree are kept as they are, and not repeated.
-  const io::Node ok = lab_file("[[test]]\nname = \"c\"\ndirection = \"course\"\nmodel = \"kind = \\\"uniaxial\\\"\\nmaterial_angle = 90.0\"\n");
+  const io::Node ok = lab_file(
+      "[[test]]\nname = \"c\"\ndirection = \"course\"\nmodel = \"kind = \\\"uniaxial\\\"\\nmaterial_angle = 90.0\"\n");
   const std::string text = project_test_table(ok.array("test")[0], r, ExperimentSpec{});
   EXPECT_EQ(text.find("material_angle"), text.rfind("material_angle")) << text;
 }
@@ -72,15 +78,19 @@ TEST(LabProjectTable, ModelLinesThatContradictTheDirectionAreAnErrorAtModel) {
 // pull and contracts by −ν·e across it, about the top clamp. With the rigid motion removed (the clamps'
 // mean displacement), every point moves about the still centre: u_Y = e·|Y|, u_X = −ν·e·|X|, and the
 // quarter's grip is half the clamps' separation change, 30·e mm.
-constexpr double kScale = 0.1;       // mm/px
+constexpr double kScale = 0.1;  // mm/px
 constexpr double kNu = 0.4;
-constexpr double kTight = 1e-7;      // mm: the closed form, up to the 9 digits the files carry
+constexpr double kTight = 1e-7;  // mm: the closed form, up to the 9 digits the files carry
 
 struct Pin {
   const char* name;
   double x, y;  // px, frame 0
 };
-const Pin kPins[] = {{"left", 450, 450}, {"right", 560, 540}, {"top_pin", 505, 300}, {"top_clamp", 500, 200}, {"bottom_clamp", 500, 800}};
+const Pin kPins[] = {{"left", 450, 450},
+                     {"right", 560, 540},
+                     {"top_pin", 505, 300},
+                     {"top_clamp", 500, 200},
+                     {"bottom_clamp", 500, 800}};
 const double kStrain[] = {0.0, 0.05, 0.10, 0.10, 0.08};  // a hold and an unloading: not monotone
 
 Vec2 position(const Pin& p, double e) { return {500 + (p.x - 500) * (1 - kNu * e), 200 + (p.y - 200) * (1 + e)}; }
@@ -178,7 +188,8 @@ TEST(LabTracks, TheProjectHoldsNoLoadsAndIdentifyReadsThemFromForcesCsv) {
   (void)run_lab_experiment(read_lab(dir, kLabTracks), dir / "out", Log{});
   const std::string project = io::read_text(dir / "out" / "project.toml");
   EXPECT_EQ(project.find("loads = ["), std::string::npos) << project;
-  const Project P = build_project(io::read_config(identify_schema(), (dir / "out" / "project.toml").string()), dir / "out");
+  const Project P =
+      build_project(io::read_config(identify_schema(), (dir / "out" / "project.toml").string()), dir / "out");
   ASSERT_EQ(P.models.size(), 1u);
   ASSERT_EQ(P.models[0].loads.size(), 4u);
   for (int k = 0; k < 4; ++k) EXPECT_NEAR(P.models[0].loads[std::size_t(k)], 30 * kStrain[k + 1], kTight) << k;
@@ -189,10 +200,12 @@ TEST(LabTracks, TheProjectHoldsNoLoadsAndIdentifyReadsThemFromForcesCsv) {
 TEST(IdentificationSpec, TheStabilityBarrierIsOnByDefaultForAResponseSurfaceOnly) {
   const std::string rs = "[law]\ntype = \"response_surface\"\n";
   EXPECT_TRUE(read_identification_spec(io::parse_config(identify_schema(), rs, "p.toml")).stability.has_value());
-  EXPECT_FALSE(read_identification_spec(io::parse_config(identify_schema(), rs + "[stability]\nenabled = false\n", "p.toml"))
-                   .stability.has_value());
-  EXPECT_FALSE(read_identification_spec(io::parse_config(identify_schema(), "[law]\ntype = \"mooney_rivlin\"\n", "p.toml"))
-                   .stability.has_value());
+  EXPECT_FALSE(
+      read_identification_spec(io::parse_config(identify_schema(), rs + "[stability]\nenabled = false\n", "p.toml"))
+          .stability.has_value());
+  EXPECT_FALSE(
+      read_identification_spec(io::parse_config(identify_schema(), "[law]\ntype = \"mooney_rivlin\"\n", "p.toml"))
+          .stability.has_value());
 }
 
 TEST(LabTracks, WideTracksInMillimetresGiveTheSameField) {
@@ -211,7 +224,8 @@ TEST(LabTracks, WideTracksInMillimetresGiveTheSameField) {
   write(dir / "tracks.csv", s);
   write(dir / "force.csv", frame_forces());
   std::string lab = kLabTracks;
-  lab.replace(lab.find("x_column"), lab.find("frame_forces") - lab.find("x_column"), "tracks_format = \"wide\"\ntracks_unit = \"mm\"\nsigma_tracks = 0.05\n");
+  lab.replace(lab.find("x_column"), lab.find("frame_forces") - lab.find("x_column"),
+              "tracks_format = \"wide\"\ntracks_unit = \"mm\"\nsigma_tracks = 0.05\n");
   const io::Node root = read_lab(dir, lab);
   (void)run_lab_experiment(root, dir / "out", Log{});
   expect_truth(dir / "out", "pull");
@@ -220,8 +234,9 @@ TEST(LabTracks, WideTracksInMillimetresGiveTheSameField) {
 TEST(LabTracks, DICeSolutionFilesAreReadAsTracks) {
   const fs::path dir = test::scratch_dir("lab_tracks_3");
   for (int f = 0; f < 5; ++f) {
-    std::string s = "***\n*** Digital Image Correlation Engine (DICe)\n***\n"
-                    "SUBSET_ID,COORDINATE_X,COORDINATE_Y,DISPLACEMENT_X,DISPLACEMENT_Y,SIGMA,GAMMA,BETA,STATUS_FLAG\n";
+    std::string s =
+        "***\n*** Digital Image Correlation Engine (DICe)\n***\n"
+        "SUBSET_ID,COORDINATE_X,COORDINATE_Y,DISPLACEMENT_X,DISPLACEMENT_Y,SIGMA,GAMMA,BETA,STATUS_FLAG\n";
     for (std::size_t i = 0; i < std::size(kPins); ++i) {
       const Vec2 x0(kPins[i].x, kPins[i].y), x = position(kPins[i], kStrain[f]);
       s += fmt::format("{},{:.9f},{:.9f},{:.9f},{:.9f},0.01,0.1,0,4\n", i, x0(0), x0(1), x(0) - x0(0), x(1) - x0(1));
@@ -230,7 +245,8 @@ TEST(LabTracks, DICeSolutionFilesAreReadAsTracks) {
   }
   write(dir / "force.csv", frame_forces());
   std::string lab = kLabTracks;
-  lab.replace(lab.find("tracks = "), lab.find("frame_forces") - lab.find("tracks = "), "tracks = \"dice\"\ntracks_format = \"dice\"\n");
+  lab.replace(lab.find("tracks = "), lab.find("frame_forces") - lab.find("tracks = "),
+              "tracks = \"dice\"\ntracks_format = \"dice\"\n");
   lab.replace(lab.find("[\"top_clamp\", \"bottom_clamp\"]"), 29, "[\"3\", \"4\"]");
   const io::Node root = read_lab(dir, lab);
   (void)run_lab_experiment(root, dir / "out", Log{});
@@ -257,7 +273,8 @@ TEST(LabTracks, EachTestHasItsOwnCameraScale) {
 // Bad input: one line naming the file, the line and the key.
 std::string lab_error(const std::string& tracks, const std::string& forces, const std::string& lab = kLabTracks) {
   // A folder per test: ctest runs the tests of this file as parallel processes.
-  const fs::path dir = test::scratch_dir(std::string("lab_tracks_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  const fs::path dir =
+      test::scratch_dir(std::string("lab_tracks_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
   write(dir / "tracks.csv", tracks);
   write(dir / "force.csv", forces);
   return error_of([&] { (void)run_lab_experiment(read_lab(dir, lab), dir / "out", Log{}); });
@@ -270,7 +287,11 @@ std::string after_dir(const std::string& message) {
 
 TEST(LabTracks, APointMissingFromAFrameIsOneLineNamingTheFileLineAndColumn) {
   const std::string m = after_dir(lab_error(long_tracks(1.0, 2, "right"), frame_forces()));
-  EXPECT_EQ(m.rfind("tracks.csv:12: point: frame 12 has no point 'right' (a point missing from a frame) (got 4 of 5 points", 0), 0u) << m;
+  EXPECT_EQ(
+      m.rfind("tracks.csv:12: point: frame 12 has no point 'right' (a point missing from a frame) (got 4 of 5 points",
+              0),
+      0u)
+      << m;
   EXPECT_EQ(m.find('\n'), std::string::npos);
 }
 
@@ -279,7 +300,11 @@ TEST(LabTracks, MixedPixelsAndMillimetresAreAnError) {
   std::string lab = kLabTracks;
   lab.replace(lab.find("x_column"), lab.find("frame_forces") - lab.find("x_column"), "tracks_format = \"wide\"\n");
   const std::string m = after_dir(lab_error(t, "frame,force_N\n1,0\n2,1\n", lab));
-  EXPECT_EQ(m.rfind("tracks.csv:1: tracks: positions in px and mm mixed: column 'a_x [px]' is in px, column 'a_y [mm]' in mm", 0), 0u) << m;
+  EXPECT_EQ(
+      m.rfind("tracks.csv:1: tracks: positions in px and mm mixed: column 'a_x [px]' is in px, column 'a_y [mm]' in mm",
+              0),
+      0u)
+      << m;
 }
 
 TEST(LabTracks, AForceFileWhoseFramesDoNotMatchTheTracksIsAnError) {
@@ -312,7 +337,8 @@ TEST(LabTracks, TheFullModelKeepsEveryPointWhereItIsInTheMeshFrame) {
   std::string t = "frame,id,X,Y,status\n";
   for (int f = 0; f < 5; ++f)
     for (const Pin& p : kPins) {
-      const Vec2 X = kScale * Vec2(p.x - 500, 500 - p.y), x = kScale * Vec2(position(p, kStrain[f])(0) - 500, 500 - position(p, kStrain[f])(1));
+      const Vec2 X = kScale * Vec2(p.x - 500, 500 - p.y),
+                 x = kScale * Vec2(position(p, kStrain[f])(0) - 500, 500 - position(p, kStrain[f])(1));
       if (f == 3 && std::string(p.name) == "left") {
         t += fmt::format("{},{},,,lost\n", f + 10, p.name);
         continue;
@@ -347,15 +373,17 @@ TEST(LabTracks, TheFullModelKeepsEveryPointWhereItIsInTheMeshFrame) {
   }
   EXPECT_LT(*std::min_element(Y.begin(), Y.end()), 0);  // top_pin above, right below the centre: not folded
   const std::string project = io::read_text(dir / "out" / "project.toml");
-  EXPECT_NE(project.find("name = \"pull\"\n# loads: forces.csv (the steps' frames)\nkind = \"custom\"\n[[test.boundary]]"),
-            std::string::npos)
+  EXPECT_NE(
+      project.find("name = \"pull\"\n# loads: forces.csv (the steps' frames)\nkind = \"custom\"\n[[test.boundary]]"),
+      std::string::npos)
       << project;
   EXPECT_EQ(project.find("material_angle"), std::string::npos) << project;
   EXPECT_EQ(project.find("[test.mesh]"), std::string::npos) << project;  // the tracks' own frame: no rectangle
   // Each clamp marker's displacement per step, for the grips' series: the top one still, the bottom
   // one pulled down by the stretch of the 60 mm between them.
   const io::LogTable clamps = io::read_log(dir / "out" / "pull" / "clamps.csv");
-  const auto top = clamps.numbers("top_clamp_uy"), bottom = clamps.numbers("bottom_clamp_uy"), bx = clamps.numbers("bottom_clamp_ux");
+  const auto top = clamps.numbers("top_clamp_uy"), bottom = clamps.numbers("bottom_clamp_uy"),
+             bx = clamps.numbers("bottom_clamp_ux");
   ASSERT_EQ(bottom.size(), 4u);
   for (int k = 0; k < 4; ++k) {
     EXPECT_NEAR(top[k], 0, kTight);
@@ -375,7 +403,8 @@ TEST(LabTracks, TheFullModelOfPixelTracksIsTheRectangleBetweenTheClamps) {
   lab.replace(lab.find("width_mm = 20.0"), 15, "width_mm = 10.0");  // the pin at x = 560 px (6 mm) lies beyond
   (void)run_lab_experiment(read_lab(dir, lab), dir / "out", Log{});
   const io::LogTable field = io::read_log(dir / "out" / "pull" / "field.csv");
-  const auto step = field.numbers("step"), X = field.numbers("x"), Y = field.numbers("y"), u = field.numbers("u"), v = field.numbers("v");
+  const auto step = field.numbers("step"), X = field.numbers("x"), Y = field.numbers("y"), u = field.numbers("u"),
+             v = field.numbers("v");
   ASSERT_EQ(field.rows(), 4u * 2u);  // left and top_pin; right is 6 mm off the axis of a 10 mm wide strip
   for (std::size_t i = 0; i < field.rows(); ++i) {
     const double e = kStrain[int(step[i])];  // about the top clamp, 30 mm above the clamps' midpoint
@@ -383,7 +412,8 @@ TEST(LabTracks, TheFullModelOfPixelTracksIsTheRectangleBetweenTheClamps) {
     EXPECT_NEAR(v[i], e * (Y[i] - 30), kTight) << "row " << i;
   }
   const std::string project = io::read_text(dir / "out" / "project.toml");
-  EXPECT_NE(project.find("[test.mesh]   # the test's own specimen: width, and the clamps' distance\nwidth = 10\nheight = 60\n"),
+  EXPECT_NE(project.find(
+                "[test.mesh]   # the test's own specimen: width, and the clamps' distance\nwidth = 10\nheight = 60\n"),
             std::string::npos)
       << project;
 }
@@ -392,7 +422,8 @@ TEST(LabTracks, TheFullModelTakesTracksOnlyAndDisplacementControl) {
   std::string lab = kLabTracks;
   lab.replace(lab.find("plot = false"), 12, "plot = false\nmodel = \"full\"\ncontrol = \"force\"");
   std::string m = lab_error(long_tracks(), frame_forces(), lab);
-  EXPECT_NE(m.find("lab.toml:4: experiment.control: a full model's boundaries carry the motion"), std::string::npos) << m;
+  EXPECT_NE(m.find("lab.toml:4: experiment.control: a full model's boundaries carry the motion"), std::string::npos)
+      << m;
   lab = kLabTracks;
   lab.replace(lab.find("plot = false"), 12, "plot = false\nmodel = \"full\"");
   lab.replace(lab.find("tracks = \"tracks.csv\""), 21, "images = \"frames\"");

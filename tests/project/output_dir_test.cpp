@@ -54,7 +54,8 @@ TEST(OutputDir, ASecondRunIntoTheSameFolderIsRefusedWhileTheFirstRuns) {
       OutputDir second(dir, "identify");
       ADD_FAILURE() << "a second run was let in";
     } catch (const FileError& e) {
-      EXPECT_NE(std::string(e.what()).find("another tricot identify is writing this folder now"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("another tricot identify is writing this folder now"), std::string::npos)
+          << e.what();
     }
     EXPECT_NO_THROW(OutputDir(dir, "simulate"));
   }
@@ -149,7 +150,8 @@ TEST(OutputDir, VerbsSharingAFolderKeepTheirOwnFiles) {
 TEST(OutputDir, ARecordNamingAFileOutsideTheFolderIsIgnored) {
   const fs::path dir = fresh("outside");
   io::write_atomic(dir.parent_path() / "output_dir_victim.txt", "keep");
-  io::write_atomic(dir / ".tricot-dic.json", R"({"verb": "dic", "files": ["../output_dir_victim.txt", "/etc/hostname"]})");
+  io::write_atomic(dir / ".tricot-dic.json",
+                   R"({"verb": "dic", "files": ["../output_dir_victim.txt", "/etc/hostname"]})");
   OutputDir o(dir, "dic");
   io::write_atomic(o.staging() / "points.csv", "p");
   o.publish();

@@ -44,8 +44,10 @@ std::string chromium() {
 // Headless Chromium with its own profile folder (ctest may run two browsers at once) and a hard
 // time limit: a browser that hangs fails the test, not the CI job.
 std::string browser(const std::string& exe, const fs::path& dir) {
-  return "timeout 180 " + exe + " --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --no-first-run "
-         "--hide-scrollbars --user-data-dir=" + (dir / "profile").string();
+  return "timeout 180 " + exe +
+         " --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --no-first-run "
+         "--hide-scrollbars --user-data-dir=" +
+         (dir / "profile").string();
 }
 
 // Marks the page once loaded: how many <img> decoded (complete, naturalWidth > 0) of how many.
@@ -69,21 +71,23 @@ void check_in_browser(const std::string& exe, const fs::path& dir, const fs::pat
   std::string checked = page;
   checked.insert(checked.rfind("</body>"), kImageCheck);
   io::write_atomic(dir / "checked.html", checked);
-  const Shell dom = shell(browser(exe, dir) + " --virtual-time-budget=10000 --dump-dom file://" + (dir / "checked.html").string());
+  const Shell dom =
+      shell(browser(exe, dir) + " --virtual-time-budget=10000 --dump-dom file://" + (dir / "checked.html").string());
   ASSERT_EQ(dom.status, 0) << dom.out;
   EXPECT_NE(dom.out.find("images " + std::to_string(images) + "/" + std::to_string(images)), std::string::npos)
       << dom.out.substr(dom.out.rfind("image-check") == std::string::npos ? 0 : dom.out.rfind("image-check"), 200);
 
   // The screenshot, kept under the build tree for a reader to look at.
-  const Shell shot = shell(browser(exe, dir) + " --window-size=1100," + std::to_string(height) + " --screenshot=" +
-                           png.string() + " file://" + html.string());
+  const Shell shot = shell(browser(exe, dir) + " --window-size=1100," + std::to_string(height) +
+                           " --screenshot=" + png.string() + " file://" + html.string());
   ASSERT_EQ(shot.status, 0) << shot.out;
   const std::string shot_bytes = io::read_text(png);
   EXPECT_EQ(shot_bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
 
   // The print: a valid PDF of at least one A4 page.
   const fs::path pdf = fs::path(png).replace_extension(".pdf");
-  const Shell print = shell(browser(exe, dir) + " --no-pdf-header-footer --print-to-pdf=" + pdf.string() + " file://" + html.string());
+  const Shell print =
+      shell(browser(exe, dir) + " --no-pdf-header-footer --print-to-pdf=" + pdf.string() + " file://" + html.string());
   ASSERT_EQ(print.status, 0) << print.out;
   const std::string pdf_bytes = io::read_text(pdf);
   ASSERT_GE(pdf_bytes.size(), 1000u);
@@ -109,7 +113,8 @@ std::size_t count_images(const std::string& page) {
 TEST(ReportInBrowser, EveryFigureLoadsAndThePagePrintsToPdf) {
   const std::string exe = chromium();
   if (exe.empty()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps installs it)";
-  if (shell("command -v gnuplot").status != 0) GTEST_SKIP() << "gnuplot is not installed: the report would have no figures";
+  if (shell("command -v gnuplot").status != 0)
+    GTEST_SKIP() << "gnuplot is not installed: the report would have no figures";
 
   const fs::path dir = test::scratch_dir("report_browser");
   test::write_file(dir / "experiment.toml", test::small_experiment());
@@ -136,7 +141,8 @@ TEST(ReportInBrowser, EveryFigureLoadsAndThePagePrintsToPdf) {
 TEST(ReportInBrowser, TheDemoReportShowsTheChainAndPrintsToPdf) {
   const std::string exe = chromium();
   if (exe.empty()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps installs it)";
-  if (shell("command -v gnuplot").status != 0) GTEST_SKIP() << "gnuplot is not installed: the report would have no figures";
+  if (shell("command -v gnuplot").status != 0)
+    GTEST_SKIP() << "gnuplot is not installed: the report would have no figures";
 
   const fs::path dir = test::scratch_dir("report_browser_demo");
   const auto r = test::run_tricot("demo --small -q -o " + (dir / "demo").string());
@@ -149,7 +155,8 @@ TEST(ReportInBrowser, TheDemoReportShowsTheChainAndPrintsToPdf) {
                               "Wall and CPU time per stage", "1/5 render", "s110-wale-040", "s110-course-030"})
     EXPECT_NE(page.find(section), std::string::npos) << section;
   const std::string json = io::read_text(dir / "demo" / "identify" / "report.json");
-  for (const char* figure : {"plots/dic_quality.png", "plots/sync.png", "plots/history.png", "plots/eq9_course.png", "plots/eq9_wale.png"})
+  for (const char* figure :
+       {"plots/dic_quality.png", "plots/sync.png", "plots/history.png", "plots/eq9_course.png", "plots/eq9_wale.png"})
     EXPECT_NE(json.find(figure), std::string::npos) << figure;
   check_in_browser(exe, dir, html, count_images(page), dir / "report.png", 9000);
 }

@@ -28,7 +28,8 @@ const std::string kOnePixelPng(
     67);
 
 TEST(EscapeHtml, EscapesTheFiveSpecialCharactersAndKeepsTheRest) {
-  EXPECT_EQ(escape_html(R"(<a href="x">Tom & Jerry's</a>)"), "&lt;a href=&quot;x&quot;&gt;Tom &amp; Jerry&#39;s&lt;/a&gt;");
+  EXPECT_EQ(escape_html(R"(<a href="x">Tom & Jerry's</a>)"),
+            "&lt;a href=&quot;x&quot;&gt;Tom &amp; Jerry&#39;s&lt;/a&gt;");
   EXPECT_EQ(escape_html("σ̂² = 2f/(N − n)"), "σ̂² = 2f/(N − n)");
 }
 
@@ -84,8 +85,10 @@ Document sample(const fs::path& dir) {
   Document d;
   d.title = "Law <A> & B";
   d.summary = {{"f", Value(2.5e-13, 2)}, {"wall time", Value(1.5, 3, "s")}};
-  d.section(kInputs).paragraph("x < y").table(KeyValueTable{"settings", {{"epsilon", Value(1.25e-12, 3)}, {"law", "mr"}}});
-  NumericTable t{"coefficients", "name", {"value", "s.e."}, {"C10"}, {{0.123456789, std::nan("")}}, 4, {3, 2}};  // 3 digits in the first column
+  d.section(kInputs).paragraph("x < y").table(
+      KeyValueTable{"settings", {{"epsilon", Value(1.25e-12, 3)}, {"law", "mr"}}});
+  NumericTable t{"coefficients", "name", {"value", "s.e."}, {"C10"}, {{0.123456789, std::nan("")}}, 4,
+                 {3, 2}};  // 3 digits in the first column
   d.section(kCoefficients).table(t);
   Eigen::MatrixXd c(2, 2);
   c << 1, -0.875, -0.875, 1;
@@ -136,7 +139,9 @@ TEST(Json, ReadsBackToTheSamePageSoThatLaterPipelinesCanAddSections) {
   const fs::path dir = test::scratch_dir("report_round_trip");
   const Document d = sample(dir);
   write(d, dir);
-  append(dir, [](Document& doc) { doc.section(kTiming).table(NumericTable{"stages", "stage", {"s"}, {"DIC"}, {{12.5}}, 3, {}}); });
+  append(dir, [](Document& doc) {
+    doc.section(kTiming).table(NumericTable{"stages", "stage", {"s"}, {"DIC"}, {{12.5}}, 3, {}});
+  });
   const Document back = read_json(dir / "report.json");
   EXPECT_EQ(to_html(back, dir).find("12.5") != std::string::npos, true);
   // The first four sections are unchanged: the same page, but for the added section.

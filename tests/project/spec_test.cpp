@@ -27,7 +27,8 @@ TEST(Origin, OfATableBuiltInCodeNamesTheDottedKey) {
   const Origin o("dic");
   EXPECT_EQ(o.where("step").key, "dic.step");
   EXPECT_EQ(o.where("step").file, "");
-  EXPECT_EQ(message_of([&] { o.fail("step", "too coarse", "40", "< 20"); }), "dic.step: too coarse (got 40, expected < 20)");
+  EXPECT_EQ(message_of([&] { o.fail("step", "too coarse", "40", "< 20"); }),
+            "dic.step: too coarse (got 40, expected < 20)");
 }
 
 TEST(Origin, OfATableReadFromAFileNamesItsFileAndLine) {
@@ -57,7 +58,8 @@ TEST(Origin, PlacesAnEnginesErrorAtItsKeyWithoutRenamingIt) {
 }
 
 TEST(ProblemOf, IsTheMessageAfterTheKey) {
-  EXPECT_EQ(problem_of(InputError(Location{"", 0, "dic.step"}, "out of range", "4", "5")), "out of range (got 4, expected 5)");
+  EXPECT_EQ(problem_of(InputError(Location{"", 0, "dic.step"}, "out of range", "4", "5")),
+            "out of range (got 4, expected 5)");
 }
 
 }  // namespace

@@ -122,9 +122,8 @@ TEST(SynthImages, AKnitTextureIsRenderedAndRecorded) {
 TEST(SynthImages, NoImagesUnlessEnabled) {
   const fs::path dir = scratch_dir("synth_images_off");
   write_file(dir / "experiment.toml", small_experiment());
-  ASSERT_EQ(run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "exp").string() + " -q")
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "exp").string() + " -q").exit_code, 0);
   EXPECT_TRUE(fs::exists(dir / "exp" / "tension" / kForcesFile));
   EXPECT_FALSE(fs::exists(dir / "exp" / "tension" / kImagesFolder));
 }
@@ -139,8 +138,8 @@ std::string message_of(const SynthImagesSpec& s) {
 }
 
 TEST(SynthImagesSpec, TheSchemasDefaultsAreTheSpecsDefaults) {
-  const SynthImagesSpec read =
-      SynthImagesSpec::from_config(io::default_config(io::SectionSpec{"", "", false, {}, {synth_images_section()}}).section("images"));
+  const SynthImagesSpec read = SynthImagesSpec::from_config(
+      io::default_config(io::SectionSpec{"", "", false, {}, {synth_images_section()}}).section("images"));
   const SynthImagesSpec code;
   EXPECT_EQ(read.enabled, code.enabled);
   EXPECT_EQ(read.pixel_size, code.pixel_size);
@@ -177,7 +176,6 @@ TEST(SynthImagesSpec, ItsOptionsAreTheRenderersInItsUnits) {
   EXPECT_EQ(o.camera.mm_per_px, 0.25);
   EXPECT_EQ(o.speckle.seed, 7u);
 }
-
 
 // A rig test (issue 13): the setting in frames of its own, the held setting, then the pull (set, hold,
 // pull), each frame's phase in camera.json; the setting frames show the knit's shrinkage load.

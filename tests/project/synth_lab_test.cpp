@@ -29,10 +29,11 @@ constexpr double kSigmas = 4;
 
 fs::path synth_lab(const std::string& name, const std::string& lab_keys) {
   const fs::path dir = scratch_dir(name);
-  write_file(dir / "experiment.toml",
-             small_experiment("nx = 3\nny = 5\n\n[synth.images]\nenabled = true\npixel_size = 0.5\nwidth = 60\nheight = 60\n"
-                              "subsamples = 1\n\n[synth.lab]\nenabled = true\n" +
-                              lab_keys));
+  write_file(
+      dir / "experiment.toml",
+      small_experiment("nx = 3\nny = 5\n\n[synth.images]\nenabled = true\npixel_size = 0.5\nwidth = 60\nheight = 60\n"
+                       "subsamples = 1\n\n[synth.lab]\nenabled = true\n" +
+                       lab_keys));
   const auto r = run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "exp").string() + " -q");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return dir / "exp" / "tension" / "lab";
@@ -82,9 +83,10 @@ TEST(SynthLab, WithoutCrossheadTheLogHasTwoColumns) {
 
 TEST(SynthLab, OneAmplitudePerRelaxationTime) {
   const fs::path dir = scratch_dir("synth_lab_bad");
-  write_file(dir / "experiment.toml",
-             small_experiment("nx = 3\nny = 5\n\n[synth.images]\nenabled = true\npixel_size = 0.5\nwidth = 60\nheight = 60\n"
-                              "subsamples = 1\n\n[synth.lab]\nenabled = true\nrelaxation_tau_s = [30.0, 360.0]\n"));
+  write_file(
+      dir / "experiment.toml",
+      small_experiment("nx = 3\nny = 5\n\n[synth.images]\nenabled = true\npixel_size = 0.5\nwidth = 60\nheight = 60\n"
+                       "subsamples = 1\n\n[synth.lab]\nenabled = true\nrelaxation_tau_s = [30.0, 360.0]\n"));
   const auto r = run_tricot("synth " + (dir / "experiment.toml").string() + " -o " + (dir / "exp").string() + " -q");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("synth.lab.relaxation_amplitudes_N"), std::string::npos) << r.err;

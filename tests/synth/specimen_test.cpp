@@ -163,7 +163,8 @@ namespace {
 /// FullSpecimen::material_point (Newton in the located element of the deformed quarter) and the
 /// pattern's exact intensity (every neighbouring blob). Also counts the pixels whose sub-samples the
 /// specimen's outline separates.
-image::Image old_render(const SpecimenRenderer& r, const fem::Mesh& mesh, const Eigen::VectorXd& u, int* edge = nullptr) {
+image::Image old_render(const SpecimenRenderer& r, const fem::Mesh& mesh, const Eigen::VectorXd& u,
+                        int* edge = nullptr) {
   const FullSpecimen body(mesh, u);
   const SpecimenImageOptions& o = r.options();
   const Camera& c = o.camera;
@@ -212,7 +213,8 @@ TEST(OldRenderer, GivesTheImageOfEveryElementDrawingItsOwnAcrossANeckedEdgeAndTh
     int edge = 0;
     const image::Image old = old_render(r, mesh, u, &edge);
     for (int y = 0; y < o.camera.height; ++y)
-      for (int x = 0; x < o.camera.width; ++x) ASSERT_NEAR(img.at(x, y), old.at(x, y), kTableTol) << x << ", " << y << " s " << s;
+      for (int x = 0; x < o.camera.width; ++x)
+        ASSERT_NEAR(img.at(x, y), old.at(x, y), kTableTol) << x << ", " << y << " s " << s;
     EXPECT_LT(rms_difference(img, old), kTableRms) << s;
     // Pixels whose sub-samples the boundary separates (hundreds along the four edges) were compared too.
     if (s > 1) {
@@ -272,7 +274,7 @@ TEST(SpecimenRenderer, ReferenceImageShowsThePatternWhereItIsAndFlatGrayBeyondTh
       }
     }
   EXPECT_EQ(inside, 300 * 598);  // rows within 30 mm of the centre row 349.5, less the edge rows
-  EXPECT_EQ(outside, 300 * 98);   // rows more than 30 mm + ½ px away
+  EXPECT_EQ(outside, 300 * 98);  // rows more than 30 mm + ½ px away
 }
 
 TEST(SpecimenRenderer, PatternIsNotTheQuartersMirrored) {
@@ -298,8 +300,7 @@ TEST(SpecimenRenderer, QuantisesToTheBitDepthAndAddsNoiseOfTheGivenSigma) {
     const double levels = bits == 8 ? 255 : 65535;
     const image::Image img = SpecimenRenderer(mesh, o).render(Eigen::VectorXd());
     EXPECT_EQ(img.full_scale, levels);
-    for (std::size_t i = 0; i < img.pixels.size(); ++i)
-      ASSERT_EQ(img.pixels[i], std::round(exact.pixels[i] * levels));
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) ASSERT_EQ(img.pixels[i], std::round(exact.pixels[i] * levels));
 
     o.noise = 3;  // gray levels
     o.threads = 1;
@@ -370,7 +371,8 @@ TEST(SpecimenRenderer, AWholeMeshOfEveryTypeWithAHoleShowsTheSpeckleThroughTheIn
           s2 += std::pow(img.at(x, y) - expected.at(x, y), 2);
         } else if (d < -reach) {
           ++outside;
-          ASSERT_EQ(img.at(x, y), static_cast<float>(o.background)) << x << ", " << y << " " << fem::to_string(mesh.type);
+          ASSERT_EQ(img.at(x, y), static_cast<float>(o.background))
+              << x << ", " << y << " " << fem::to_string(mesh.type);
         }
       }
     // The deformed plate covers 46 × 18.4 mm less the hole's 0.53 · 50 mm²: about 81 000 px; the

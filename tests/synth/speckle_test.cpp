@@ -70,7 +70,8 @@ TEST(Render, OneSamplePerPixelIsThePatternSeenThroughTheMotion) {
   ASSERT_EQ(img.height, 40);
   EXPECT_EQ(img.full_scale, 1.0);
   for (int y = 0; y < 40; y += 7)
-    for (int x = 0; x < 60; x += 5) EXPECT_NEAR(img.at(x, y), P.intensity(motion(Vec2(x, y))), kFloatTol) << x << "," << y;
+    for (int x = 0; x < 60; x += 5)
+      EXPECT_NEAR(img.at(x, y), P.intensity(motion(Vec2(x, y))), kFloatTol) << x << "," << y;
 }
 
 TEST(Render, AnIntegerTranslationShiftsTheImageExactly) {

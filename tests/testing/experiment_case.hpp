@@ -47,10 +47,11 @@ inline std::string small_experiment(const std::string& synth = "nx = 3\nny = 5\n
 
 /// A project file identifying C10, C20, C21, C03 from `dir`, starting at truth × 0.5.
 inline std::string small_project(const std::string& dir, const std::string& extra = {},
-                                 const std::string& parameters = "[[parameter]]\nname = \"C10\"\n"
-                                                                 "[[parameter]]\nname = \"C20\"\n"
-                                                                 "[[parameter]]\nname = \"C21\"\n"
-                                                                 "[[parameter]]\nname = \"C03\"\n") {
+                                 const std::string& parameters =
+                                     "[[parameter]]\nname = \"C10\"\n"
+                                     "[[parameter]]\nname = \"C20\"\n"
+                                     "[[parameter]]\nname = \"C21\"\n"
+                                     "[[parameter]]\nname = \"C03\"\n") {
   return small_case("[0.05, -0.0125, 0.0075, 0.005]") + "\n[experiment]\ndir = \"" + dir + "\"\n\n" + parameters +
          "\n" + extra;
 }

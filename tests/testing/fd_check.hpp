@@ -38,8 +38,8 @@ double jacobian_error(Fn&& f, const Eigen::VectorXd& x, const Eigen::MatrixXd& J
 
 /// gtest assertion: EXPECT_TRUE(tricot::test::JacobianMatches(f, x, J, tol)) prints both matrices on failure.
 template <class Fn>
-::testing::AssertionResult JacobianMatches(Fn&& f, const Eigen::VectorXd& x, const Eigen::MatrixXd& J,
-                                           double tol, double h = 1e-6) {
+::testing::AssertionResult JacobianMatches(Fn&& f, const Eigen::VectorXd& x, const Eigen::MatrixXd& J, double tol,
+                                           double h = 1e-6) {
   const Eigen::MatrixXd Jfd = fd_jacobian(f, x, h);
   if (Jfd.rows() != J.rows() || Jfd.cols() != J.cols())
     return ::testing::AssertionFailure() << "shape " << J.rows() << "x" << J.cols() << " vs finite differences "

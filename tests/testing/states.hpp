@@ -53,8 +53,11 @@ inline std::vector<State> isotropic_law_states(const Mat2& stretch_3) {
   Mat2 small, U;
   small << 1.001, 0.0004, -0.0003, 0.9995;
   U << 2.0, 0.3, 0.3, 0.7;
-  return {{"identity", Mat2::Identity()}, {"small strain", small}, {"stretch 3", stretch_3},
-          {"rotation and stretch", rotation(0.7) * U}, {"simple shear", shear(0.5)}};
+  return {{"identity", Mat2::Identity()},
+          {"small strain", small},
+          {"stretch 3", stretch_3},
+          {"rotation and stretch", rotation(0.7) * U},
+          {"simple shear", shear(0.5)}};
 }
 
 }  // namespace tricot::test

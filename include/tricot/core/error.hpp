@@ -28,8 +28,7 @@ struct Location {
 /// `FILE:LINE: KEY: what is wrong (got VALUE, expected RANGE)`.
 class InputError : public std::runtime_error {
  public:
-  InputError(Location where, const std::string& problem, const std::string& got = {},
-             const std::string& expected = {});
+  InputError(Location where, const std::string& problem, const std::string& got = {}, const std::string& expected = {});
   const Location& where() const { return where_; }
   const std::string& problem() const { return problem_; }
   virtual ExitCode exit_code() const { return ExitCode::usage; }

@@ -11,9 +11,9 @@ namespace tricot {
 
 /// F = R U with R = rot(θ) and U symmetric positive definite (docs/theory.md §4).
 struct PolarDecomposition {
-  double theta = 0;             ///< rotation angle [rad], θ = atan2(F21 − F12, F11 + F22) ∈ (−π, π]
-  Mat2 R = Mat2::Identity();    ///< rotation [[cos θ, −sin θ], [sin θ, cos θ]]
-  Mat2 U = Mat2::Identity();    ///< right stretch U = Rᵀ F (symmetric by construction of θ)
+  double theta = 0;           ///< rotation angle [rad], θ = atan2(F21 − F12, F11 + F22) ∈ (−π, π]
+  Mat2 R = Mat2::Identity();  ///< rotation [[cos θ, −sin θ], [sin θ, cos θ]]
+  Mat2 U = Mat2::Identity();  ///< right stretch U = Rᵀ F (symmetric by construction of θ)
 };
 
 /// Derivatives of the polar decomposition with respect to F.

@@ -15,11 +15,11 @@ namespace tricot::dic {
 
 /// Everything one pair correlation needs besides the images and the points.
 struct DicOptions {
-  IcgnOptions icgn;            ///< subset size, shape order, iterations, tolerance, ZNCC and texture thresholds
-  int step = 10;               ///< px between grid points, 1–1000
-  int search_radius = 50;      ///< px, 1–10000: seed search window half-width (FFT cross-correlation)
-  std::vector<Vec2> seeds;     ///< seed points in the reference image (px); empty = the point nearest the ROI centroid
-  int max_seeds = 8;           ///< 1–1000: seed attempts per image pair before the unreached points are given up
+  IcgnOptions icgn;         ///< subset size, shape order, iterations, tolerance, ZNCC and texture thresholds
+  int step = 10;            ///< px between grid points, 1–1000
+  int search_radius = 50;   ///< px, 1–10000: seed search window half-width (FFT cross-correlation)
+  std::vector<Vec2> seeds;  ///< seed points in the reference image (px); empty = the point nearest the ROI centroid
+  int max_seeds = 8;        ///< 1–1000: seed attempts per image pair before the unreached points are given up
   /// 0–1: a seed must reach this ZNCC (propagated points only need icgn.min_zncc). A Boolean-model speckle
   /// subset matches a look-alike elsewhere at ZNCC ≈ 0.9 and IC-GN can settle there from a poor start.
   double seed_min_zncc = 0.9;
@@ -34,11 +34,11 @@ struct DicOptions {
 /// The matches of one image pair, index for index with the centres given.
 struct PairResult {
   std::vector<PointMatch> points;
-  int ok = 0;              ///< points with status ok
-  double mean_zncc = 0;    ///< over ok points
-  int seeds_tried = 0;     ///< seed attempts (0 when every point had a guess)
-  double seconds = 0;      ///< wall time
-  std::string message;     ///< one line: what happened (seeds, fall-backs)
+  int ok = 0;            ///< points with status ok
+  double mean_zncc = 0;  ///< over ok points
+  int seeds_tried = 0;   ///< seed attempts (0 when every point had a guess)
+  double seconds = 0;    ///< wall time
+  std::string message;   ///< one line: what happened (seeds, fall-backs)
   /// Subsets computed in each round of reliability-guided propagation (each round ends at a barrier):
   /// how parallel the propagation can be (bench/dic_benchmark.cpp models the 2-thread speed-up from it).
   std::vector<int> round_tasks;

@@ -20,8 +20,8 @@ struct OverlayOptions {
   /// The panels, laid out two per row. Default: |u|, exx, eyy, ZNCC.
   std::vector<OverlayField> panels{OverlayField::displacement, OverlayField::exx, OverlayField::eyy,
                                    OverlayField::zncc};
-  int panel_width = 800;    ///< px, 100–10000: each panel is scaled down (never up) to this width
-  double opacity = 0.65;    ///< 0–1: weight of the colour over the image
+  int panel_width = 800;  ///< px, 100–10000: each panel is scaled down (never up) to this width
+  double opacity = 0.65;  ///< 0–1: weight of the colour over the image
   /// Colour range of each panel: the 2nd–98th percentile of the frame's values (robust to outliers),
   /// except ZNCC, which spans [zncc_floor, 1].
   double zncc_floor = 0.9;  ///< 0–1

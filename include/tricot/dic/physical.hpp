@@ -12,10 +12,10 @@
 namespace tricot::dic {
 
 struct PhysicalFrame {
-  double mm_per_px = 1.0;      ///< pixel size, > 0
-  Vec2 centre_px{0, 0};        ///< pixel of the specimen centre (fixed in every image)
-  double angle_deg = 0.0;      ///< specimen X axis, counter-clockwise on screen from the image x axis
-  bool y_up = true;            ///< specimen Y axis points up on screen (image y points down)
+  double mm_per_px = 1.0;  ///< pixel size, > 0
+  Vec2 centre_px{0, 0};    ///< pixel of the specimen centre (fixed in every image)
+  double angle_deg = 0.0;  ///< specimen X axis, counter-clockwise on screen from the image x axis
+  bool y_up = true;        ///< specimen Y axis points up on screen (image y points down)
 
   void validate() const;
   /// Q: image axes (px, y down) → specimen axes. Orthogonal; det = −1 when y_up.

@@ -49,10 +49,10 @@ struct SequenceOptions {
 /// fails later reports why in that frame and `lost` in the frames after it (incremental and auto
 /// modes; reference mode retries it in every frame).
 struct TrackedFrame {
-  int frame = 0;              ///< 0 = reference image
-  int reference_frame = 0;    ///< the image this frame was correlated against
-  std::vector<Vec2> x;        ///< current position, px (NaN when not measured)
-  std::vector<double> zncc;   ///< of the last match (1 in frame 0)
+  int frame = 0;             ///< 0 = reference image
+  int reference_frame = 0;   ///< the image this frame was correlated against
+  std::vector<Vec2> x;       ///< current position, px (NaN when not measured)
+  std::vector<double> zncc;  ///< of the last match (1 in frame 0)
   std::vector<PointStatus> status;
   std::vector<StrainPoint> strain;  ///< Green–Lagrange, relative to frame 0
   /// σ of x (px, image axes) from image noise (PointMatch::sigma): 0 in frame 0; a position that
@@ -73,20 +73,20 @@ struct TrackedFrame {
 /// Displacements from image `from` to image `to` at the fixed grid centres of the first image.
 struct IncrementField {
   int from = 0, to = 0;
-  std::vector<Vec2> u;  ///< px (NaN when not ok)
+  std::vector<Vec2> u;      ///< px (NaN when not ok)
   std::vector<Vec2> sigma;  ///< σ of u, px (PointMatch::sigma; NaN when not ok)
   std::vector<double> zncc;
   std::vector<PointStatus> status;
 };
 
 enum class SequenceTermination {
-  completed,   ///< every frame was correlated and some points survived to the end
-  all_lost,    ///< every point was lost before the last frame
+  completed,  ///< every frame was correlated and some points survived to the end
+  all_lost,   ///< every point was lost before the last frame
 };
 
 struct SequenceResult {
-  std::vector<GridPoint> grid;          ///< the material points: grid[k].x is the position in frame 0
-  std::vector<TrackedFrame> frames;     ///< one per image, frame 0 first
+  std::vector<GridPoint> grid;             ///< the material points: grid[k].x is the position in frame 0
+  std::vector<TrackedFrame> frames;        ///< one per image, frame 0 first
   std::vector<IncrementField> increments;  ///< frames 1.. (when fixed_point_fields)
   SequenceTermination termination = SequenceTermination::completed;
   std::string message;
@@ -139,7 +139,7 @@ class SequenceTracker {
 };
 
 /// Convenience for tests: the whole sequence at once (images[0] is the reference).
-SequenceResult track_sequence(const std::vector<image::Image>& images, const Roi& roi,
-                              const SequenceOptions& options, Reporter reporter = {});
+SequenceResult track_sequence(const std::vector<image::Image>& images, const Roi& roi, const SequenceOptions& options,
+                              Reporter reporter = {});
 
 }  // namespace tricot::dic

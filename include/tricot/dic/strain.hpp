@@ -13,8 +13,9 @@
 namespace tricot::dic {
 
 struct StrainOptions {
-  int window = 5;                   ///< points per side of the square fitting window, odd, 3–51
-  double min_fraction = 0.35;       ///< 0–1: the fit needs this fraction of the window's points (and ≥ 4); 0.35 keeps grid corners
+  int window = 5;  ///< points per side of the square fitting window, odd, 3–51
+  double min_fraction =
+      0.35;  ///< 0–1: the fit needs this fraction of the window's points (and ≥ 4); 0.35 keeps grid corners
   void validate() const;
 };
 

@@ -39,10 +39,10 @@ using ElementMatrix = Eigen::Matrix<double, kMaxElementDofs, kMaxElementDofs>;
 
 /// The reference geometry of one element at its quadrature points, computed once per mesh.
 struct ElementGeometry {
-  int nodes = 0;   ///< 3, 4, 6 or 8
-  int points = 0;  ///< 1, 4, 3 or 9
+  int nodes = 0;                                                        ///< 3, 4, 6 or 8
+  int points = 0;                                                       ///< 1, 4, 3 or 9
   std::array<Eigen::Matrix<double, 8, 2>, kMaxQuadraturePoints> dN_dX;  ///< ∂N_a/∂X_j
-  std::array<double, kMaxQuadraturePoints> dA0;  ///< Gauss weight × det(∂X/∂ξ)
+  std::array<double, kMaxQuadraturePoints> dA0;                         ///< Gauss weight × det(∂X/∂ξ)
   /// Smallest det(∂X/∂ξ) over the points; ≤ 0 means the element is inverted in the reference mesh.
   double min_detJ0 = 0;
   int region = 0;  ///< Mesh::region of the element (0 without regions), passed to the law
@@ -69,17 +69,16 @@ enum class ElementStatus {
 
 /// What one element returns. Only the leading 2·nodes rows/columns are meaningful.
 struct ElementResponse {
-  ElementVector f;               ///< internal force ∫ Bᵀ P dA0 [N]
-  ElementMatrix K;               ///< ∂f/∂ue = ∫ Bᵀ A B dA0 (when the request asks the tangent)
-  Eigen::MatrixXd df_dc;         ///< 2·nodes × coefficients: ∫ Bᵀ ∂P/∂c_k dA0 (when asked)
-  bool symmetric_tangent = true; ///< every A had major symmetry (then K is symmetric)
-  double min_detF = 1;           ///< smallest det F over the quadrature points
+  ElementVector f;                ///< internal force ∫ Bᵀ P dA0 [N]
+  ElementMatrix K;                ///< ∂f/∂ue = ∫ Bᵀ A B dA0 (when the request asks the tangent)
+  Eigen::MatrixXd df_dc;          ///< 2·nodes × coefficients: ∫ Bᵀ ∂P/∂c_k dA0 (when asked)
+  bool symmetric_tangent = true;  ///< every A had major symmetry (then K is symmetric)
+  double min_detF = 1;            ///< smallest det F over the quadrature points
 };
 
 /// Evaluates one element at its nodal displacements ue with `law` (docs/theory.md §4). `scratch` is the
 /// caller's reusable law output (one per thread). Returns the status; `out` is valid only when ok.
-ElementStatus element_response(const ElementGeometry& g, const ElementVector& ue, const Law& law,
-                               const Mat2& Q, const LawRequest& request, LawOutput& scratch,
-                               ElementResponse& out);
+ElementStatus element_response(const ElementGeometry& g, const ElementVector& ue, const Law& law, const Mat2& Q,
+                               const LawRequest& request, LawOutput& scratch, ElementResponse& out);
 
 }  // namespace tricot::fem

@@ -31,9 +31,9 @@ struct LawInput {
 /// What a law returns. Forces are per unit reference length (N/mm): the membrane stress times the
 /// reference thickness, because a knit's thickness has no meaning (docs/theory.md §5).
 struct LawOutput {
-  Mat2 P = Mat2::Zero();  ///< first Piola–Kirchhoff membrane force [N/mm]
-  Mat4 A = Mat4::Zero();  ///< consistent tangent ∂P/∂F, A(2i+j, 2k+l) = ∂P_ij/∂F_kl
-  double lambda3 = 1.0;   ///< out-of-plane stretch from plane stress (σ33 = 0)
+  Mat2 P = Mat2::Zero();    ///< first Piola–Kirchhoff membrane force [N/mm]
+  Mat4 A = Mat4::Zero();    ///< consistent tangent ∂P/∂F, A(2i+j, 2k+l) = ∂P_ij/∂F_kl
+  double lambda3 = 1.0;     ///< out-of-plane stretch from plane stress (σ33 = 0)
   std::vector<Mat2> dP_dc;  ///< ∂P/∂c_k for every coefficient k (only when asked)
 };
 

@@ -67,10 +67,10 @@ void check_mesh(const Mesh& mesh, const std::string& source = "");
 
 /// A structured mesh of the rectangle [0, width] × [0, height] (the quarter specimen).
 struct MeshOptions {
-  double width = 55;    ///< mm, > 0: half the specimen's width (x)
-  double height = 55;   ///< mm, > 0: half the specimen's free length (y)
-  int nx = 10;          ///< elements along x, 1–2000
-  int ny = 10;          ///< elements along y, 1–2000
+  double width = 55;   ///< mm, > 0: half the specimen's width (x)
+  double height = 55;  ///< mm, > 0: half the specimen's free length (y)
+  int nx = 10;         ///< elements along x, 1–2000
+  int ny = 10;         ///< elements along y, 1–2000
   ElementType type = ElementType::Q8;
   /// Ratio of the first (y = 0) to the last (y = height) element height, > 0. 1 = uniform;
   /// < 1 refines toward the grip, where the clamp makes the field steep.

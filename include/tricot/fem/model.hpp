@@ -117,8 +117,8 @@ struct TestModel {
   /// (StepResult::edge_force = force_scale × Σ of its nodes' internal forces along force_component;
   /// StepResult::edge_displacement = the prescribed value of that component there). Empty = no force.
   std::string force_boundary;
-  int force_component = 1;   ///< 0 = x, 1 = y
-  double force_scale = 1;    ///< > 0: 2 for a half model whose symmetry carries the other half
+  int force_component = 1;  ///< 0 = x, 1 = y
+  double force_scale = 1;   ///< > 0: 2 for a half model whose symmetry carries the other half
   /// Every step's resultant (both components, internal force summed over the nodes) is recorded for
   /// these boundaries (StepResult::resultants, in this order); empty = those that a condition names.
   std::vector<std::string> resultants;

@@ -35,8 +35,7 @@ std::vector<MooneyRivlinTerm> paper_mooney_rivlin_terms();
 
 /// Nominal stress P11 [N/mm] of the homogeneous state `mode` at stretch λ (> 0), docs/theory.md §5 closed
 /// forms, e.g. uniaxial P = 2(λ − λ⁻²)(W1 + W2/λ).
-double mooney_rivlin_nominal_stress(const std::vector<MooneyRivlinTerm>& terms, HomogeneousMode mode,
-                                    double lambda);
+double mooney_rivlin_nominal_stress(const std::vector<MooneyRivlinTerm>& terms, HomogeneousMode mode, double lambda);
 
 class MooneyRivlin : public Law {
  public:

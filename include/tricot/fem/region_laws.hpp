@@ -39,7 +39,9 @@ class RegionLaws : public Law {
   std::vector<std::string> prefixes_;
   std::vector<int> law_of_region_;
   int law_index(int region) const {
-    return region >= 0 && static_cast<size_t>(region) < law_of_region_.size() ? law_of_region_[static_cast<size_t>(region)] : 0;
+    return region >= 0 && static_cast<size_t>(region) < law_of_region_.size()
+               ? law_of_region_[static_cast<size_t>(region)]
+               : 0;
   }
   std::vector<int> offset_;  ///< first coefficient of each law
   int count_ = 0;

@@ -89,8 +89,7 @@ class ResponseSurface : public Law {
   void set_compression(Compression c) { compression_ = c; }
 
  private:
-  ResponseSurface(std::vector<Monomial> course, std::vector<Monomial> wale, double G_s,
-                  std::vector<std::string> names);
+  ResponseSurface(std::vector<Monomial> course, std::vector<Monomial> wale, double G_s, std::vector<std::string> names);
 
   std::vector<Monomial> course_, wale_;
   std::vector<std::string> names_;

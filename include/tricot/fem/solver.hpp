@@ -77,14 +77,14 @@ struct StepResult {
   /// Full-specimen grip force: 2 × the quarter's reaction (N); any mesh: TestModel::force_scale × the
   /// force boundary's resultant along TestModel::force_component.
   double edge_force = 0;
-  double force_per_width = 0;    ///< edge_force / full initial width (N/mm)
-  double side_force = 0;         ///< full-specimen reaction on the guide (N, 0 when free)
+  double force_per_width = 0;  ///< edge_force / full initial width (N/mm)
+  double side_force = 0;       ///< full-specimen reaction on the guide (N, 0 when free)
   /// Resultant internal force (N) of each boundary of TestModel::resultant_boundaries(), in order:
   /// the force the specimen exerts on what holds it there (the reaction is its opposite).
   std::vector<Vec2> resultants;
-  int iterations = 0;            ///< Newton iterations, summed over sub-steps
-  int cutbacks = 0;              ///< sub-steps inserted before this step converged
-  std::vector<double> residuals; ///< ‖R‖ per Newton iteration of the last sub-step
+  int iterations = 0;             ///< Newton iterations, summed over sub-steps
+  int cutbacks = 0;               ///< sub-steps inserted before this step converged
+  std::vector<double> residuals;  ///< ‖R‖ per Newton iteration of the last sub-step
   /// Sensitivities (when asked): du_dc.col(k) = ∂u/∂c_k, and ∂edge_force/∂c_k.
   Eigen::MatrixXd du_dc;
   Eigen::VectorXd dforce_dc;
@@ -92,8 +92,8 @@ struct StepResult {
 };
 
 enum class SolveTermination {
-  converged,       ///< every step converged
-  not_converged,   ///< a step failed after max_cutbacks halvings; `steps` holds the converged ones
+  converged,      ///< every step converged
+  not_converged,  ///< a step failed after max_cutbacks halvings; `steps` holds the converged ones
   /// an element inverted (det F ≤ 0 at a quadrature point), the law returned a non-finite value, or
   /// a force-controlled grip converged only to a compressed state (grip displacement ≤ 0 under a
   /// tensile force: the law has no tensile equilibrium there), after every cutback
@@ -109,7 +109,7 @@ struct SimulationResult {
   /// The rig's setting increments (TestModel::guide_setting_steps), before `steps`: the states with
   /// the grip at rest as the guide moves to its setting (u and the forces; no sensitivities).
   std::vector<StepResult> setting;
-  double seconds = 0;             ///< wall time
+  double seconds = 0;                ///< wall time
   double factorization_seconds = 0;  ///< of which in numeric factorization
   int factorizations = 0;
   bool usable() const { return termination == SolveTermination::converged; }
@@ -135,6 +135,7 @@ constexpr Eigen::Index kSensitivitiesAfterBelow = 2000;
 /// SolveOptions::sensitivities, which also reuses that factorization for its next predictor). The
 /// Newton solves are not repeated. False, with result's termination and message set, when a state
 /// cannot be evaluated; false and untouched when `result` is not usable.
-bool add_sensitivities(const TestModel& test, const Law& law, SimulationResult& result, const SolveOptions& options = {});
+bool add_sensitivities(const TestModel& test, const Law& law, SimulationResult& result,
+                       const SolveOptions& options = {});
 
 }  // namespace tricot::fem

@@ -21,12 +21,12 @@ const char* to_string(GroupKind k);  ///< "edge_displacement", …, "field_uv"
 struct DataGroup {
   std::string name;  ///< "<test>/<kind>", e.g. "uniaxial/edge_force"
   GroupKind kind = GroupKind::edge_force;
-  int test = -1;      ///< the test's index in the experiment (−1 = none, for analytic problems)
-  int offset = 0;     ///< first row of the group in r
-  int size = 0;       ///< N_g
-  double weight = 1;  ///< w_g
-  double scale = 1;   ///< s_g: the measurement σ when given, else the RMS of the group's data
-  bool sigma = false; ///< s_g is a measurement σ (docs/theory.md §8)
+  int test = -1;       ///< the test's index in the experiment (−1 = none, for analytic problems)
+  int offset = 0;      ///< first row of the group in r
+  int size = 0;        ///< N_g
+  double weight = 1;   ///< w_g
+  double scale = 1;    ///< s_g: the measurement σ when given, else the RMS of the group's data
+  bool sigma = false;  ///< s_g is a measurement σ (docs/theory.md §8)
 };
 
 /// Stacks groups and applies eq. (1).
@@ -46,8 +46,8 @@ class ScaledResiduals {
   /// Appends a group whose every value has its own measurement σ (> 0, finite, one per value): the row
   /// factor is √(w/N)/σ_i, so f stays a χ²/2 and the covariance a real one (docs/theory.md §8). The group's
   /// `scale` reports the RMS of the σ. Throws InputError (key `data.<name>`) as add() and for a σ ≤ 0.
-  const DataGroup& add(const std::string& name, GroupKind kind, int test, const Eigen::VectorXd& y_exp,
-                       double weight, const Eigen::VectorXd& sigma_per_value);
+  const DataGroup& add(const std::string& name, GroupKind kind, int test, const Eigen::VectorXd& y_exp, double weight,
+                       const Eigen::VectorXd& sigma_per_value);
 
   const std::vector<DataGroup>& groups() const { return groups_; }
   int size() const { return static_cast<int>(measured_.size()); }

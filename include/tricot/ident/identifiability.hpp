@@ -50,8 +50,8 @@ struct DesignCandidate {
 };
 
 struct DesignSuggestion {
-  int best = -1;               ///< index of the candidate the criterion prefers
-  std::vector<double> score;   ///< per candidate: log det(M + M_c) (D) or tr((M + M_c)⁻¹) (A)
+  int best = -1;              ///< index of the candidate the criterion prefers
+  std::vector<double> score;  ///< per candidate: log det(M + M_c) (D) or tr((M + M_c)⁻¹) (A)
   /// Worst relative standard error (σ̂ = 1) now, and with each candidate added.
   double worst_std_error_now = 0;
   std::vector<double> worst_std_error_with;

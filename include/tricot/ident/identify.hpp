@@ -35,15 +35,15 @@ enum class Phase {
   stability,  ///< LM converged (termination, message): the stability test comes next
   done,       ///< finished (termination, message, stability_passed): only the uncertainty is left
 };
-const char* to_string(Phase p);               ///< "lm", "stability", "done"
+const char* to_string(Phase p);                                ///< "lm", "stability", "done"
 std::optional<Phase> phase_from_string(const std::string& s);  ///< the inverse; nullopt when unknown
 
 /// One point of the history: the start, every accepted LM step, and every stability restart.
 struct HistoryEntry {
-  int iteration = 0;          ///< LM iterations so far (accepted and rejected, all restarts)
-  double objective = 0;       ///< f, eq. (1)
-  Eigen::VectorXd parameters; ///< J
-  int restart = 0;            ///< stability restarts before this entry
+  int iteration = 0;           ///< LM iterations so far (accepted and rejected, all restarts)
+  double objective = 0;        ///< f, eq. (1)
+  Eigen::VectorXd parameters;  ///< J
+  int restart = 0;             ///< stability restarts before this entry
 };
 
 /// LM's progress at an accepted point, after the ε (eq. 2) and δ (eq. 3) tests were made there: all a
@@ -52,7 +52,7 @@ struct HistoryEntry {
 /// diagonal is reused), so the resumed run takes the same steps. The library does not write it;
 /// on_checkpoint hands it to the caller.
 struct LmProgress {
-  Eigen::VectorXd x;               ///< LM variables at the accepted point (exact, for the resume)
+  Eigen::VectorXd x;  ///< LM variables at the accepted point (exact, for the resume)
   double objective = 0;
   double trust_region_radius = 0;  ///< LM's radius for the next step (1/μ)
   int iterations = 0, evaluations = 0, jacobian_evaluations = 0, failed_evaluations = 0, restarts = 0;
@@ -98,7 +98,7 @@ struct IdentifyOptions {
   int max_restarts = 10;        ///< stability restarts, 0–1000; more → termination `unstable`
   JacobianMode jacobian = JacobianMode::exact;
   Difference difference = Difference::forward;  ///< finite_difference only
-  double fd_step = 1e-6;  ///< finite_difference only: h_k = fd_step · scale_k, (0, 0.1]
+  double fd_step = 1e-6;                        ///< finite_difference only: h_k = fd_step · scale_k, (0, 0.1]
   /// Threads for finite-difference columns and the stability test, 0–1024; 0 = OpenMP's default.
   int threads = 0;
   /// LM's first trust-region radius 1/μ₀ in LM units (relative), (0, 1e16]. A damped first step
@@ -109,9 +109,9 @@ struct IdentifyOptions {
   /// With bounds on the parameters, Ceres's projected Armijo line search along each LM step (its
   /// `max_num_line_search_step_size_iterations`). Each of its trials is an FE evaluation (without
   /// sensitivities, and interpolated on f alone, where the problem keeps its simulations), but its
-  /// backtracking is what saves LM's long steps that fail in the FE: on the §4 campaign LM without it was still at f = 1.59 after 74 iterations (each failure shrinks the radius,
-  /// and the short damped steps run into cliffs of f), with it at 0.39 after 2 (docs/validation.md,
-  /// issue 12).
+  /// backtracking is what saves LM's long steps that fail in the FE: on the §4 campaign LM without it was still at f =
+  /// 1.59 after 74 iterations (each failure shrinks the radius, and the short damped steps run into cliffs of f), with
+  /// it at 0.39 after 2 (docs/validation.md, issue 12).
   bool bounds_line_search = true;
   /// The most trial points of that line search per LM step, 1–100 (Ceres's default 20). Each is an
   /// FE evaluation: on the §4 campaign a step LM rejects in the end cost 12–13 of
@@ -150,7 +150,6 @@ struct IdentifyOptions {
   JacobianOptions jacobian_options() const { return {jacobian, difference, fd_step, threads}; }
 };
 
-
 struct IdentifyResult {
   Termination termination = Termination::fe_failure;
   std::string message;  ///< one line: why it stopped
@@ -169,8 +168,8 @@ struct IdentifyResult {
   /// Stability-test trials rejected without the FE: the part of f that needs none (the stability
   /// barrier) already reached the f* they had to beat (Problem::lower_bound).
   int skipped_evaluations = 0;
-  int restarts = 0;              ///< stability restarts
-  bool stability_passed = false; ///< the last stability test found no lower f
+  int restarts = 0;               ///< stability restarts
+  bool stability_passed = false;  ///< the last stability test found no lower f
   double wall_seconds = 0;
   JacobianMode jacobian = JacobianMode::exact;
   std::vector<HistoryEntry> history;
@@ -186,8 +185,7 @@ struct IdentifyResult {
 /// Runs LM from the parameters' start values (or options.resume_from). Validates the options and
 /// parameters first (InputError); a model that fails is a termination, never an exception.
 /// Progress: one report per LM iteration, stage "identify", detail "f = …, C10 = …, …".
-IdentifyResult identify(const Problem& problem, const IdentifyOptions& options = {},
-                        const Reporter& reporter = {});
+IdentifyResult identify(const Problem& problem, const IdentifyOptions& options = {}, const Reporter& reporter = {});
 
 /// An identification by mesh levels (docs/theory.md §3.3).
 struct LevelsResult {

@@ -94,8 +94,8 @@ class Objective : public Problem {
   /// start = the law's value), followed by any force scales `<test>.force_scale` (NaN start = 1): a
   /// scaled test's grip force is k times the law's, for displacement-controlled tests only, and one
   /// test with force data at least keeps its own (a scale of a test this experiment lacks has no
-  /// effect: a one-test objective takes the whole parameter vector). Their values are trusted: ident::validate() is the caller's check,
-  /// repeated here in debug builds only); every field point inside its reference mesh (else one error
+  /// effect: a one-test objective takes the whole parameter vector). Their values are trusted: ident::validate() is the
+  /// caller's check, repeated here in debug builds only); every field point inside its reference mesh (else one error
   /// saying how many are outside and naming the first: test, id, x, y); at least one data group.
   Objective(std::vector<fem::TestModel> models, Experiment experiment, const fem::Law& law,
             std::vector<Parameter> parameters, ObjectiveOptions options = {});

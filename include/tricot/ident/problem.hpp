@@ -101,8 +101,8 @@ struct JacobianOptions {
 /// r(J) and, when `jacobian`, ∂r/∂J by `options.mode`. Finite differences evaluate the columns in
 /// parallel; a forward trial that fails is retried backward, a central one falls back to one side.
 /// `base`, when given, is r(J) already computed (saves one evaluation for forward differences).
-Evaluation evaluate(const Problem& problem, const Eigen::VectorXd& J, bool jacobian,
-                    const JacobianOptions& options, const Evaluation* base = nullptr);
+Evaluation evaluate(const Problem& problem, const Eigen::VectorXd& J, bool jacobian, const JacobianOptions& options,
+                    const Evaluation* base = nullptr);
 
 /// The OpenMP team for `threads` asked (0: OpenMP's default): at most the cores, since more never
 /// speeds an evaluation up and a team of 1024 can fail to start (libgomp aborts).

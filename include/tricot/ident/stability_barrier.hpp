@@ -80,8 +80,8 @@ class StabilizedObjective final : public Problem {
  private:
   const Objective& objective_;
   StabilityBarrierOptions options_;
-  std::vector<Vec2> grid_;                 // (εC, εW)
-  std::vector<std::vector<Mat2>> basis_;   // basis_[g][i]: A_i at grid point g (law coefficient i)
+  std::vector<Vec2> grid_;                // (εC, εW)
+  std::vector<std::vector<Mat2>> basis_;  // basis_[g][i]: A_i at grid point g (law coefficient i)
   // The plane-stress law at grid point g, linear in the coefficients: ∂P/∂F = tangent_[g][0] +
   // Σ_i c_i tangent_[g][i + 1] and P Fᵀ = stress_[g][0] + Σ_i c_i stress_[g][i + 1] ([0]: the fixed
   // shear stiffness alone, the coefficients at 0). Empty when acoustic_margin = 0.
@@ -91,8 +91,8 @@ class StabilizedObjective final : public Problem {
   Eigen::VectorXd law_coefficients(const Eigen::VectorXd& J) const;
   /// The ellipticity rows' residuals (and their Jacobian rows) at the law's coefficients c.
   void add_ellipticity(const Eigen::VectorXd& c, Eigen::VectorXd& r, Eigen::MatrixXd* jacobian) const;
-  Eigen::VectorXd base_;                   // the law's coefficients (those not identified stay)
-  std::vector<int> coefficient_;           // law coefficient index of each parameter
+  Eigen::VectorXd base_;          // the law's coefficients (those not identified stay)
+  std::vector<int> coefficient_;  // law coefficient index of each parameter
 };
 
 }  // namespace tricot::ident

@@ -19,9 +19,7 @@ struct StrainDomain {
   double eC_min = 0.6, eC_max = 1.0;  ///< course (the paper's practical range: 60–100 %)
   double eW_min = 0.2, eW_max = 0.4;  ///< wale (20–40 %)
 
-  bool contains(double eC, double eW) const {
-    return eC >= eC_min && eC <= eC_max && eW >= eW_min && eW <= eW_max;
-  }
+  bool contains(double eC, double eW) const { return eC >= eC_min && eC <= eC_max && eW >= eW_min && eW <= eW_max; }
   /// InputError naming `eq9.practical.<field>` for a non-finite bound or min > max.
   void validate() const;
 };
@@ -68,7 +66,8 @@ struct TestSurfacePoints {
   SurfaceForce force = SurfaceForce::wale;
   std::vector<SurfacePoint> points;  ///< one per step
 };
-std::optional<TestSurfacePoints> test_surface_points(const fem::TestModel& model, const TestData& data, int nearest = 6);
+std::optional<TestSurfacePoints> test_surface_points(const fem::TestModel& model, const TestData& data,
+                                                     int nearest = 6);
 
 }  // namespace tricot::ident
 

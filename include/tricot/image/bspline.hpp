@@ -55,8 +55,7 @@ class BSplineImage {
     const auto wy = bspline_weights(static_cast<float>(y - fy));
     const float* c = origin(static_cast<int>(fx) - 1, static_cast<int>(fy) - 1);
     float v = 0;
-    for (int j = 0; j < 4; ++j, c += stride_)
-      v += wy[j] * (wx[0] * c[0] + wx[1] * c[1] + wx[2] * c[2] + wx[3] * c[3]);
+    for (int j = 0; j < 4; ++j, c += stride_) v += wy[j] * (wx[0] * c[0] + wx[1] * c[1] + wx[2] * c[2] + wx[3] * c[3]);
     return v;
   }
 

@@ -19,9 +19,9 @@ namespace tricot::io {
 
 /// How the columns of a log are separated and how its numbers are written. 0 = detect.
 struct LogFormat {
-  char delimiter = 0;     ///< ',', ';', '\t' or 0 = detect (tab, else ';', else ',')
+  char delimiter = 0;          ///< ',', ';', '\t' or 0 = detect (tab, else ';', else ',')
   bool decimal_comma = false;  ///< numbers written 1,25 (set by detection; honoured when given with `delimiter`)
-  int header_line = 0;    ///< 1-based line of the header row, 0 = detect
+  int header_line = 0;         ///< 1-based line of the header row, 0 = detect
 
   /// Throws InputError naming `log.delimiter` / `log.header_line` when out of range.
   void validate() const;
@@ -79,8 +79,8 @@ LogTable read_log(const std::filesystem::path& path, const LogFormat& format = {
 
 /// A log to write: metadata lines, then a header, then rows of numbers.
 struct LogWriter {
-  std::vector<std::string> metadata;  ///< written first, one per line, as given
-  std::vector<std::string> columns;   ///< header cells, units included ("Force [N]")
+  std::vector<std::string> metadata;              ///< written first, one per line, as given
+  std::vector<std::string> columns;               ///< header cells, units included ("Force [N]")
   std::vector<std::vector<double>> columns_data;  ///< per column, all the same length
   char delimiter = '\t';
   bool decimal_comma = true;  ///< write 1,25 (a French LabVIEW)

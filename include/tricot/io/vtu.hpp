@@ -11,9 +11,9 @@ namespace tricot::io {
 
 /// VTK cell type ids (vtkCellType.h) for the elements tricot uses.
 enum class VtkCell : int {
-  quad = 9,             ///< 4 corners, counter-clockwise
-  quadratic_quad = 23,  ///< 4 corners, then the mid-side nodes of edges 0-1, 1-2, 2-3, 3-0
-  triangle = 5,         ///< 3 corners, counter-clockwise
+  quad = 9,                 ///< 4 corners, counter-clockwise
+  quadratic_quad = 23,      ///< 4 corners, then the mid-side nodes of edges 0-1, 1-2, 2-3, 3-0
+  triangle = 5,             ///< 3 corners, counter-clockwise
   quadratic_triangle = 22,  ///< 3 corners, then the mid-side nodes of edges 0-1, 1-2, 2-0
 };
 /// Nodes of one cell: 4, 8, 3 or 6.
@@ -28,7 +28,7 @@ struct VtuField {
 
 /// An unstructured grid with one cell type.
 struct VtuGrid {
-  std::vector<double> points;     ///< x, y, z per point
+  std::vector<double> points;  ///< x, y, z per point
   VtkCell cell_type = VtkCell::quad;
   std::vector<int> connectivity;  ///< vtk_nodes(cell_type) point indices per cell, VTK's node order
   std::vector<VtuField> point_data;

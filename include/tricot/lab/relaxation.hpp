@@ -18,7 +18,7 @@
 namespace tricot::lab {
 
 struct RelaxationOptions {
-  int max_terms = 3;            ///< Prony terms tried, 1–3
+  int max_terms = 3;  ///< Prony terms tried, 1–3
   /// The hold: the cross-head stays within this fraction of its travel of its largest value, (0, 0.5].
   double hold_tolerance = 0.002;
   /// Left out of the fit after the hold begins (the end of the ramp), s, ≥ 0.
@@ -53,18 +53,18 @@ struct PronyFit {
 };
 
 enum class RelaxationTermination {
-  converged,        ///< every fit converged
-  not_converged,    ///< some fit did not converge (its `converged` is false); the others stand
+  converged,      ///< every fit converged
+  not_converged,  ///< some fit did not converge (its `converged` is false); the others stand
 };
 
 struct RelaxationResult {
   RelaxationTermination termination = RelaxationTermination::converged;
   double tare_N = 0;
   bool tare_estimated = false;
-  double hold_start_s = 0, hold_end_s = 0;  ///< times in the log
-  std::size_t hold_first = 0, hold_last = 0; ///< sample indices (inclusive) of the fitted hold
-  std::vector<PronyFit> fits;   ///< fits[m − 1] has m terms
-  int chosen_terms = 1;         ///< the fit with the lowest BIC
+  double hold_start_s = 0, hold_end_s = 0;    ///< times in the log
+  std::size_t hold_first = 0, hold_last = 0;  ///< sample indices (inclusive) of the fitted hold
+  std::vector<PronyFit> fits;                 ///< fits[m − 1] has m terms
+  int chosen_terms = 1;                       ///< the fit with the lowest BIC
   std::string message;
 
   const PronyFit& best() const { return fits.at(std::size_t(chosen_terms - 1)); }
@@ -83,9 +83,9 @@ RelaxationResult fit_relaxation(const std::vector<double>& time, const std::vect
 /// Whether a monotonic test of duration T at constant rate is quasi-static against a fitted series.
 struct QuasiStatic {
   double duration_s = 0;
-  double viscous_excess = 0;   ///< excess(T) of the header, fraction of the relaxed force
-  bool quasi_static = false;   ///< viscous_excess ≤ tolerance
-  double min_duration_s = 0;   ///< the shortest T with excess(T) ≤ tolerance
+  double viscous_excess = 0;  ///< excess(T) of the header, fraction of the relaxed force
+  bool quasi_static = false;  ///< viscous_excess ≤ tolerance
+  double min_duration_s = 0;  ///< the shortest T with excess(T) ≤ tolerance
 };
 QuasiStatic quasi_static(const PronyFit& fit, double duration_s, double tolerance = 0.05);
 

@@ -19,9 +19,9 @@ namespace tricot::lab {
 
 /// The specimen's size, the full specimen (not the quarter).
 struct SpecimenGeometry {
-  double width_mm = 150;         ///< between the free (or guided) edges, > 0
-  double free_length_mm = 150;   ///< between the clips, > 0
-  double tolerance_mm = 0;       ///< points up to this far beyond the outline count as inside, ≥ 0
+  double width_mm = 150;        ///< between the free (or guided) edges, > 0
+  double free_length_mm = 150;  ///< between the clips, > 0
+  double tolerance_mm = 0;      ///< points up to this far beyond the outline count as inside, ≥ 0
 
   double half_width() const { return 0.5 * width_mm; }
   double half_length() const { return 0.5 * free_length_mm; }
@@ -32,11 +32,11 @@ struct SpecimenGeometry {
 /// Points folded into the quarter model.
 struct FoldedPoints {
   dic::PhysicalFrame frame;
-  std::vector<Vec2> X;          ///< quarter-model position, mm (X ≥ 0, Y ≥ 0), every point
-  std::vector<Vec2> sign;       ///< (sign X, sign Y) of the full-specimen position, each ±1
-  std::vector<int> quadrant;    ///< 1: X ≥ 0, Y ≥ 0; 2: X < 0, Y ≥ 0; 3: X < 0, Y < 0; 4: X ≥ 0, Y < 0
-  std::vector<bool> inside;     ///< within the reference specimen (± tolerance)
-  int outside = 0;              ///< how many are not inside
+  std::vector<Vec2> X;        ///< quarter-model position, mm (X ≥ 0, Y ≥ 0), every point
+  std::vector<Vec2> sign;     ///< (sign X, sign Y) of the full-specimen position, each ±1
+  std::vector<int> quadrant;  ///< 1: X ≥ 0, Y ≥ 0; 2: X < 0, Y ≥ 0; 3: X < 0, Y < 0; 4: X ≥ 0, Y < 0
+  std::vector<bool> inside;   ///< within the reference specimen (± tolerance)
+  int outside = 0;            ///< how many are not inside
 
   std::size_t size() const { return X.size(); }
   /// A displacement of point k measured in px (image axes) → mm in the quarter model's axes.
@@ -59,13 +59,13 @@ enum class FieldKind {
 /// measured (`ok`) in every step are kept; the others are counted, never silently dropped.
 struct QuarterField {
   FieldKind kind = FieldKind::cumulative;
-  std::vector<int> point_ids;    ///< index of the kept points in the DIC grid
-  std::vector<Vec2> X;           ///< quarter-model position of each kept point, mm
-  Eigen::MatrixXd u, v;          ///< steps × kept points, mm, quarter-model axes
+  std::vector<int> point_ids;        ///< index of the kept points in the DIC grid
+  std::vector<Vec2> X;               ///< quarter-model position of each kept point, mm
+  Eigen::MatrixXd u, v;              ///< steps × kept points, mm, quarter-model axes
   Eigen::MatrixXd sigma_u, sigma_v;  ///< their σ from IC-GN, mm
-  int outside = 0;               ///< grid points outside the specimen
-  int incomplete = 0;            ///< grid points inside but not measured in some step
-  std::string report;            ///< one line: kept, outside, incomplete
+  int outside = 0;                   ///< grid points outside the specimen
+  int incomplete = 0;                ///< grid points inside but not measured in some step
+  std::string report;                ///< one line: kept, outside, incomplete
 };
 
 /// Folds a DIC sequence (dic::track_sequence, dic::SequenceTracker) into the quarter model. The

@@ -42,9 +42,9 @@ struct LoadLog {
 
 /// The images as the synchronisation sees them: camera times and the grip motion DIC measured.
 struct ImageTimes {
-  std::vector<double> time;         ///< s, camera clock, strictly increasing
-  std::vector<double> grip;         ///< grip displacement per image (mm), from DIC; frame 0 at rest
-  std::vector<std::string> names;   ///< image file names for messages, or empty (then "frame k", 0-based)
+  std::vector<double> time;        ///< s, camera clock, strictly increasing
+  std::vector<double> grip;        ///< grip displacement per image (mm), from DIC; frame 0 at rest
+  std::vector<std::string> names;  ///< image file names for messages, or empty (then "frame k", 0-based)
 
   std::string name(std::size_t k) const;
   /// Throws InputError (key `images.time` / `images.grip`) for fewer than 3 images, lengths that
@@ -99,11 +99,11 @@ struct SyncResult {
   double clock_offset_s = 0;  ///< δ: log time = camera time + δ
   double tare_N = 0;          ///< removed from every force
   bool tare_given = false;
-  int tare_samples = 0;       ///< log samples averaged for the tare (0 when given)
+  int tare_samples = 0;              ///< log samples averaged for the tare (0 when given)
   double motion_onset_log_s = 0;     ///< log time at which the grip starts moving (NaN when unknown)
   double motion_onset_camera_s = 0;  ///< onset method: camera time of the same (NaN otherwise)
-  std::vector<double> log_time;  ///< per image: t_k + δ
-  std::vector<double> force;     ///< per image: mean log force over its exposure, minus the tare, N
+  std::vector<double> log_time;      ///< per image: t_k + δ
+  std::vector<double> force;         ///< per image: mean log force over its exposure, minus the tare, N
   /// per image: mean log cross-head over its exposure, minus its value at the first image (empty
   /// without a cross-head column). Half of it is the quarter model's grip displacement.
   std::vector<double> crosshead;
@@ -125,11 +125,11 @@ SyncResult synchronise(const LoadLog& log, const ImageTimes& images, const SyncO
 
 /// One load step of an experiment (`forces.csv`): image k ≥ 1 (image 0 is the unloaded reference).
 struct ForceStep {
-  int step = 0;               ///< 1-based, = the image's index
-  double time_s = 0;          ///< camera time since image 0
-  double grip_mm = 0;         ///< grip displacement of the quarter model (the FE load of the step)
-  double force_N = 0;         ///< full-specimen grip force, tare removed
-  double force_per_width = 0; ///< force per unit initial width, N/mm
+  int step = 0;                ///< 1-based, = the image's index
+  double time_s = 0;           ///< camera time since image 0
+  double grip_mm = 0;          ///< grip displacement of the quarter model (the FE load of the step)
+  double force_N = 0;          ///< full-specimen grip force, tare removed
+  double force_per_width = 0;  ///< force per unit initial width, N/mm
 };
 /// The steps of a synchronised test. `grip_mm` per image (image 0 included), from DIC or half the
 /// synchronised cross-head. Throws InputError for lengths that differ from the images' or a width ≤ 0

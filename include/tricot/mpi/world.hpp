@@ -15,13 +15,13 @@ namespace tricot::mpi {
 
 /// What rank 0 measured of the split (for `--verbose` and docs/validation.md).
 struct Traffic {
-  int rounds = 0;               ///< evaluations spread over the ranks
-  int jacobian_rounds = 0;      ///< of which with the Jacobian
-  double bytes_sent = 0;        ///< by rank 0: the parameters, to every other rank
-  double bytes_received = 0;    ///< by rank 0: the other ranks' test values
-  double largest_message = 0;   ///< bytes, the largest one received
-  double mpi_seconds = 0;       ///< rank 0's time in MPI calls (sends, receives: waits included)
-  double local_seconds = 0;     ///< rank 0's time on its own tests
+  int rounds = 0;              ///< evaluations spread over the ranks
+  int jacobian_rounds = 0;     ///< of which with the Jacobian
+  double bytes_sent = 0;       ///< by rank 0: the parameters, to every other rank
+  double bytes_received = 0;   ///< by rank 0: the other ranks' test values
+  double largest_message = 0;  ///< bytes, the largest one received
+  double mpi_seconds = 0;      ///< rank 0's time in MPI calls (sends, receives: waits included)
+  double local_seconds = 0;    ///< rank 0's time on its own tests
   /// Σ over rounds of (round's wall − its slowest rank's compute time): the cost of spreading the
   /// tests (messages, packing, wake-ups), load imbalance excluded.
   double overhead_seconds = 0;

@@ -28,10 +28,10 @@ struct CampaignDemoOptions {
 };
 
 /// The demo's files, as text (the user can rerun any stage by hand with the verbs).
-std::string campaign_experiment_toml(const CampaignDemoOptions& o);  ///< tricot synth
-std::string campaign_dic_toml(const CampaignDemoOptions& o);         ///< tricot dic
-std::string campaign_lab_toml(const CampaignDemoOptions& o);         ///< tricot experiment
-std::string campaign_project_template(const CampaignDemoOptions& o); ///< [experiment] project_template
+std::string campaign_experiment_toml(const CampaignDemoOptions& o);   ///< tricot synth
+std::string campaign_dic_toml(const CampaignDemoOptions& o);          ///< tricot dic
+std::string campaign_lab_toml(const CampaignDemoOptions& o);          ///< tricot experiment
+std::string campaign_project_template(const CampaignDemoOptions& o);  ///< [experiment] project_template
 
 /// Wall and CPU (user + sys, every thread) seconds of one stage.
 struct StageTime {
@@ -40,15 +40,16 @@ struct StageTime {
 };
 
 struct CampaignDemoResult {
-  bool converged = false;            ///< the identification converged
-  std::vector<StageTime> stages;     ///< render, dic, sync, identification, report
-  std::filesystem::path report;      ///< DIR/identify/report.html
+  bool converged = false;         ///< the identification converged
+  std::vector<StageTime> stages;  ///< render, dic, sync, identification, report
+  std::filesystem::path report;   ///< DIR/identify/report.html
 };
 
 /// Runs the chain into `out` and adds the chain's sections to the identification's report: the DIC
 /// quality per test, the synchronisation against the lab record's truth, Tables 4 and 5 beside the
 /// paper's values, the wall time per stage. One progress report per stage ("1/5 render", ...); the
 /// engines' own lines go to the reporter's log. Throws what the verbs throw.
-CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& options, const std::filesystem::path& out, const Log& log);
+CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& options, const std::filesystem::path& out,
+                                     const Log& log);
 
 }  // namespace tricot::project

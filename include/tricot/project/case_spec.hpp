@@ -207,13 +207,13 @@ struct BoundarySpec {
   io::Reals ux, uy;       ///< prescribed displacement per step, mm (any sign, holds, unloading)
   std::string series;     ///< a CSV whose columns ux_column / uy_column give ux / uy per step, or ""
   std::string ux_column, uy_column;
-  std::string force;      ///< "x" or "y": this boundary's resultant along it is the test's force, or ""
+  std::string force;          ///< "x" or "y": this boundary's resultant along it is the test's force, or ""
   bool proportional = false;  ///< ux, uy are mm per mm of the node's x, y (fem::BoundaryCondition::proportional)
   double tie = 0;             ///< > 0: the table's components held by ties, N/mm per mm (fem::BoundaryCondition::tie)
   io::Reals tie_end;          ///< [x, y] where the tie ends, mm, or empty
   double tie_taper = 0;       ///< mm over which the tie falls to zero before tie_end
   std::string tie_lumping = "consistent";  ///< or "segments" (fem::BoundaryCondition::tie_consistent)
-  std::string folder;     ///< the config file's folder, for `series`
+  std::string folder;                      ///< the config file's folder, for `series`
   Origin origin{"test.boundary"};
 
   static BoundarySpec from_config(const io::Node& boundary);

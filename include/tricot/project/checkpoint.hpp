@@ -19,7 +19,8 @@ inline constexpr const char* kCheckpointFile = "checkpoint.json";
 /// FNV-1a over the measured data, their factors, each parameter's name, start and scale, the law's
 /// coefficients and every model's reference mesh: a checkpoint belongs to these ([identify] may change
 /// between runs). 16 hex digits.
-std::string fingerprint(const ident::Objective& objective, const fem::Law& law, const std::vector<fem::TestModel>& models);
+std::string fingerprint(const ident::Objective& objective, const fem::Law& law,
+                        const std::vector<fem::TestModel>& models);
 
 /// Writes `c` and the fingerprint atomically.
 void write_checkpoint(const std::filesystem::path& file, const ident::Checkpoint& c, const std::string& fingerprint);

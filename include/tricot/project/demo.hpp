@@ -21,7 +21,7 @@ std::string demo_experiment_toml(double noise_relative = 0);
 /// One identification of the case on the paper's mesh size (10 × 34 Q8, 2218 dofs).
 struct DemoProject {
   std::array<double, 4> start{0.05, -0.0125, 0.0075, 0.005};  ///< C10, C20, C21, C03 (truth × 0.5)
-  double edge_displacement = 1;  ///< [data] weights: Table 1's choices
+  double edge_displacement = 1;                               ///< [data] weights: Table 1's choices
   double field = 1;
   std::string experiment_dir = "experiment";
   std::string jacobian = "exact";

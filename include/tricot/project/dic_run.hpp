@@ -20,8 +20,8 @@ namespace tricot::project {
 struct DicFlags {
   std::optional<int> subset;  ///< --subset → dic.subset_size (checked by dic::IcgnOptions::validate)
   std::optional<int> step;    ///< --step → dic.step
-  std::string mode;  ///< --mode → dic.mode
-  std::string roi;   ///< --roi X0,Y0,X1,Y1 → dic.roi (and no roi_polygon, roi_mask)
+  std::string mode;           ///< --mode → dic.mode
+  std::string roi;            ///< --roi X0,Y0,X1,Y1 → dic.roi (and no roi_polygon, roi_mask)
 };
 
 /// Reads `file` ("" = every key at its default) and sets the keys the flags give. Throws

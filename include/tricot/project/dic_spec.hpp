@@ -19,14 +19,14 @@ namespace tricot::project {
 /// [dic]: subsets, grid, correlation and sequence mode. Ranges: dic::IcgnOptions, dic::DicOptions and
 /// dic::SequenceOptions::validate() (the schema repeats them for --print-config and the file).
 struct DicTable {
-  int subset_size = 31;               ///< px, odd, 7–301
-  int step = 10;                      ///< px between subset centres, 1–1000
-  std::string mode = "incremental";   ///< incremental, reference or auto
-  std::string order = "auto";         ///< shape function: first, second or auto (issue 16; default auto)
-  io::Reals roi;                      ///< [x0, y0, x1, y1] px; [] = the whole image
-  io::Reals roi_polygon;              ///< [x0, y0, x1, y1, x2, y2, ...] px
-  std::string roi_mask;               ///< mask image, relative to the config's folder
-  io::Reals seeds;                    ///< [x0, y0, x1, y1, ...] px; [] = nearest the ROI centre
+  int subset_size = 31;              ///< px, odd, 7–301
+  int step = 10;                     ///< px between subset centres, 1–1000
+  std::string mode = "incremental";  ///< incremental, reference or auto
+  std::string order = "auto";        ///< shape function: first, second or auto (issue 16; default auto)
+  io::Reals roi;                     ///< [x0, y0, x1, y1] px; [] = the whole image
+  io::Reals roi_polygon;             ///< [x0, y0, x1, y1, x2, y2, ...] px
+  std::string roi_mask;              ///< mask image, relative to the config's folder
+  io::Reals seeds;                   ///< [x0, y0, x1, y1, ...] px; [] = nearest the ROI centre
   int search_radius = 50;
   int max_seeds = 8;
   double seed_min_zncc = 0.9;
@@ -35,7 +35,7 @@ struct DicTable {
   double min_zncc = 0.7;
   double min_texture = 0.005;
   double prefilter_sigma = 0;
-  double weight_sigma = 0;            ///< px: Gaussian window of the subsets, 0 = uniform (issue 16)
+  double weight_sigma = 0;  ///< px: Gaussian window of the subsets, 0 = uniform (issue 16)
   double update_zncc = 0.95;
   double update_loss = 0.02;
   int batch = 32;
@@ -45,7 +45,7 @@ struct DicTable {
 
 /// [strain]: the least-squares plane fit of the Green–Lagrange strains (dic::StrainOptions).
 struct StrainTable {
-  int window = 5;             ///< grid points per side, odd, 3–51
+  int window = 5;  ///< grid points per side, odd, 3–51
   double min_fraction = 0.35;
   Origin origin{"strain"};
 };
@@ -74,12 +74,12 @@ struct OutputTable {
 
 /// What the run writes besides DIR/points.csv and DIR/frames.csv.
 struct DicOutputs {
-  bool overlays = true;            ///< DIR/overlays/frame_NNNN.png
-  int overlay_every = 10;          ///< of frame 0, every overlay_every-th frame and the last
+  bool overlays = true;    ///< DIR/overlays/frame_NNNN.png
+  int overlay_every = 10;  ///< of frame 0, every overlay_every-th frame and the last
   dic::OverlayOptions overlay;
-  bool increments = false;         ///< DIR/increments.csv (fixed-point incremental fields)
-  bool fields = true;              ///< DIR/fields/frame_NNNN.vtu and DIR/fields.pvd (ParaView)
-  int fields_every = 1;            ///< of frame 0, every fields_every-th frame and the last
+  bool increments = false;                     ///< DIR/increments.csv (fixed-point incremental fields)
+  bool fields = true;                          ///< DIR/fields/frame_NNNN.vtu and DIR/fields.pvd (ParaView)
+  int fields_every = 1;                        ///< of frame 0, every fields_every-th frame and the last
   std::optional<dic::PhysicalFrame> physical;  ///< DIR/specimen.csv when [physical] mm_per_px > 0
 };
 

@@ -33,9 +33,10 @@ inline constexpr const char* kTruthFile = "truth.json";
 void write_test_data(const std::filesystem::path& dir, const ident::TestData& d);
 
 /// Reads DIR/<name>/forces.csv and, when it exists, DIR/<name>/field.csv, the field being of `kind`.
-/// σ is left at 0 (per-point sigma_u, sigma_v columns of field.csv, when present, are read). Throws FileError (exit 3) when the folder or forces.csv is missing, InputError
-/// with FILE:LINE: COLUMN for a bad cell (NaN included), a step out of order or out of range, a
-/// duplicate (step, id), a point missing at some step, or a point whose x, y change between steps.
+/// σ is left at 0 (per-point sigma_u, sigma_v columns of field.csv, when present, are read). Throws FileError (exit 3)
+/// when the folder or forces.csv is missing, InputError with FILE:LINE: COLUMN for a bad cell (NaN included), a step
+/// out of order or out of range, a duplicate (step, id), a point missing at some step, or a point whose x, y change
+/// between steps.
 ident::TestData read_test_data(const std::filesystem::path& dir, const std::string& name, ident::FieldKind kind);
 
 /// read_test_data for every name, then Experiment::validate(). FileError when DIR is missing.
@@ -46,18 +47,18 @@ ident::Experiment read_experiment(const std::filesystem::path& dir, const std::v
 struct Truth {
   struct Test {
     std::string name;
-    std::string control;      ///< "displacement" or "force"
-    fem::MeshOptions mesh;    ///< the generating mesh (quarter: width, height are half the specimen's)
+    std::string control;    ///< "displacement" or "force"
+    fem::MeshOptions mesh;  ///< the generating mesh (quarter: width, height are half the specimen's)
     int dofs = 0;
     int steps = 0;
-    int points = 0;           ///< field points written (0 = no field.csv)
-    int dropped_points = 0;   ///< grid points left out (incremental: they left the specimen)
-    ident::Sigma sigma;       ///< noise σ actually added (absolute, in the data's units)
+    int points = 0;          ///< field points written (0 = no field.csv)
+    int dropped_points = 0;  ///< grid points left out (incremental: they left the specimen)
+    ident::Sigma sigma;      ///< noise σ actually added (absolute, in the data's units)
   };
-  std::string law;                  ///< fem::Law::name()
-  std::vector<std::string> names;   ///< coefficient names
-  std::vector<double> values;       ///< their true values
-  double noise_relative = 0;        ///< σ as a fraction of each group's RMS (0 = absolute σ given)
+  std::string law;                 ///< fem::Law::name()
+  std::vector<std::string> names;  ///< coefficient names
+  std::vector<double> values;      ///< their true values
+  double noise_relative = 0;       ///< σ as a fraction of each group's RMS (0 = absolute σ given)
   std::uint64_t seed = 0;
   ident::FieldKind field_kind = ident::FieldKind::cumulative;
   std::vector<Test> tests;

@@ -35,9 +35,9 @@ struct Project {
   std::optional<Truth> truth;      ///< the experiment's truth.json, when it has one
   std::unique_ptr<ident::Objective> objective;
   ident::ObjectiveOptions objective_options;  ///< the objective's ([data] weights, solver, threads)
-  ident::StrainDomain eq9_practical;  ///< [eq9] practical_course, practical_wale
-  int eq9_nearest = 6;                ///< [eq9] nearest
-  int eq9_min_held_levels = 2;        ///< [eq9] min_held_levels
+  ident::StrainDomain eq9_practical;          ///< [eq9] practical_course, practical_wale
+  int eq9_nearest = 6;                        ///< [eq9] nearest
+  int eq9_min_held_levels = 2;                ///< [eq9] min_held_levels
   /// Eq. 9's experimental points of every test of the experiment (a restricted run included).
   SurfacePoints eq9_points;
   /// [data] domain_course, domain_wale given: what the restriction kept of each test (the models
@@ -71,8 +71,8 @@ struct IdentifyRequest {
   /// Continue a killed run from its checkpoint (DIR/.tricot-identify/checkpoint.json); a finished
   /// run (DIR/checkpoint.json in phase done) is left as it is (IdentifyOutcome::already_finished).
   bool resume = false;
-  bool plots = true;           ///< plots/*.png through gnuplot
-  bool print_summary = true;   ///< the table of coefficients at the end
+  bool plots = true;          ///< plots/*.png through gnuplot
+  bool print_summary = true;  ///< the table of coefficients at the end
   /// Testing aid: after this many checkpoints the process kills itself (SIGKILL), as a run killed
   /// mid-way; 0 = never.
   int kill_after = 0;

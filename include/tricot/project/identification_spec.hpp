@@ -127,8 +127,8 @@ struct IdentifiabilitySpec {
 /// [design]: the next test to run (beyond the paper; ident::suggest_test): for each pull of the rig
 /// tests, the first such test held at each candidate transverse strain, ranked by the criterion.
 struct DesignSpec {
-  io::Reals transverse_strains;            ///< the candidate held strains (Green–Lagrange)
-  std::string criterion = "d_optimal";     ///< d_optimal or a_optimal
+  io::Reals transverse_strains;         ///< the candidate held strains (Green–Lagrange)
+  std::string criterion = "d_optimal";  ///< d_optimal or a_optimal
   Origin origin{"design"};
 };
 

@@ -44,7 +44,8 @@ struct ExperimentSpec {
   bool force_sigma = true;                ///< project.toml's sigma_edge_force from the logs' spread at rest
   double sigma_edge_displacement = 0;     ///< mm, ≥ 0: written to project.toml when > 0
   double sigma_edge_force = 0;            ///< N, ≥ 0: written to project.toml when > 0 (replaces the logs' spread)
-  std::string model = "quarter";          ///< quarter (rigid motion removed with the clamps) or full (point tracks in the mesh frame)
+  std::string model =
+      "quarter";  ///< quarter (rigid motion removed with the clamps) or full (point tracks in the mesh frame)
   /// The project template, relative to the lab file's folder as written in the file ("" = a skeleton);
   /// from_config resolves it against that folder.
   std::filesystem::path project_template;
@@ -54,7 +55,9 @@ struct ExperimentSpec {
   /// The one check: each word one of its choices, σ in its range. Throws InputError naming the key,
   /// the value and the range.
   void validate() const;
-  lab::FieldKind kind() const { return field_kind == "incremental" ? lab::FieldKind::incremental : lab::FieldKind::cumulative; }
+  lab::FieldKind kind() const {
+    return field_kind == "incremental" ? lab::FieldKind::incremental : lab::FieldKind::cumulative;
+  }
   bool force_control() const { return control == "force"; }
   bool full() const { return model == "full"; }
 };

@@ -34,12 +34,12 @@ namespace tricot::project {
 
 /// Tracked points, one row per frame.
 struct PointTracks {
-  std::string file;                     ///< the track file (or DICe folder), for messages
-  std::string unit = "px";              ///< px or mm
-  std::vector<long> frames;             ///< frame numbers, increasing
-  std::vector<int> lines;               ///< the line of each frame's first row in `file` (0 = unknown)
-  std::vector<std::string> points;      ///< point names, in order of first appearance
-  std::vector<std::vector<Vec2>> x;     ///< [frame][point]: position; NaN where the tool lost the point
+  std::string file;                                  ///< the track file (or DICe folder), for messages
+  std::string unit = "px";                           ///< px or mm
+  std::vector<long> frames;                          ///< frame numbers, increasing
+  std::vector<int> lines;                            ///< the line of each frame's first row in `file` (0 = unknown)
+  std::vector<std::string> points;                   ///< point names, in order of first appearance
+  std::vector<std::vector<Vec2>> x;                  ///< [frame][point]: position; NaN where the tool lost the point
   std::size_t find(const std::string& point) const;  ///< index of a point, or points.size()
 };
 
@@ -61,13 +61,13 @@ FrameForces read_frame_forces(const io::Node& test);
 
 /// One test of point tracks, ready for the experiment folder.
 struct TracksTest {
-  std::vector<lab::ForceStep> steps;    ///< steps 1.. (frames after the reference, every frame_stride-th)
-  std::vector<long> step_frames;        ///< the frame number of each step
-  long reference_frame = 0;             ///< the unloaded reference (the tracks' first frame)
-  lab::QuarterField field;              ///< the field points (folded into the quarter for the quarter model)
-  lab::SpecimenGeometry geometry;       ///< width as given, free length from the clamps when they are given
-  double mm_per_px = 1;                 ///< the test's scale (1 for tracks in mm)
-  bool rigid_motion_removed = false;    ///< the clamps' mean displacement subtracted
+  std::vector<lab::ForceStep> steps;  ///< steps 1.. (frames after the reference, every frame_stride-th)
+  std::vector<long> step_frames;      ///< the frame number of each step
+  long reference_frame = 0;           ///< the unloaded reference (the tracks' first frame)
+  lab::QuarterField field;            ///< the field points (folded into the quarter for the quarter model)
+  lab::SpecimenGeometry geometry;     ///< width as given, free length from the clamps when they are given
+  double mm_per_px = 1;               ///< the test's scale (1 for tracks in mm)
+  bool rigid_motion_removed = false;  ///< the clamps' mean displacement subtracted
   /// A full model whose frame is the clamps' midpoint (px tracks with clamps): the specimen is the
   /// width × free-length rectangle about it, and the points beyond it are left out.
   bool centred_on_clamps = false;
@@ -78,7 +78,7 @@ struct TracksTest {
     std::vector<Vec2> u;
   };
   std::vector<ClampMotion> clamp_motion;
-  std::string report;                   ///< one line: frames, steps, points kept
+  std::string report;  ///< one line: frames, steps, points kept
 };
 
 /// Reads a [[test]] of point tracks and its per-frame force and makes its steps and field. `physical`

@@ -16,12 +16,12 @@
 namespace tricot::project {
 
 struct RelaxSpec {
-  std::string log;                  ///< the relaxation log (CSV or tab-separated, as io::read_log reads)
+  std::string log;  ///< the relaxation log (CSV or tab-separated, as io::read_log reads)
   std::string time_column = "time";
   std::string force_column = "force";
-  std::string crosshead_column;     ///< "" = none: the hold begins at the force's peak
+  std::string crosshead_column;  ///< "" = none: the hold begins at the force's peak
   lab::RelaxationOptions options;
-  std::optional<double> duration_s; ///< quasi-static verdict for a monotonic test of this duration
+  std::optional<double> duration_s;  ///< quasi-static verdict for a monotonic test of this duration
 };
 
 struct RelaxRun {

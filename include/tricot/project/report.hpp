@@ -29,8 +29,8 @@ inline constexpr const char* kEq9 = "eq9";
 inline constexpr const char* kIdentifiability = "identifiability";
 inline constexpr const char* kFit = "fit";
 inline constexpr const char* kTiming = "timing";
-inline const std::vector<std::string> kSectionOrder{kInputs, kDic,  kSync,            kHistory, kCoefficients, kCorrelation,
-                                                    kSurfaces, kEq9, kIdentifiability, kFit,     kTiming};
+inline const std::vector<std::string> kSectionOrder{
+    kInputs, kDic, kSync, kHistory, kCoefficients, kCorrelation, kSurfaces, kEq9, kIdentifiability, kFit, kTiming};
 
 /// A cell of a key/value table: text, or a number shown with `digits` significant digits.
 struct Value {
@@ -71,7 +71,8 @@ struct NumericTable {
 };
 
 /// A PNG file, embedded. A relative `file` is relative to the report's folder (not to the current
-/// one); report.json stores it relative to that folder when it lies inside it. A file that is missing or not a PNG is shown as a note, not an error.
+/// one); report.json stores it relative to that folder when it lies inside it. A file that is missing or not a PNG is
+/// shown as a note, not an error.
 struct Figure {
   std::filesystem::path file;
   std::string caption;
@@ -88,7 +89,7 @@ struct HeatMap {
 using Block = std::variant<Paragraph, KeyValueTable, NumericTable, Figure, HeatMap>;
 
 struct Section {
-  std::string id;     ///< one of kSectionOrder, or any other id (shown after them)
+  std::string id;  ///< one of kSectionOrder, or any other id (shown after them)
   std::string title;
   std::vector<Block> blocks;
 
@@ -130,10 +131,8 @@ void write(const Document& doc, const std::filesystem::path& dir);
 template <class F>
 void append(const std::filesystem::path& dir, F&& add, const std::string& title = "tricot report") {
   Document d;
-  if (std::filesystem::exists(dir / "report.json"))
-    d = read_json(dir / "report.json");
-  else
-    d.title = title;
+  if (std::filesystem::exists(dir / "report.json")) d = read_json(dir / "report.json");
+  else d.title = title;
   add(d);
   write(d, dir);
 }

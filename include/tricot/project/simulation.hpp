@@ -22,7 +22,7 @@ struct SimulationRequest {
   bool vtu = true;            ///< write step_NNNN.vtu and steps.pvd
   int vtu_every = 1;          ///< write every vtu_every-th step's VTU, and the last step's; ≥ 1
   io::VtuFormat vtu_format = io::VtuFormat::binary;
-  std::string case_file;      ///< the case file, named by an error about `only_test`
+  std::string case_file;  ///< the case file, named by an error about `only_test`
   /// Law coefficients set by name before the run (tricot simulate --law result.json: the identified
   /// law replayed on a project's tests); each a name of the law's coefficient_names().
   std::vector<std::pair<std::string, double>> coefficients;

@@ -36,22 +36,22 @@ io::SectionSpec synth_images_section();
 /// `[synth.images]` as a typed spec: the field names are the TOML keys (ranges in synth_images_section()).
 struct SynthImagesSpec {
   bool enabled = false;
-  double pixel_size = 0.1;    ///< mm/px on the specimen
-  int width = 600;            ///< px
-  int height = 600;           ///< px
+  double pixel_size = 0.1;          ///< mm/px on the specimen
+  int width = 600;                  ///< px
+  int height = 600;                 ///< px
   std::string texture = "speckle";  ///< "speckle" (painted) or "knit" (the knit's own stitches)
-  double speckle_size = 5;    ///< px: twice the mean blob radius
-  double coverage = 0.6;      ///< blobs per unit area × π r²
-  int subsamples = 4;         ///< per pixel and direction
-  double background = 0.5;    ///< gray beside the specimen, fraction of full scale
-  double noise = 0;           ///< σ of the camera noise, gray levels of the output
-  int bits = 8;               ///< 8 or 16
-  int every_n_steps = 1;      ///< frame j shows step j · every_n_steps
+  double speckle_size = 5;          ///< px: twice the mean blob radius
+  double coverage = 0.6;            ///< blobs per unit area × π r²
+  int subsamples = 4;               ///< per pixel and direction
+  double background = 0.5;          ///< gray beside the specimen, fraction of full scale
+  double noise = 0;                 ///< σ of the camera noise, gray levels of the output
+  int bits = 8;                     ///< 8 or 16
+  int every_n_steps = 1;            ///< frame j shows step j · every_n_steps
   /// A rig test's setting (fem::SimulationResult::setting) in frames of its own, then `hold_frames`
   /// frames of the held setting, before the pull (the lab's set, hold, pull); false = the pull's
   /// frames only (frame 1 then holds the whole setting and the first pull increment).
   bool setting_frames = true;
-  int hold_frames = 2;        ///< frames of the held setting before the pull, 0–1000
+  int hold_frames = 2;  ///< frames of the held setting before the pull, 0–1000
   Origin origin{"synth.images"};
 
   static SynthImagesSpec from_config(const io::Node& images);

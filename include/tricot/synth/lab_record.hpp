@@ -20,21 +20,21 @@
 namespace tricot::synth {
 
 struct LabRecordOptions {
-  double log_rate_hz = 100;       ///< load-cell sampling rate, > 0
-  double camera_fps = 2;          ///< images per second, > 0
-  double clock_offset_s = 0.37;   ///< δ = log clock − camera clock, s
-  double tare_N = 0.8;            ///< force the cell reads at rest, N
-  double noise = 0.01;            ///< σ of the force noise, fraction of the test's peak force, ≥ 0
+  double log_rate_hz = 100;           ///< load-cell sampling rate, > 0
+  double camera_fps = 2;              ///< images per second, > 0
+  double clock_offset_s = 0.37;       ///< δ = log clock − camera clock, s
+  double tare_N = 0.8;                ///< force the cell reads at rest, N
+  double noise = 0.01;                ///< σ of the force noise, fraction of the test's peak force, ≥ 0
   double crosshead_noise_mm = 0.001;  ///< σ of the cross-head reading, mm, ≥ 0
-  double grip_noise_mm = 0.002;   ///< σ of the grip displacement DIC measures, mm, ≥ 0
-  double crosshead_travel_mm = 20;  ///< cross-head travel of the ramp, mm, > 0
-  double rest_s = 3;              ///< rest after the first image, s, ≥ 0
-  double ramp_s = 12;             ///< duration of the constant-speed ramp, s, > 0 (24 images at 2 fps: the paper has 21–28 steps)
-  double hold_s = 3;              ///< hold after the ramp, images still taken, s, ≥ 0
-  double log_lead_s = 2;          ///< the log starts this long before the first image, s, ≥ 0
-  double log_tail_s = 2;          ///< ... and stops this long after the last, s, ≥ 0
-  bool crosshead_column = true;   ///< the log has a cross-head column
-  std::uint64_t seed = 1;         ///< random seed of every noise
+  double grip_noise_mm = 0.002;       ///< σ of the grip displacement DIC measures, mm, ≥ 0
+  double crosshead_travel_mm = 20;    ///< cross-head travel of the ramp, mm, > 0
+  double rest_s = 3;                  ///< rest after the first image, s, ≥ 0
+  double ramp_s = 12;  ///< duration of the constant-speed ramp, s, > 0 (24 images at 2 fps: the paper has 21–28 steps)
+  double hold_s = 3;   ///< hold after the ramp, images still taken, s, ≥ 0
+  double log_lead_s = 2;         ///< the log starts this long before the first image, s, ≥ 0
+  double log_tail_s = 2;         ///< ... and stops this long after the last, s, ≥ 0
+  bool crosshead_column = true;  ///< the log has a cross-head column
+  std::uint64_t seed = 1;        ///< random seed of every noise
 
   /// Throws InputError naming `lab.<field>` when out of range.
   void validate() const;
@@ -64,16 +64,16 @@ io::LogWriter labview_log(const LabRecord& record, const LabRecordOptions& optio
 /// A relaxation test (paper §3.1.1): a ramp to a held displacement, then the force relaxes as a
 /// Prony series F(t) = F∞ + Σ_i F_i exp(−(t − t_hold)/τ_i) while the cross-head holds.
 struct RelaxationRecordOptions {
-  double rate_hz = 2;             ///< sampling rate, > 0
-  double rest_s = 5;              ///< at rest before the ramp, s, ≥ 0
-  double ramp_s = 10;             ///< ramp to the held displacement, s, > 0
-  double hold_s = 3600;           ///< hold, s, > 0
-  double crosshead_mm = 30;       ///< held cross-head position, mm, > 0
-  double relaxed_force_N = 20;    ///< F∞, N
+  double rate_hz = 2;                    ///< sampling rate, > 0
+  double rest_s = 5;                     ///< at rest before the ramp, s, ≥ 0
+  double ramp_s = 10;                    ///< ramp to the held displacement, s, > 0
+  double hold_s = 3600;                  ///< hold, s, > 0
+  double crosshead_mm = 30;              ///< held cross-head position, mm, > 0
+  double relaxed_force_N = 20;           ///< F∞, N
   std::vector<double> amplitudes_N{10};  ///< F_i, N, one per term
   std::vector<double> tau_s{360};        ///< τ_i, s, > 0, one per term
-  double tare_N = 0.5;            ///< N
-  double noise_N = 0.1;           ///< σ of the force noise, N, ≥ 0
+  double tare_N = 0.5;                   ///< N
+  double noise_N = 0.1;                  ///< σ of the force noise, N, ≥ 0
   std::uint64_t seed = 1;
 
   void validate() const;  ///< InputError naming `relaxation.<field>`

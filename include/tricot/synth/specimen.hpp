@@ -42,9 +42,7 @@ struct Camera {
     return {mm_per_px * (x_px(0) - centre_px()(0)), -mm_per_px * (x_px(1) - centre_px()(1))};
   }
   /// Specimen coordinates, mm → pixel position.
-  Vec2 to_pixel(const Vec2& X) const {
-    return {centre_px()(0) + X(0) / mm_per_px, centre_px()(1) - X(1) / mm_per_px};
-  }
+  Vec2 to_pixel(const Vec2& X) const { return {centre_px()(0) + X(0) / mm_per_px, centre_px()(1) - X(1) / mm_per_px}; }
 };
 
 /// What the FE mesh is of the specimen the camera sees.
@@ -81,11 +79,11 @@ class FullSpecimen {
 
   const fem::Mesh* mesh_;
   std::vector<unsigned char> outer_sides_;  ///< per element, bit k: side k lies on the edge x = W or y = H
-  Vec2 reach_ = Vec2::Zero();  ///< bounds on the deformed quarter's largest x and y
-  Eigen::VectorXd u_;          ///< the quarter's nodal displacements (empty = none)
-  Eigen::VectorXd X_flat_;     ///< reference node positions, 2 per node (the form fem::interpolate takes)
-  Eigen::Matrix2Xd x_;         ///< deformed node positions
-  fem::PointLocator current_;  ///< in the deformed quarter
+  Vec2 reach_ = Vec2::Zero();               ///< bounds on the deformed quarter's largest x and y
+  Eigen::VectorXd u_;                       ///< the quarter's nodal displacements (empty = none)
+  Eigen::VectorXd X_flat_;                  ///< reference node positions, 2 per node (the form fem::interpolate takes)
+  Eigen::Matrix2Xd x_;                      ///< deformed node positions
+  fem::PointLocator current_;               ///< in the deformed quarter
   fem::PointLocator reference_;
 };
 

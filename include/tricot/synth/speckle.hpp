@@ -34,13 +34,13 @@ std::optional<Texture> texture_from_string(std::string_view word);
 /// How the speckle looks. Gray levels are fractions of full scale (images have full_scale = 1).
 struct SpeckleOptions {
   Texture texture = Texture::speckle;
-  double radius = 2.5;        ///< mean blob radius r in px, > 0 (speckle "size" ≈ 2r)
-  double radius_spread = 0.3; ///< relative spread of r, uniform in r·[1 − s, 1 + s], 0–0.9
-  double coverage = 0.6;      ///< blobs per unit area × π r², > 0 (how dense the pattern is)
-  double background = 0.1;    ///< gray level between blobs, 0–1
-  double contrast = 0.8;      ///< gray-level span of a saturated blob, 0–1
-  std::uint64_t seed = 1;     ///< random seed of blob positions and sizes
-  int subsamples = 4;         ///< per pixel and direction for area integration, 1–16
+  double radius = 2.5;         ///< mean blob radius r in px, > 0 (speckle "size" ≈ 2r)
+  double radius_spread = 0.3;  ///< relative spread of r, uniform in r·[1 − s, 1 + s], 0–0.9
+  double coverage = 0.6;       ///< blobs per unit area × π r², > 0 (how dense the pattern is)
+  double background = 0.1;     ///< gray level between blobs, 0–1
+  double contrast = 0.8;       ///< gray-level span of a saturated blob, 0–1
+  std::uint64_t seed = 1;      ///< random seed of blob positions and sizes
+  int subsamples = 4;          ///< per pixel and direction for area integration, 1–16
   /// knit: the stitch pitch across the wales is 4·radius px (2 speckle sizes), along them 3.2·radius;
   /// the wales (columns of stitches) run at this angle from the image's x axis, degrees.
   double wale_angle_deg = 90;
@@ -105,7 +105,8 @@ class PatternTable {
     const float* c = spline_.origin(static_cast<int>(fx) - 1, static_cast<int>(fy) - 1);
     const std::ptrdiff_t n = spline_.stride();
     using Row = Eigen::Array4f;
-    const Row r = wy[0] * Row::Map(c) + wy[1] * Row::Map(c + n) + wy[2] * Row::Map(c + 2 * n) + wy[3] * Row::Map(c + 3 * n);
+    const Row r =
+        wy[0] * Row::Map(c) + wy[1] * Row::Map(c + n) + wy[2] * Row::Map(c + 2 * n) + wy[3] * Row::Map(c + 3 * n);
     return (r * Row::Map(wx.data())).sum();
   }
   /// The grid step h, px (0 when the pattern is not tabulated).
@@ -127,8 +128,7 @@ using InverseMotion = std::function<Vec2(const Vec2& x)>;
 
 /// Renders a width × height image of the pattern seen through the motion (full_scale = 1).
 /// Rendering is parallel over rows (std::thread); `threads` = 0 uses the hardware count.
-image::Image render(const SpecklePattern& pattern, int width, int height, const InverseMotion& motion,
-                    int threads = 0);
+image::Image render(const SpecklePattern& pattern, int width, int height, const InverseMotion& motion, int threads = 0);
 /// The identity motion (the reference image).
 inline Vec2 no_motion(const Vec2& x) { return x; }
 
