@@ -109,9 +109,9 @@ struct IdentifyOptions {
   /// With bounds on the parameters, Ceres's projected Armijo line search along each LM step (its
   /// `max_num_line_search_step_size_iterations`). Each of its trials is an FE evaluation (without
   /// sensitivities, and interpolated on f alone, where the problem keeps its simulations), but its
-  /// backtracking is what saves LM's long steps that fail in the FE: on the §4 campaign LM without it was still at f =
-  /// 1.59 after 74 iterations (each failure shrinks the radius, and the short damped steps run into cliffs of f), with
-  /// it at 0.39 after 2 (docs/validation.md, issue 12).
+  /// backtracking is what saves LM's long steps that fail in the FE: on the §4 campaign LM without it
+  /// was still at f = 1.59 after 74 iterations (each failure shrinks the radius, and the short damped
+  /// steps run into cliffs of f), with it at 0.39 after 2.
   bool bounds_line_search = true;
   /// The most trial points of that line search per LM step, 1–100 (Ceres's default 20). Each is an
   /// FE evaluation: on the §4 campaign a step LM rejects in the end cost 12–13 of
