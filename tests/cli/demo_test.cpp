@@ -1,4 +1,5 @@
-// tricot demo (apps/tricot/demo.cpp, src/project/demo.cpp): its built-in files are the examples a user runs by hand.
+// tricot demo (apps/tricot/demo.cpp, src/project/pipeline/demo.cpp): its built-in files are the examples a
+// user runs by hand.
 #include "tricot/project/demo.hpp"
 
 #include <gtest/gtest.h>

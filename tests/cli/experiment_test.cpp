@@ -1,4 +1,4 @@
-// tricot experiment LAB.toml -o DIR (apps/tricot/experiment.cpp, src/project/lab_experiment.cpp): a
+// tricot experiment LAB.toml -o DIR (apps/tricot/experiment.cpp, src/project/pipeline/lab_experiment.cpp): a
 // synthetic lab record — rendered images of a uniaxial pull seen by a 2 fps camera, a 100 Hz load-cell
 // log with 1 % noise, a tare and a clock offset of 0.37 s, written as a LabVIEW tab file with decimal
 // commas and a 10-line header — turned into an experiment; and every bad input named in one line.

@@ -1,4 +1,4 @@
-// tricot identify PROJECT.toml -o DIR [--resume] (apps/tricot/identify.cpp, src/project/identification.cpp):
+// tricot identify PROJECT.toml -o DIR [--resume] (apps/tricot/identify.cpp, src/project/pipeline/identification.cpp):
 // synth + identify round trip, the result files, resume after a kill, and bad input.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Transactional outputs (issue 14, src/project/output_dir.cpp) through the verbs: a rerun into a
+// Transactional outputs (issue 14, src/project/output/output_dir.cpp) through the verbs: a rerun into a
 // folder that holds a different earlier run, killed before it publishes, leaves the earlier run whole
 // (nothing of the rerun beside it); the rerun, completed, leaves only its own files.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// tricot relax LOG -o DIR (apps/tricot/relax.cpp, src/project/relax.cpp): a relaxation test's LabVIEW log
+// tricot relax LOG -o DIR (apps/tricot/relax.cpp, src/project/pipeline/relax.cpp): a relaxation test's LabVIEW log
 // (tab, decimal comma, 10 header lines) with a known Prony series, fitted through the command line.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,5 @@
-// tricot synth EXPERIMENT.toml -o DIR (apps/tricot/synth.cpp, src/project/synthesis.cpp): the experiment it writes.
+// tricot synth EXPERIMENT.toml -o DIR (apps/tricot/synth.cpp, src/project/pipeline/synthesis.cpp): the
+// experiment it writes.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// checkpoint.json (src/project/checkpoint.cpp): LM's state and phase round-trip exactly; a bad phase is
+// checkpoint.json (src/project/output/checkpoint.cpp): LM's state and phase round-trip exactly; a bad phase is
 // named; a checkpoint written before the phase existed resumes LM.
 #include "tricot/project/checkpoint.hpp"
 

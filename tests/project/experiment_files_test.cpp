@@ -1,4 +1,4 @@
-// The experiment on disk (src/project/experiment_files.cpp): what synth writes, identify reads.
+// The experiment on disk (src/project/output/experiment_files.cpp): what synth writes, identify reads.
 #include "tricot/project/experiment_files.hpp"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The report of `tricot identify` (src/project/identification_report.cpp): a small synth + identify,
+// The report of `tricot identify` (src/project/output/identification_report.cpp): a small synth + identify,
 // then report.json checked against result.json, number for number.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// OutputDir (src/project/output_dir.cpp): staging, publication, stale files, a killed publication.
+// OutputDir (src/project/output/output_dir.cpp): staging, publication, stale files, a killed publication.
 #include "tricot/project/output_dir.hpp"
 
 #include <gtest/gtest.h>

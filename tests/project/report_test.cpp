@@ -1,4 +1,4 @@
-// The lab report's writer (src/project/report.cpp): escaping, PNG sizes, heat colours,
+// The lab report's writer (src/project/output/report.cpp): escaping, PNG sizes, heat colours,
 // section order, and report.json holding every number the page shows.
 #include "tricot/project/report.hpp"
 

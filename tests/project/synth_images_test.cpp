@@ -1,4 +1,4 @@
-// `tricot synth` with [synth.images] (src/project/synth_images.cpp): the frames, camera.json, and the
+// `tricot synth` with [synth.images] (src/project/pipeline/synth_images.cpp): the frames, camera.json, and the
 // errors of a bad table.
 #include "tricot/project/synth_images.hpp"
 

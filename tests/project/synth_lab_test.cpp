@@ -1,4 +1,4 @@
-// `tricot synth` with [synth.lab] (src/project/synth_lab.cpp): the raw lab record of a test — the
+// `tricot synth` with [synth.lab] (src/project/pipeline/synth_lab.cpp): the raw lab record of a test — the
 // LabVIEW-like load-cell log, the camera log, the relaxation log — against the FE truth it was made from.
 #include "tricot/project/synth_lab.hpp"
 

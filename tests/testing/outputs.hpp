@@ -1,4 +1,4 @@
-// Transactional outputs through a verb (issue 14, src/project/output_dir.cpp): a rerun into a folder
+// Transactional outputs through a verb (issue 14, src/project/output/output_dir.cpp): a rerun into a folder
 // that holds a different earlier run, killed before it publishes (TRICOT_TEST_KILL_BEFORE_PUBLISH), must
 // leave the earlier run whole; completed, it must leave only its own files.
 #pragma once

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "schema.hpp"
+#include "spec/schema.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/ident/identifiability.hpp"
 #include "tricot/ident/stability_barrier.hpp"

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "schema.hpp"
+#include "spec/schema.hpp"
 #include "tricot/image/image.hpp"
 
 namespace tricot::project {

@@ -6,7 +6,7 @@
 
 #include <optional>
 
-#include "json.hpp"
+#include "output/json.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/io/files.hpp"
 

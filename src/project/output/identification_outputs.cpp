@@ -1,5 +1,5 @@
 // The outputs of an identification: result.json, history.csv, fit_<test>.csv and the gnuplot plots.
-#include "identification_outputs.hpp"
+#include "output/identification_outputs.hpp"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 
 #include <omp.h>
 
-#include "json.hpp"
+#include "output/json.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/core/format.hpp"
 #include "tricot/fem/locate.hpp"

@@ -10,7 +10,7 @@
 #include <ctime>
 #include <map>
 
-#include "json.hpp"
+#include "output/json.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/io/base64.hpp"
 #include "tricot/io/files.hpp"

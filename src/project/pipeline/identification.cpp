@@ -10,8 +10,8 @@
 #include <csignal>
 #include <system_error>
 
-#include "identification_outputs.hpp"
-#include "identification_report.hpp"
+#include "output/identification_outputs.hpp"
+#include "output/identification_report.hpp"
 #include "tricot/ident/problem.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/project/checkpoint.hpp"

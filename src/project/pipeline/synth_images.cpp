@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "json.hpp"
+#include "output/json.hpp"
 
 #include "tricot/core/error.hpp"
 #include "tricot/image/image.hpp"

@@ -13,7 +13,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
-#include "json.hpp"
+#include "output/json.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/io/files.hpp"
 

@@ -9,7 +9,7 @@
 #include <set>
 #include <unistd.h>
 
-#include "schema.hpp"
+#include "spec/schema.hpp"
 #include "tricot/fem/corotational.hpp"
 #include "tricot/fem/gmsh.hpp"
 #include "tricot/io/files.hpp"

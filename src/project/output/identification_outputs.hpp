@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "json.hpp"
+#include "output/json.hpp"
 #include "tricot/fem/solver.hpp"
 #include "tricot/project/identification.hpp"
 

@@ -63,7 +63,7 @@ std::string demo_experiment_toml(double noise_relative) {
 # generated on a finer mesh (14 × 48 Q8, 4282 dofs) than project.toml identifies on (10 × 34 Q8,
 # 2218 dofs, the paper's ~2200), so that the identification is not an inverse crime.
 #   tricot synth examples/uniaxial-mooney/experiment.toml -o examples/uniaxial-mooney/experiment
-# (`tricot demo` runs the same file, written by src/project/demo.cpp.)
+# (`tricot demo` runs the same file, written by src/project/pipeline/demo.cpp.)
 
 [mesh]
 width = 50.0        # mm, full strip width
@@ -137,7 +137,7 @@ std::string demo_project_toml(const DemoProject& p) {
 #   tricot synth examples/uniaxial-mooney/experiment.toml -o examples/uniaxial-mooney/experiment
 #   tricot identify examples/uniaxial-mooney/project.toml -o out/uniaxial-mooney
 # The start point is [law] below. [data] picks the data of Table 1: edge_displacement (the grip) and
-# field; set one weight to 0.0 for "field only" or "edge only". (Written by src/project/demo.cpp.)
+# field; set one weight to 0.0 for "field only" or "edge only". (Written by src/project/pipeline/demo.cpp.)
 
 [mesh]
 width = {}

@@ -8,7 +8,7 @@
 #include <type_traits>
 #include <nlohmann/json.hpp>
 
-#include "json.hpp"
+#include "output/json.hpp"
 
 #include "tricot/core/error.hpp"
 #include "tricot/io/files.hpp"

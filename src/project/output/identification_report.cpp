@@ -1,6 +1,6 @@
 // The lab report of one identification (issue 13): what `tricot identify` writes beside result.json.
 // Every number here is also in result.json; the report lays them out for a reader (docs/theory.md §1–§3, §8).
-#include "identification_report.hpp"
+#include "output/identification_report.hpp"
 
 #include <fmt/format.h>
 
@@ -9,8 +9,8 @@
 #include <cmath>
 #include <set>
 
-#include "identification_outputs.hpp"
-#include "json.hpp"
+#include "output/identification_outputs.hpp"
+#include "output/json.hpp"
 #include "tricot/io/files.hpp"
 
 namespace tricot::project {

@@ -210,7 +210,7 @@ std::string campaign_experiment_toml(const CampaignDemoOptions& o) {
       R"(# tricot demo (issue 13): the paper's §4 campaign of the reference knit, 110 × 110 mm², as a lab
 # would record it: camera images (the knit's own stitches as tracers) and a load-cell log per test.
 # Each test sets its transverse dimension ({} increments, one image each), holds it ({} images), then
-# pulls in {} steps (one image each). Written by src/project/campaign_demo.cpp; rerun by hand with
+# pulls in {} steps (one image each). Written by src/project/pipeline/campaign_demo.cpp; rerun by hand with
 #   tricot synth experiment.toml -o raw
 
 [mesh]                   # generating mesh, finer than the identification's 12 × 10 Q8
