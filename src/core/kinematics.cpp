@@ -45,11 +45,11 @@ PolarDecomposition polar_decomposition(const Mat2& F, PolarJacobians* J) {
   p.U(0, 1) = p.U(1, 0) = 0.5 * (p.U(0, 1) + p.U(1, 0));  // symmetric up to round-off; make it exact
   if (J) {
     const double r2 = x * x + y * y;
-    J->theta_F = Vec4(-y, -x, x, -y) / r2;
+    J->dtheta_dF = Vec4(-y, -x, x, -y) / r2;
     Mat2 W;
     W << 0, -1, 1, 0;
-    J->R_F = flatten(p.R * W) * J->theta_F.transpose();
-    J->U_F = left_product(p.R.transpose()) - flatten(W * p.U) * J->theta_F.transpose();
+    J->dR_dF = flatten(p.R * W) * J->dtheta_dF.transpose();
+    J->dU_dF = left_product(p.R.transpose()) - flatten(W * p.U) * J->dtheta_dF.transpose();
   }
   return p;
 }

@@ -89,8 +89,8 @@ void CorotationalOrthotropic::evaluate(const LawInput& in, const LawRequest& req
   // docs/theory.md §4: F = R U, Ĥ = Qᵀ ln U Q, τ̂_m = 𝔻 : Ĥ, τ̂ = Q τ̂_m Qᵀ, P = R τ̂ U⁻¹.
   PolarJacobians JP;
   const PolarDecomposition p = polar_decomposition(in.F, req.tangent ? &JP : nullptr);
-  Mat4 J_H_U;
-  const Mat2 H = log_spd(p.U, req.tangent ? &J_H_U : nullptr);
+  Mat4 dH_dU;
+  const Mat2 H = log_spd(p.U, req.tangent ? &dH_dU : nullptr);
   const Mat2 Hm = Q.transpose() * H * Q;
   const Mat4 Dm = stiffness(D11_, D22_, D12_, D66_);
   const Mat2 tau_hat = Q * unflatten(Dm * flatten(Hm)) * Q.transpose();
@@ -104,10 +104,10 @@ void CorotationalOrthotropic::evaluate(const LawInput& in, const LawRequest& req
   if (req.tangent) {
     // dP = dR S + R dS, dS = dτ̂ U⁻¹ − τ̂ U⁻¹ dU U⁻¹, dτ̂ = 𝔻_ref : (∂lnU/∂U) : dU.
     const Mat4 D_ref = sandwich_product(Q, Q.transpose()) * Dm * sandwich_product(Q.transpose(), Q);
-    const Mat4 J_tau_F = D_ref * J_H_U * JP.U_F;
-    const Mat4 J_Uinv_F = -sandwich_product(U_inv, U_inv) * JP.U_F;
-    const Mat4 J_S_F = right_product(U_inv) * J_tau_F + left_product(tau_hat) * J_Uinv_F;
-    out.A = right_product(S) * JP.R_F + left_product(p.R) * J_S_F;
+    const Mat4 dtau_dF = D_ref * dH_dU * JP.dU_dF;
+    const Mat4 dUinv_dF = -sandwich_product(U_inv, U_inv) * JP.dU_dF;
+    const Mat4 dS_dF = right_product(U_inv) * dtau_dF + left_product(tau_hat) * dUinv_dF;
+    out.A = right_product(S) * JP.dR_dF + left_product(p.R) * dS_dF;
   }
   if (req.sensitivities) {
     // P is linear in (D11, D22, D12, D66): ∂P/∂c_k = R Q (∂τ̂_m/∂c_k) Qᵀ U⁻¹.

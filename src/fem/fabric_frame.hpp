@@ -17,7 +17,7 @@ struct FabricKinematics {
   /// The rotation of F = R U: cos θ = (F11 + F22)/r, sin θ = (F21 − F12)/r, r = |(F11 + F22, F21 − F12)|
   /// (> 0 where det F > 0): tricot::polar_decomposition's R without atan2 and sincos.
   Mat2 R;
-  Vec4 theta_F;  ///< ∂θ/∂F (row-major flattening), only when built with tangent = true
+  Vec4 dtheta_dF;  ///< ∂θ/∂F (row-major flattening), only when built with tangent = true
   Mat2 E_m;      ///< Green–Lagrange strain in the material frame
   Mat4 J_Em_F;   ///< ∂E_m/∂F, only when built with tangent = true
 };
@@ -39,7 +39,7 @@ inline FabricKinematics fabric_kinematics(const LawInput& in, bool tangent) {
   const Mat2 G = F * in.Q;
   k.E_m = 0.5 * (G.transpose() * G - Mat2::Identity());
   if (tangent) {
-    k.theta_F = Vec4(-y, -x, x, -y) / r2;
+    k.dtheta_dF = Vec4(-y, -x, x, -y) / r2;
     const Mat2& Q = in.Q;
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)
@@ -70,11 +70,11 @@ inline void fabric_stress(const LawInput& in, const FabricKinematics& k, const F
   out.lambda3 = 1 / in.F.determinant();
   if (tangent) {
     // dP = dR M + R Q dT Qᵀ with dR = R W dθ (W = [[0, −1], [1, 0]]): the first term is the rank-one
-    // flatten(R W M) ⊗ ∂θ/∂F; the second maps each column X_c of X = ∂T/∂E_m ∂E_m/∂F (as a 2 × 2) to
-    // R Q X_c Qᵀ.
+    // flatten(R W M) ⊗ ∂θ/∂F; the second maps each column X_col of X = ∂T/∂E_m ∂E_m/∂F (as a 2 × 2) to
+    // R Q X_col Qᵀ.
     Mat2 RW;
     RW << k.R(0, 1), -k.R(0, 0), k.R(1, 1), -k.R(1, 0);
-    out.A.noalias() = flatten(RW * M) * k.theta_F.transpose();
+    out.A.noalias() = flatten(RW * M) * k.dtheta_dF.transpose();
     const Mat4& J = k.J_Em_F;
     Eigen::Matrix<double, 3, 4> X;  // rows 0, 1 (= 2), 3 of ∂T/∂F
     X.row(0) = f.dFC_deC * J.row(0) + f.dFC_deW * J.row(3);
@@ -89,9 +89,9 @@ inline void fabric_stress(const LawInput& in, const FabricKinematics& k, const F
   }
 }
 
-/// ∂P/∂c for a coefficient that enters T as T_c (material frame): R Q T_c Qᵀ.
-inline Mat2 fabric_basis(const LawInput& in, const FabricKinematics& k, const Mat2& T_c) {
-  return k.R * in.Q * T_c * in.Q.transpose();
+/// ∂P/∂c for a coefficient c that enters T linearly, dT_dc = ∂T/∂c (material frame): R Q dT_dc Qᵀ.
+inline Mat2 fabric_basis(const LawInput& in, const FabricKinematics& k, const Mat2& dT_dc) {
+  return k.R * in.Q * dT_dc * in.Q.transpose();
 }
 
 }  // namespace tricot::fem::detail

@@ -28,12 +28,12 @@ void check(bool ok, const char* field, double got, const std::string& expected) 
 /// q the extra length across that the waves take up (q = s − ℓ at the wavy sheet's stretch s).
 /// Parametrised by the reference direction φ, not by n's angle: where the FE squeezes an element to
 /// nearly nothing across (det F → 0), F̃ depends on n's angle through q |Fᵀ t|, beyond what a double
-/// resolves, and on φ at O(1). dn_F and dn_phi: n's turn along t per δF (flattened row by row) and
-/// per δφ; ell_F and ell_phi: ℓ's partials.
+/// resolves, and on φ at O(1). dn_dF and dn_dphi: n's turn along t per δF (flattened row by row) and
+/// per δφ; dell_dF and dell_dphi: ℓ's partials.
 struct Wrinkle {
   Vec2 m, mp, n, t;
-  double ell = 0, q = 0, dn_phi = 0, ell_phi = 0;
-  Vec4 dn_F, ell_F;
+  double ell = 0, q = 0, dn_dphi = 0, dell_dphi = 0;
+  Vec4 dn_dF, dell_dF;
   Mat2 Ft;
 };
 
@@ -55,30 +55,30 @@ Wrinkle wrinkle(const Mat2& F, double phi, double s_or_q, bool is_stretch = true
   // δc turns n along t by tᵀδc / |c|, and moves ℓ = nᵀ F m by that times tᵀ F m (+ nᵀ δF m;
   // nᵀ F δm = ℓ mᵀ δm = 0). δF = e_k e_lᵀ: cof(δF) = ±e_(1−k) e_(1−l)ᵀ (+ on the diagonal).
   const double tFm = w.t.dot(F * w.m);
-  w.dn_phi = w.t.dot(C * w.mp) / c_norm;
-  w.ell_phi = w.dn_phi * tFm;
+  w.dn_dphi = w.t.dot(C * w.mp) / c_norm;
+  w.dell_dphi = w.dn_dphi * tFm;
   for (int k = 0; k < 2; ++k)
     for (int l = 0; l < 2; ++l) {
       const int i = 2 * k + l;
-      w.dn_F(i) = (k == l ? 1.0 : -1.0) * w.m(1 - l) * w.t(1 - k) / c_norm;
-      w.ell_F(i) = w.dn_F(i) * tFm + w.n(k) * w.m(l);
+      w.dn_dF(i) = (k == l ? 1.0 : -1.0) * w.m(1 - l) * w.t(1 - k) / c_norm;
+      w.dell_dF(i) = w.dn_dF(i) * tFm + w.n(k) * w.m(l);
     }
   return w;
 }
 
-/// F̃'s derivatives (flattened) when q is a function of the stretch s and of ℓ, dq = q_s ds + q_ell dℓ:
-/// ∂F̃/∂F (4 × 4) and ∂F̃/∂z (4 × 2), z = (s, φ). At the root q = s − ℓ: q_s = 1, q_ell = −1.
+/// F̃'s derivatives (flattened) when q is a function of the stretch s and of ℓ, dq = dq_ds ds + dq_dell dℓ:
+/// ∂F̃/∂F (4 × 4) and ∂F̃/∂z (4 × 2), z = (s, φ). At the root q = s − ℓ: dq_ds = 1, dq_dell = −1.
 struct WrinkleJacobian {
-  Mat4 F;
-  Eigen::Matrix<double, 4, 2> z;
+  Mat4 dFt_dF;
+  Eigen::Matrix<double, 4, 2> dFt_dz;
 };
 
-WrinkleJacobian jacobian(const Wrinkle& w, double q_s = 1, double q_ell = -1) {
+WrinkleJacobian jacobian(const Wrinkle& w, double dq_ds = 1, double dq_dell = -1) {
   const Vec4 tm = flatten(w.t * w.m.transpose()), nm = flatten(w.n * w.m.transpose());
   WrinkleJacobian J;
-  J.F = Mat4::Identity() + w.q * tm * w.dn_F.transpose() + q_ell * nm * w.ell_F.transpose();
-  J.z.col(0) = q_s * nm;
-  J.z.col(1) = w.q * (w.dn_phi * tm + flatten(w.n * w.mp.transpose())) + q_ell * w.ell_phi * nm;
+  J.dFt_dF = Mat4::Identity() + w.q * tm * w.dn_dF.transpose() + dq_dell * nm * w.dell_dF.transpose();
+  J.dFt_dz.col(0) = dq_ds * nm;
+  J.dFt_dz.col(1) = w.q * (w.dn_dphi * tm + flatten(w.n * w.mp.transpose())) + dq_dell * w.dell_dphi * nm;
   return J;
 }
 
@@ -86,10 +86,10 @@ WrinkleJacobian jacobian(const Wrinkle& w, double q_s = 1, double q_ell = -1) {
 Vec2 residual(const Wrinkle& w, const LawOutput& at_Ft) { return at_Ft.P * w.m; }
 
 /// ∂g/∂z (2 × 2) at the root: dP̃ = A ∂F̃/∂z; the φ column adds P̃ ∂m/∂φ.
-Mat2 residual_z(const Wrinkle& w, const LawOutput& at_Ft) {
-  const Eigen::Matrix<double, 4, 2> Ft_z = jacobian(w).z;
+Mat2 dg_dz(const Wrinkle& w, const LawOutput& at_Ft) {
+  const Eigen::Matrix<double, 4, 2> dFt_dz = jacobian(w).dFt_dz;
   Mat2 G;
-  for (int j = 0; j < 2; ++j) G.col(j) = unflatten(Vec4(at_Ft.A * Ft_z.col(j))) * w.m;
+  for (int j = 0; j < 2; ++j) G.col(j) = unflatten(Vec4(at_Ft.A * dFt_dz.col(j))) * w.m;
   G.col(1) += at_Ft.P * w.mp;
   return G;
 }
@@ -225,7 +225,7 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
         run.converged = true;
         // One more full step to round-off (cheap at quadratic rate): P(F̃) is then exact to round-off
         // of P̃, not of the larger P(F) of the tolerance's scale.
-        const Eigen::FullPivLU<Mat2> lu(residual_z(w, at));
+        const Eigen::FullPivLU<Mat2> lu(dg_dz(w, at));
         if (lu.isInvertible()) {
           const Vec2 zt = z - lu.solve(g);
           Wrinkle wt;
@@ -235,7 +235,7 @@ WrinkleState WrinklingLaw::solve(const LawInput& in, const LawOutput& at_F, bool
         }
         break;
       }
-      const Eigen::FullPivLU<Mat2> lu(residual_z(w, at));
+      const Eigen::FullPivLU<Mat2> lu(dg_dz(w, at));
       if (!lu.isInvertible()) break;
       const Vec2 dz = -lu.solve(g);
       // Backtracking on |g|: keep β = q/ℓ in (−1/2, beta_max) and take the first step that lowers |g|
@@ -339,7 +339,7 @@ void WrinklingLaw::evaluate(const LawInput& in, const LawRequest& req, LawOutput
   // (dq_eff = r' ds + (r − r' (1 + β)) dℓ).
   const Mat2& F = in.F;
   const Wrinkle w = wrinkle(F, st.reference_angle, st.stretch);  // the root (at_Ft is the inner law there)
-  const Eigen::FullPivLU<Mat2> lu(residual_z(w, at_Ft));
+  const Eigen::FullPivLU<Mat2> lu(dg_dz(w, at_Ft));
   const bool at_root = st.beta == st.root_beta;
   const Vec2 ramp = smooth_ramp(st.root_beta, options_.smoothing);
   const Wrinkle we = at_root ? w : wrinkle(F, st.reference_angle, w.ell * ramp(0), false);  // the effective sheet
@@ -349,20 +349,20 @@ void WrinklingLaw::evaluate(const LawInput& in, const LawRequest& req, LawOutput
   out.P = (1 - eta) * eff.P + eta * out.P;
   out.lambda3 = eff.lambda3;
   const WrinkleJacobian J_eff = at_root ? jacobian(w) : jacobian(we, ramp(1), ramp(0) - ramp(1) * (1 + st.root_beta));
-  const Eigen::Matrix<double, 4, 2> A_z = eff.A * J_eff.z;
+  const Eigen::Matrix<double, 4, 2> dP_dz = eff.A * J_eff.dFt_dz;
   if (req.tangent) {
     // ∂g/∂F = (A ∂F̃/∂F) m at the root.
-    const Mat4 A_F_root = at_Ft.A * jacobian(w).F;
-    Eigen::Matrix<double, 2, 4> G_F;
-    for (int c = 0; c < 4; ++c) G_F.col(c) = unflatten(Vec4(A_F_root.col(c))) * w.m;
-    const Eigen::Matrix<double, 2, 4> z_F = -lu.solve(G_F);
-    const Mat4 A_F_eff = at_root ? A_F_root : Mat4(eff.A * J_eff.F);
-    out.A = (1 - eta) * (A_F_eff + A_z * z_F) + eta * out.A;
+    const Mat4 dP_dF_root = at_Ft.A * jacobian(w).dFt_dF;
+    Eigen::Matrix<double, 2, 4> dg_dF;
+    for (int c = 0; c < 4; ++c) dg_dF.col(c) = unflatten(Vec4(dP_dF_root.col(c))) * w.m;
+    const Eigen::Matrix<double, 2, 4> dz_dF = -lu.solve(dg_dF);
+    const Mat4 dP_dF_eff = at_root ? dP_dF_root : Mat4(eff.A * J_eff.dFt_dF);
+    out.A = (1 - eta) * (dP_dF_eff + dP_dz * dz_dF) + eta * out.A;
   }
   if (req.sensitivities) {
     for (std::size_t k = 0; k < nc; ++k) {
-      const Vec2 z_c = -lu.solve(Vec2(at_Ft.dP_dc[k] * w.m));
-      out.dP_dc[k] = (1 - eta) * (eff.dP_dc[k] + unflatten(Vec4(A_z * z_c))) + eta * out.dP_dc[k];
+      const Vec2 dz_dc = -lu.solve(Vec2(at_Ft.dP_dc[k] * w.m));
+      out.dP_dc[k] = (1 - eta) * (eff.dP_dc[k] + unflatten(Vec4(dP_dz * dz_dc))) + eta * out.dP_dc[k];
     }
   }
 }

@@ -284,26 +284,26 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
       switch (g.kind) {
         case GroupKind::edge_displacement:
           v.y.segment(row, g.size) = P.edge_displacement;
-          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.d_edge_displacement;
+          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dedge_displacement_dc;
           break;
         case GroupKind::edge_force:
           v.y.segment(row, g.size) = P.edge_force;
-          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.d_edge_force;
+          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dedge_force_dc;
           break;
         case GroupKind::field_u:
           v.y.segment(row, g.size) = detail::stack(P.U);
-          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dU;
+          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dU_dc;
           break;
         case GroupKind::field_v:
           v.y.segment(row, g.size) = detail::stack(P.V);
-          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dV;
+          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dV_dc;
           break;
         case GroupKind::field_uv:
           v.y.segment(row, g.size) = detail::stack_uv(P.U, P.V);
           if (jacobian)
-            for (Eigen::Index i = 0; i < P.dU.rows(); ++i) {
-              v.dy.row(row + 2 * i).head(nl) = P.dU.row(i);
-              v.dy.row(row + 2 * i + 1).head(nl) = P.dV.row(i);
+            for (Eigen::Index i = 0; i < P.dU_dc.rows(); ++i) {
+              v.dy.row(row + 2 * i).head(nl) = P.dU_dc.row(i);
+              v.dy.row(row + 2 * i + 1).head(nl) = P.dV_dc.row(i);
             }
           break;
       }

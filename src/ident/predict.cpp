@@ -68,8 +68,8 @@ bool predict(const fem::TestModel& model, const TestData& d, const std::vector<f
   P.edge_displacement.resize(K);
   P.edge_force.resize(K);
   if (jacobian) {
-    P.d_edge_displacement.setZero(K, n);
-    P.d_edge_force.setZero(K, n);
+    P.dedge_displacement_dc.setZero(K, n);
+    P.dedge_force_dc.setZero(K, n);
   }
   for (int k = 0; k < K; ++k) {
     const fem::StepResult& s = sim.steps[k];
@@ -85,8 +85,8 @@ bool predict(const fem::TestModel& model, const TestData& d, const std::vector<f
     }
     for (int j = 0; j < n; ++j) {
       // docs/theory.md §7: force control moves the grip (du/dc at a top node); displacement control, the force.
-      if (force_control) P.d_edge_displacement(k, j) = s.du_dc(grip_dof, coefficient_[j]);
-      else P.d_edge_force(k, j) = s.dforce_dc(coefficient_[j]);
+      if (force_control) P.dedge_displacement_dc(k, j) = s.du_dc(grip_dof, coefficient_[j]);
+      else P.dedge_force_dc(k, j) = s.dforce_dc(coefficient_[j]);
     }
   }
   if (m == 0) return true;
@@ -94,8 +94,8 @@ bool predict(const fem::TestModel& model, const TestData& d, const std::vector<f
   P.U.resize(K, m);
   P.V.resize(K, m);
   if (jacobian) {
-    P.dU.setZero(K * m, n);
-    P.dV.setZero(K * m, n);
+    P.dU_dc.setZero(K * m, n);
+    P.dV_dc.setZero(K * m, n);
   }
   const int npe = fem::nodes_per_element(mesh.type);
   for (int k = 0; k < K; ++k) {
@@ -150,8 +150,8 @@ bool predict(const fem::TestModel& model, const TestData& d, const std::vector<f
         }
         // The point is fixed in space: x(ξ; u_prev) = p gives ∂ξ/∂c = −Jm⁻¹ N·∂u_prev/∂c.
         if (prev) dvalue -= G * (Jm_inv * dprev);
-        P.dU(row, j) = dvalue.x();
-        P.dV(row, j) = dvalue.y();
+        P.dU_dc(row, j) = dvalue.x();
+        P.dV_dc(row, j) = dvalue.y();
       }
     }
   }

@@ -16,9 +16,9 @@ namespace tricot::ident::detail {
 /// Values per step and point, with ∂/∂J (rows as the values) when asked.
 struct Prediction {
   Eigen::VectorXd edge_displacement, edge_force;      // per step
-  Eigen::MatrixXd d_edge_displacement, d_edge_force;  // steps × parameters
+  Eigen::MatrixXd dedge_displacement_dc, dedge_force_dc;  // steps × parameters
   Eigen::MatrixXd U, V;                               // steps × points
-  Eigen::MatrixXd dU, dV;                             // (step · points + point) × parameters
+  Eigen::MatrixXd dU_dc, dV_dc;                       // (step · points + point) × parameters
 };
 
 /// The data's points located in the model's reference mesh. Throws InputError (key

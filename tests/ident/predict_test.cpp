@@ -59,7 +59,7 @@ TEST(Predict, GivesTheHomogeneousFieldAndItsCoefficientDerivativesVanishUnderDis
     EXPECT_NEAR(p.edge_displacement(k), model.loads[k], kHomogeneous * model.loads[k]);
     for (int q = 0; q < 2; ++q) {
       EXPECT_NEAR(p.V(k, q), model.loads[k] * data.points(1, q) / 20, kHomogeneous * model.loads[k]);
-      for (int c = 0; c < 2; ++c) EXPECT_NEAR(p.dV(k * 2 + q, c), 0, kHomogeneous);
+      for (int c = 0; c < 2; ++c) EXPECT_NEAR(p.dV_dc(k * 2 + q, c), 0, kHomogeneous);
     }
   }
 }

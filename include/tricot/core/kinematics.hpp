@@ -18,9 +18,9 @@ struct PolarDecomposition {
 
 /// Derivatives of the polar decomposition with respect to F.
 struct PolarJacobians {
-  Vec4 theta_F = Vec4::Zero();  ///< ∂θ/∂F_kl at index 2k+l
-  Mat4 R_F = Mat4::Zero();      ///< ∂R/∂F
-  Mat4 U_F = Mat4::Zero();      ///< ∂U/∂F
+  Vec4 dtheta_dF = Vec4::Zero();  ///< ∂θ/∂F_kl at index 2k+l
+  Mat4 dR_dF = Mat4::Zero();      ///< ∂R/∂F
+  Mat4 dU_dF = Mat4::Zero();      ///< ∂U/∂F
 };
 
 /// Closed-form polar decomposition of a 2×2 F with det F > 0 (then tr U = |(F11+F22, F21−F12)| > 0
