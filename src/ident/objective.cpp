@@ -276,7 +276,7 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
     for (const DataGroup& g : data_.groups())
       if (g.test == t) rows += g.size;
     v.y.resize(rows);
-    if (jacobian) v.dy.setZero(rows, static_cast<Eigen::Index>(parameters_.size()));
+    if (jacobian) v.dy_dJ.setZero(rows, static_cast<Eigen::Index>(parameters_.size()));
     const Eigen::Index nl = static_cast<Eigen::Index>(coefficient_.size());  // the law's columns
     int row = 0;
     for (const DataGroup& g : data_.groups()) {
@@ -284,26 +284,26 @@ std::vector<TestValues> Objective::evaluate_tests(const Eigen::VectorXd& J, bool
       switch (g.kind) {
         case GroupKind::edge_displacement:
           v.y.segment(row, g.size) = P.edge_displacement;
-          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dedge_displacement_dc;
+          if (jacobian) v.dy_dJ.middleRows(row, g.size).leftCols(nl) = P.dedge_displacement_dc;
           break;
         case GroupKind::edge_force:
           v.y.segment(row, g.size) = P.edge_force;
-          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dedge_force_dc;
+          if (jacobian) v.dy_dJ.middleRows(row, g.size).leftCols(nl) = P.dedge_force_dc;
           break;
         case GroupKind::field_u:
           v.y.segment(row, g.size) = detail::stack(P.U);
-          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dU_dc;
+          if (jacobian) v.dy_dJ.middleRows(row, g.size).leftCols(nl) = P.dU_dc;
           break;
         case GroupKind::field_v:
           v.y.segment(row, g.size) = detail::stack(P.V);
-          if (jacobian) v.dy.middleRows(row, g.size).leftCols(nl) = P.dV_dc;
+          if (jacobian) v.dy_dJ.middleRows(row, g.size).leftCols(nl) = P.dV_dc;
           break;
         case GroupKind::field_uv:
           v.y.segment(row, g.size) = detail::stack_uv(P.U, P.V);
           if (jacobian)
             for (Eigen::Index i = 0; i < P.dU_dc.rows(); ++i) {
-              v.dy.row(row + 2 * i).head(nl) = P.dU_dc.row(i);
-              v.dy.row(row + 2 * i + 1).head(nl) = P.dV_dc.row(i);
+              v.dy_dJ.row(row + 2 * i).head(nl) = P.dU_dc.row(i);
+              v.dy_dJ.row(row + 2 * i + 1).head(nl) = P.dV_dc.row(i);
             }
           break;
       }
@@ -386,13 +386,13 @@ Evaluation Objective::evaluate_afresh(const Eigen::VectorXd& J, bool jacobian) c
   // y and ∂y/∂J from the tests' rows, group by group in the data's order.
   const int N = data_.size(), n = static_cast<int>(parameters_.size());
   out.y.resize(N);
-  Eigen::MatrixXd dy;
-  if (jacobian) dy.setZero(N, n);
+  Eigen::MatrixXd dy_dJ;
+  if (jacobian) dy_dJ.setZero(N, n);
   std::vector<int> row(T, 0);
   for (const DataGroup& g : data_.groups()) {
     const TestValues& v = values[g.test];
     out.y.segment(g.offset, g.size) = v.y.segment(row[g.test], g.size);
-    if (jacobian) dy.middleRows(g.offset, g.size) = v.dy.middleRows(row[g.test], g.size);
+    if (jacobian) dy_dJ.middleRows(g.offset, g.size) = v.dy_dJ.middleRows(row[g.test], g.size);
     row[g.test] += g.size;
   }
   // Force scales: a scaled test's grip force is k times the law's (its field does not change: under a
@@ -402,15 +402,15 @@ Evaluation Objective::evaluate_afresh(const Eigen::VectorXd& J, bool jacobian) c
     if (s < 0) continue;
     const double k = J(s);
     if (jacobian) {
-      dy.block(g.offset, 0, g.size, static_cast<Eigen::Index>(coefficient_.size())) *= k;
-      dy.col(s).segment(g.offset, g.size) = out.y.segment(g.offset, g.size);
+      dy_dJ.block(g.offset, 0, g.size, static_cast<Eigen::Index>(coefficient_.size())) *= k;
+      dy_dJ.col(s).segment(g.offset, g.size) = out.y.segment(g.offset, g.size);
     }
     out.y.segment(g.offset, g.size) *= k;
   }
   out.r = data_.residuals(out.y);
   if (jacobian) {
-    data_.scale_rows(dy);
-    out.jacobian = std::move(dy);
+    data_.scale_rows(dy_dJ);
+    out.jacobian = std::move(dy_dJ);
   }
   out.ok = true;
   return out;

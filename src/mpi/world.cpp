@@ -101,9 +101,9 @@ void pack(const ident::TestValues& v, Writer& w) {
   w.put_bytes(v.message.data(), v.message.size());
   w.put<std::int64_t>(v.y.size());
   w.put_bytes(v.y.data(), sizeof(double) * static_cast<size_t>(v.y.size()));
-  w.put<std::int64_t>(v.dy.rows());
-  w.put<std::int64_t>(v.dy.cols());
-  w.put_bytes(v.dy.data(), sizeof(double) * static_cast<size_t>(v.dy.size()));
+  w.put<std::int64_t>(v.dy_dJ.rows());
+  w.put<std::int64_t>(v.dy_dJ.cols());
+  w.put_bytes(v.dy_dJ.data(), sizeof(double) * static_cast<size_t>(v.dy_dJ.size()));
 }
 
 void unpack(Reader& r, ident::TestValues& v) {
@@ -114,8 +114,8 @@ void unpack(Reader& r, ident::TestValues& v) {
   r.get_bytes(v.y.data(), sizeof(double) * static_cast<size_t>(v.y.size()));
   const auto rows = r.get<std::int64_t>();
   const auto cols = r.get<std::int64_t>();
-  v.dy.resize(rows, cols);
-  r.get_bytes(v.dy.data(), sizeof(double) * static_cast<size_t>(v.dy.size()));
+  v.dy_dJ.resize(rows, cols);
+  r.get_bytes(v.dy_dJ.data(), sizeof(double) * static_cast<size_t>(v.dy_dJ.size()));
 }
 
 std::vector<int> tests_of(int rank, int size, int tests) {

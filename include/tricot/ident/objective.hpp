@@ -72,7 +72,7 @@ struct TestValues {
   bool ok = false;
   std::string message;  ///< !ok: why, naming the test; empty for a test that was not run (cancelled)
   Eigen::VectorXd y;    ///< the test's rows of y, unscaled, its groups one after the other
-  Eigen::MatrixXd dy;   ///< ∂y/∂J of those rows (physical J); empty without a Jacobian
+  Eigen::MatrixXd dy_dJ;  ///< ∂y/∂J of those rows (physical J); empty without a Jacobian
 };
 
 /// Spreads an Objective's tests over processes (the MPI ranks of `mpirun -np N tricot identify`,
