@@ -85,6 +85,15 @@ TEST(KnitUniaxialReal, AcrylicGarterFromTheRawCsvsToTheReportWithTomlOnly) {
   if (!have_the_data()) GTEST_SKIP() << "no " << test::shared_data() / "knit-uniaxial";
   const fs::path root = run_example("knit_uniaxial_real", "acrylic-garter.toml", "project-template.toml");
   expect_repeats_fitted(root, kAcrylicForceRmsOfPeak);
+  // `tricot simulate --law result.json` replays each repeat with its force scale: X2's forces are the fit's.
+  const auto replay =
+      test::run_tricot("simulate " + (root / "experiment" / "project.toml").string() + " --law " +
+                       (root / "out" / "result.json").string() + " -o " + (root / "replay").string() + " -q");
+  ASSERT_EQ(replay.exit_code, 0) << replay.err;
+  const auto replayed = io::read_log(root / "replay" / "X2" / "steps.csv").numbers("edge_force");
+  const auto fitted = io::read_log(root / "out" / "fit_X2.csv").numbers("model_edge_force");
+  ASSERT_EQ(replayed.size(), fitted.size());
+  for (std::size_t k = 0; k < fitted.size(); ++k) EXPECT_NEAR(replayed[k], fitted[k], 1e-9 * fitted.back()) << k;
   // Five repeats per direction, all free-sided: one path through (εC, εW) per surface, so eq. 9 is
   // "not computed", with the counts (issue 29, obstacle 7).
   const nlohmann::json j = nlohmann::json::parse(io::read_text(root / "out" / "result.json"));

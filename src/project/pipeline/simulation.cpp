@@ -6,9 +6,11 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
+#include <map>
 
 #include "tricot/fem/corotational.hpp"
 #include "tricot/fem/element.hpp"
+#include "tricot/ident/problem.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/io/vtu.hpp"
 #include "tricot/project/case_spec.hpp"
@@ -20,6 +22,30 @@ namespace tricot::project {
 namespace {
 
 namespace fs = std::filesystem;
+
+/// A specimen k times as stiff as `inner`: k P, k ∂P/∂F, k ∂P/∂c (a test's force scale from result.json,
+/// docs/theory.md §2). Under a displacement-controlled grip its displacements are the law's, its
+/// forces and stresses k times.
+class ScaledLaw final : public fem::Law {
+ public:
+  ScaledLaw(const fem::Law& inner, double k) : inner_(inner.clone()), k_(k) {}
+  std::string name() const override { return inner_->name(); }
+  std::vector<std::string> coefficient_names() const override { return inner_->coefficient_names(); }
+  Eigen::VectorXd coefficients() const override { return inner_->coefficients(); }
+  void set_coefficients(const Eigen::VectorXd& c) override { inner_->set_coefficients(c); }
+  bool linear_in_coefficients() const override { return inner_->linear_in_coefficients(); }
+  void evaluate(const fem::LawInput& in, const fem::LawRequest& req, fem::LawOutput& out) const override {
+    inner_->evaluate(in, req, out);
+    out.P *= k_;
+    if (req.tangent) out.A *= k_;
+    for (Mat2& d : out.dP_dc) d *= k_;
+  }
+  std::unique_ptr<fem::Law> clone() const override { return std::make_unique<ScaledLaw>(*inner_, k_); }
+
+ private:
+  std::unique_ptr<fem::Law> inner_;
+  double k_;
+};
 
 // The output folder of a test; FileError (exit 3) when it cannot be made.
 void make_dir(const fs::path& dir) {
@@ -246,10 +272,19 @@ SimulationOutcome run_simulation(const io::Node& root, const SimulationRequest& 
 SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& args, const Log& log) {
   spec.check_tests();
   const auto law = spec.law.law(spec.mesh.region_names());
+  std::map<std::string, double> force_scale;  // per test name: its specimen's `<test>.force_scale`
   if (!args.coefficients.empty()) {  // --law: the identified values, by name
     const std::vector<std::string> known = law->coefficient_names();
     Eigen::VectorXd c = law->coefficients();
+    const std::string suffix = std::string(".") + ident::kForceScale;
     for (const auto& [name, value] : args.coefficients) {
+      if (name.ends_with(suffix)) {
+        const std::string test = name.substr(0, name.size() - suffix.size());
+        if (std::any_of(spec.test.begin(), spec.test.end(), [&](const TestSpec& t) { return t.name == test; })) {
+          force_scale[test] = value;
+          continue;
+        }
+      }
       const auto at = std::find(known.begin(), known.end(), name);
       if (at == known.end()) {
         const std::string hint = io::closest_name(name, known);
@@ -293,8 +328,11 @@ SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& 
   std::vector<std::string> failures, fe_tests;
   for (const auto& [test, model] : tests) {
     const bool shear = test->test_kind() == TestKind::simple_shear;
-    const TestOutcome o = shear ? run_simple_shear(model, *law, spec.law, staged, args.out, log)
-                                : run_fe_test(model, *law, options, staged, args.out, log);
+    const auto scaled = force_scale.find(model.name);
+    const std::unique_ptr<fem::Law> specimen =
+        scaled == force_scale.end() ? law->clone() : std::make_unique<ScaledLaw>(*law, scaled->second);
+    const TestOutcome o = shear ? run_simple_shear(model, *specimen, spec.law, staged, args.out, log)
+                                : run_fe_test(model, *specimen, options, staged, args.out, log);
     if (!o.converged) failures.push_back(o.message);
     if (!shear) fe_tests.push_back(model.name);
   }
