@@ -333,26 +333,29 @@ std::vector<double> fe_loads(const std::vector<lab::ForceStep>& steps, const Exp
   return loads;
 }
 
-// forces.csv; `loads` (one per step) is the FE load column (fe_loads).
+// forces.csv, through the one CSV writer (io::to_csv, as tricot synth's): `loads` (one per step) is
+// the FE load column (fe_loads); the time and the force per width come after synth's columns' names.
 void write_forces(const fs::path& file, const std::vector<lab::ForceStep>& steps, const std::vector<double>& loads) {
-  std::string s = "step,time,load,edge_displacement,edge_force,force_per_width\n";
+  io::Table t;
+  t.columns = {"step", "time", "load", "edge_displacement", "edge_force", "force_per_width"};
   for (std::size_t k = 0; k < steps.size(); ++k) {
     const lab::ForceStep& f = steps[k];
-    s += fmt::format("{},{},{},{},{},{}\n", f.step, num(f.time_s), num(loads[k]), num(f.grip_mm), num(f.force_N),
-                     num(f.force_per_width));
+    t.rows.push_back({double(f.step), f.time_s, loads[k], f.grip_mm, f.force_N, f.force_per_width});
   }
-  io::write_atomic(file, s);
+  io::write_atomic(file, io::to_csv(t));
 }
 
+// field.csv, through the same writer, with each value's σ.
 void write_field(const fs::path& file, const lab::QuarterField& q) {
-  std::string s = "step,id,x,y,u,v,sigma_u,sigma_v\n";
+  io::Table t;
+  t.columns = {"step", "id", "x", "y", "u", "v", "sigma_u", "sigma_v"};
   for (Eigen::Index k = 0; k < q.u.rows(); ++k)
     for (std::size_t p = 0; p < q.point_ids.size(); ++p) {
       const auto a = static_cast<Eigen::Index>(p);
-      s += fmt::format("{},{},{},{},{},{},{},{}\n", k + 1, q.point_ids[p], num(q.X[p](0)), num(q.X[p](1)),
-                       num(q.u(k, a)), num(q.v(k, a)), num(q.sigma_u(k, a)), num(q.sigma_v(k, a)));
+      t.rows.push_back({double(k + 1), double(q.point_ids[p]), q.X[p](0), q.X[p](1), q.u(k, a), q.v(k, a),
+                        q.sigma_u(k, a), q.sigma_v(k, a)});
     }
-  io::write_atomic(file, s);
+  io::write_atomic(file, io::to_csv(t));
 }
 
 void write_sync_data(const fs::path& dir, const lab::LoadLog& log, const lab::SyncResult& s) {
