@@ -77,16 +77,14 @@ Objective::Objective(std::vector<fem::TestModel> models, Experiment experiment, 
       if (std::isnan(p.start)) p.start = c0(coefficient_.back());
       continue;
     }
-    const std::string suffix = std::string(".") + kForceScale;
-    const bool is_scale = p.name.size() > suffix.size() && p.name.ends_with(suffix);
-    if (!is_scale) {
+    const std::string test = force_scale_test(p.name);
+    if (test.empty()) {
       std::string list;
       for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
       throw InputError(Location{"", 0, "parameters." + p.name}, "not a coefficient of the " + law_->name() + " law",
                        p.name, "one of " + list + ", or <test>." + kForceScale);
     }
     if (std::isnan(p.start)) p.start = 1;
-    const std::string test = p.name.substr(0, p.name.size() - suffix.size());
     for (std::size_t t = 0; t < models_.size(); ++t) {
       if (models_[t].name != test) continue;
       if (models_[t].control == fem::GripControl::force)

@@ -13,6 +13,12 @@
 
 namespace tricot::ident {
 
+std::string force_scale_test(const std::string& parameter) {
+  const std::string suffix = std::string(".") + kForceScale;
+  if (parameter.size() <= suffix.size() || !parameter.ends_with(suffix)) return {};
+  return parameter.substr(0, parameter.size() - suffix.size());
+}
+
 double Parameter::resolved_scale() const { return scale > 0 ? scale : std::abs(start); }
 
 void validate(const std::vector<Parameter>& parameters) {

@@ -27,6 +27,8 @@ struct Parameter {
 /// The suffix of a test's force scale k, a parameter named `<test>.force_scale`: that test's grip force
 /// is k times the law's (ident::Objective; docs/theory.md §2).
 inline constexpr const char* kForceScale = "force_scale";
+/// The test whose force scale `parameter` names ("X2" for "X2.force_scale"); empty when it names none.
+std::string force_scale_test(const std::string& parameter);
 
 /// Throws InputError naming `parameters.<name>.<field>` for: an empty or repeated name, a
 /// non-finite start, lower ≥ upper, a start outside the bounds, a negative or non-finite scale, or

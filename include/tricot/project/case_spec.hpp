@@ -272,6 +272,8 @@ struct CaseSpec {
   void check_tests() const;
   /// Every test's model, in order (each validated).
   std::vector<fem::TestModel> models() const;
+  /// The test named `name`, or nullptr.
+  const TestSpec* find_test(const std::string& name) const;
 };
 
 // Builders from a validated node (each reads the table into its spec and builds from that).

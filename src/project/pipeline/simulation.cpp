@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <optional>
 
 #include "tricot/fem/corotational.hpp"
 #include "tricot/fem/element.hpp"
@@ -109,7 +110,6 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
   for (const std::string& b : resultants) t.columns.insert(t.columns.end(), {"resultant_x_" + b, "resultant_y_" + b});
   io::Table newton;  // the residual norm after the predictor (iteration 0) and after each Newton step
   newton.columns = {"step", "iteration", "residual_N"};
-  int iterations = 0, cutbacks = 0;
   std::vector<Eigen::VectorXd> u;
   std::vector<double> time;
   for (std::size_t k = 0; k < r.steps.size(); ++k) {
@@ -120,8 +120,6 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
       t.rows.back().insert(t.rows.back().end(), {s.resultants[b].x(), s.resultants[b].y()});
     for (std::size_t i = 0; i < s.residuals.size(); ++i)
       newton.rows.push_back({double(k + 1), double(i), s.residuals[i]});
-    iterations += s.iterations;
-    cutbacks += s.cutbacks;
     u.push_back(s.u);
     time.push_back(s.load);
   }
@@ -276,14 +274,10 @@ SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& 
   if (!args.coefficients.empty()) {  // --law: the identified values, by name
     const std::vector<std::string> known = law->coefficient_names();
     Eigen::VectorXd c = law->coefficients();
-    const std::string suffix = std::string(".") + ident::kForceScale;
     for (const auto& [name, value] : args.coefficients) {
-      if (name.ends_with(suffix)) {
-        const std::string test = name.substr(0, name.size() - suffix.size());
-        if (std::any_of(spec.test.begin(), spec.test.end(), [&](const TestSpec& t) { return t.name == test; })) {
-          force_scale[test] = value;
-          continue;
-        }
+      if (const std::string test = ident::force_scale_test(name); spec.find_test(test)) {
+        force_scale[test] = value;
+        continue;
       }
       const auto at = std::find(known.begin(), known.end(), name);
       if (at == known.end()) {
@@ -329,10 +323,11 @@ SimulationOutcome run_simulation(const CaseSpec& spec, const SimulationRequest& 
   for (const auto& [test, model] : tests) {
     const bool shear = test->test_kind() == TestKind::simple_shear;
     const auto scaled = force_scale.find(model.name);
-    const std::unique_ptr<fem::Law> specimen =
-        scaled == force_scale.end() ? law->clone() : std::make_unique<ScaledLaw>(*law, scaled->second);
-    const TestOutcome o = shear ? run_simple_shear(model, *specimen, spec.law, staged, args.out, log)
-                                : run_fe_test(model, *specimen, options, staged, args.out, log);
+    const std::optional<ScaledLaw> scaled_law =
+        scaled == force_scale.end() ? std::nullopt : std::optional<ScaledLaw>(std::in_place, *law, scaled->second);
+    const fem::Law& specimen = scaled_law ? static_cast<const fem::Law&>(*scaled_law) : *law;
+    const TestOutcome o = shear ? run_simple_shear(model, specimen, spec.law, staged, args.out, log)
+                                : run_fe_test(model, specimen, options, staged, args.out, log);
     if (!o.converged) failures.push_back(o.message);
     if (!shear) fe_tests.push_back(model.name);
   }

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <regex>
@@ -1157,6 +1158,11 @@ void CaseSpec::check_tests() const {
     if (!seen.insert(name).second)
       t.origin.fail("name", "two tests have this name", "\"" + name + "\"", "unique names");
   }
+}
+
+const TestSpec* CaseSpec::find_test(const std::string& name) const {
+  const auto it = std::find_if(test.begin(), test.end(), [&](const TestSpec& t) { return t.name == name; });
+  return it == test.end() ? nullptr : &*it;
 }
 
 std::vector<fem::TestModel> CaseSpec::models() const {

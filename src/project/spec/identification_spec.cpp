@@ -210,10 +210,7 @@ std::vector<ident::Parameter> build_parameters(const IdentificationSpec& spec, c
   for (const ParameterSpec& p : spec.parameter) {
     const std::string& name = p.name;
     const auto it = std::find(names.begin(), names.end(), name);
-    const std::string suffix = std::string(".") + ident::kForceScale;
-    const bool is_scale =
-        it == names.end() && name.ends_with(suffix) &&
-        std::any_of(spec.test.begin(), spec.test.end(), [&](const TestSpec& t) { return t.name + suffix == name; });
+    const bool is_scale = it == names.end() && spec.find_test(ident::force_scale_test(name));
     if (it == names.end() && !is_scale) {
       const std::string hint = io::closest_name(name, names);
       std::string all;
