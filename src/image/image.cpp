@@ -3,6 +3,7 @@
 #include "tricot/image/image.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -79,31 +80,19 @@ LoadedImage load_image(const std::filesystem::path& path) {
     throw file_error(path, "unsupported number of channels", std::to_string(m.channels()), "1, 3 or 4");
   }
   if (out.was_colour) out.warning = path.string() + ": colour image converted to gray";
-  double white = 1.0;
-  switch (m.depth()) {
-    case CV_8U:
-      out.bit_depth = 8;
-      white = 255.0;
-      break;
-    case CV_8S:
-      out.bit_depth = 8;
-      white = 127.0;
-      break;
-    case CV_16U:
-      out.bit_depth = 16;
-      white = 65535.0;
-      break;
-    case CV_16S:
-      out.bit_depth = 16;
-      white = 32767.0;
-      break;
-    case CV_32F:
-      out.bit_depth = 32;
-      white = 1.0;
-      break;
-    default:
-      throw file_error(path, "unsupported pixel type", std::to_string(m.depth()), "8- or 16-bit integer or float");
-  }
+  // The pixel types read, their bits and the value of white.
+  struct PixelType {
+    int depth, bits;
+    double white;
+  };
+  constexpr PixelType kTypes[] = {
+      {CV_8U, 8, 255.0}, {CV_8S, 8, 127.0}, {CV_16U, 16, 65535.0}, {CV_16S, 16, 32767.0}, {CV_32F, 32, 1.0}};
+  const auto type =
+      std::find_if(std::begin(kTypes), std::end(kTypes), [&](const PixelType& t) { return t.depth == m.depth(); });
+  if (type == std::end(kTypes))
+    throw file_error(path, "unsupported pixel type", std::to_string(m.depth()), "8- or 16-bit integer or float");
+  out.bit_depth = type->bits;
+  const double white = type->white;
   cv::Mat f;
   m.convertTo(f, CV_32F);
   out.image = Image(f.cols, f.rows, 0.0f, white);
