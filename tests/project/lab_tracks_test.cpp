@@ -72,6 +72,22 @@ TEST(LabProjectTable, ModelLinesThatContradictTheDirectionAreAnErrorAtModel) {
   EXPECT_EQ(text.find("material_angle"), text.rfind("material_angle")) << text;
 }
 
+// A rig test's loads are written into project.toml; identify checks them against forces.csv (17
+// significant digits) to 1e-9 of the last load, so they must round-trip to the bit: 9 digits failed
+// `tricot demo` at 12.1738251 against 12.173825139593367.
+TEST(LabProjectTable, ARigTestsLoadsRoundTripToTheBit) {
+  const io::Node root = lab_file("[[test]]\nname = \"w\"\nmodel = \"kind = \\\"rig\\\"\"\n");
+  LabTestResult r;
+  r.name = "w";
+  r.loads = {1.351234631472463, 12.173825139593367, 28.410125087654321};
+  const std::string text = project_test_table(root.array("test")[0], r, ExperimentSpec{});
+  const auto open = text.find("loads = ["), close = text.find(']', open);
+  ASSERT_NE(open, std::string::npos) << text;
+  const io::Node back = io::parse_config(io::SectionSpec{"", "", false, {io::key("loads", io::Reals{}, "")}, {}},
+                                         text.substr(open, close - open + 1), "loads.toml");
+  EXPECT_EQ(back.reals("loads"), r.loads) << text;
+}
+
 // ---------------------------------------------------------------------------------------------------
 // A one-sided pull with a known truth: a 20 × 60 mm strip filmed at 0.1 mm/px, centre (500, 500) px,
 // top clamp still at y = 200 px, bottom clamp pulled. The fabric stretches homogeneously by e along the

@@ -553,11 +553,11 @@ std::string project_test_table(const io::Node& t, const LabTestResult& r, const 
   if (!angle) orientation += fmt::format("material_angle = {}   # direction = \"{}\"\n", course ? 90 : 0, direction);
   if (!pull) orientation += fmt::format("pull = \"{}\"\n", direction);
   // The loads are in forces.csv, which identify reads (issue 29); a rig test's list replaces its
-  // uniform pull and is written.
+  // uniform pull and is written, to the last bit of forces.csv's (identify checks that they agree).
   std::string loads = "# loads: forces.csv\n";
   if (toml_line_value(model, "kind").value_or("") == "rig") {
     loads = "loads = [";
-    for (std::size_t k = 0; k < r.loads.size(); ++k) loads += (k ? ", " : "") + num(r.loads[k]);
+    for (std::size_t k = 0; k < r.loads.size(); ++k) loads += (k ? ", " : "") + io::to_toml(r.loads[k]);
     loads += "]   # forces.csv\n";
   }
   std::string lines = model;
