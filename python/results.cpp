@@ -247,9 +247,18 @@ DicRun dic(const py::object& images, const py::object& out, const py::object& sp
 
 void apply_dic_keywords(project::DicSpec& d, const py::object& subset, const py::object& step, const std::string& mode,
                         const py::object& roi) {
-  if (!subset.is_none()) d.dic.subset_size = subset.cast<int>(), d.dic.origin.set_by_flag("subset_size", "subset=");
-  if (!step.is_none()) d.dic.step = step.cast<int>(), d.dic.origin.set_by_flag("step", "step=");
-  if (!mode.empty()) d.dic.mode = mode, d.dic.origin.set_by_flag("mode", "mode=");
+  dic::SequenceOptions& o = d.sequence;
+  if (!subset.is_none())
+    o.dic.icgn.subset_size = subset.cast<int>(), d.dic.origin.set_by_flag("subset_size", "subset=");
+  if (!step.is_none()) o.dic.step = step.cast<int>(), d.dic.origin.set_by_flag("step", "step=");
+  if (!mode.empty()) {
+    d.dic.origin.set_by_flag("mode", "mode=");
+    try {
+      o.mode = value_of(option_of(&dic::SequenceOptions::mode), mode);
+    } catch (const InputError& e) {
+      d.rethrow(e);
+    }
+  }
   if (!roi.is_none()) {
     d.dic.roi = roi.cast<std::vector<double>>();
     d.dic.roi_polygon.clear();

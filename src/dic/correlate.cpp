@@ -15,20 +15,10 @@ namespace tricot::dic {
 
 void DicOptions::validate() const {
   icgn.validate();
-  auto bad = [](const char* key, const std::string& got, const std::string& expected) {
-    throw InputError(Location{"", 0, key}, "out of range", got, expected);
-  };
-  if (step < 1 || step > 1000) bad("dic.step", std::to_string(step), "1 to 1000 px");
-  if (search_radius < 1 || search_radius > 10000)
-    bad("dic.search_radius", std::to_string(search_radius), "1 to 10000 px");
-  if (max_seeds < 1 || max_seeds > 1000) bad("dic.max_seeds", std::to_string(max_seeds), "1 to 1000");
-  if (!(prefilter_sigma >= 0 && prefilter_sigma <= 5))
-    bad("dic.prefilter_sigma", std::to_string(prefilter_sigma), "0 to 5 px");
-  if (batch < 1 || batch > 4096) bad("dic.batch", std::to_string(batch), "1 to 4096");
-  if (!(seed_min_zncc >= 0 && seed_min_zncc <= 1)) bad("dic.seed_min_zncc", std::to_string(seed_min_zncc), "0 to 1");
-  if (threads < 0 || threads > 1024) bad("dic.threads", std::to_string(threads), "0 to 1024");
+  check_ranges(*this);
   for (const Vec2& s : seeds)
-    if (!s.allFinite()) bad("dic.seeds", "a non-finite coordinate", "finite px");
+    if (!s.allFinite())
+      throw InputError(Location{"", 0, "dic.seeds"}, "out of range", "a non-finite coordinate", "finite px");
 }
 
 namespace {

@@ -35,11 +35,7 @@ void IcgnOptions::validate() const {
   if (subset_size < 7 || subset_size > 301 || subset_size % 2 == 0)
     bad("dic.subset_size", std::to_string(subset_size), "an odd number of px from 7 to 301",
         subset_size >= 7 && subset_size <= 301 ? "must be odd" : "out of range");
-  if (max_iterations < 1 || max_iterations > 1000)
-    bad("dic.max_iterations", std::to_string(max_iterations), "1 to 1000");
-  if (!(tolerance > 0) || !std::isfinite(tolerance)) bad("dic.tolerance", std::to_string(tolerance), "> 0 px");
-  if (!(min_zncc >= 0 && min_zncc <= 1)) bad("dic.min_zncc", std::to_string(min_zncc), "0 to 1");
-  if (!(min_texture >= 0 && min_texture < 1)) bad("dic.min_texture", std::to_string(min_texture), "0 to 1");
+  check_ranges(*this);
   if (!(weight_sigma == 0 || (weight_sigma >= 1 && weight_sigma <= 1000)))
     bad("dic.weight_sigma", std::to_string(weight_sigma), "0 (uniform weights) or 1 to 1000 px");
 }

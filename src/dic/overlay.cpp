@@ -30,10 +30,8 @@ void OverlayOptions::validate() const {
     throw InputError(Location{"", 0, key}, "out of range", got, expected);
   };
   if (panels.empty()) bad("output.panels", "none", "at least one panel");
-  if (panel_width < 100 || panel_width > 10000)
-    bad("output.panel_width", std::to_string(panel_width), "100 to 10000 px");
+  check_ranges(*this);
   if (!(opacity >= 0 && opacity <= 1)) bad("output.opacity", std::to_string(opacity), "0 to 1");
-  if (!(zncc_floor >= 0 && zncc_floor < 1)) bad("output.zncc_floor", std::to_string(zncc_floor), "0 to 1");
 }
 
 namespace {

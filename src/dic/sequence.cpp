@@ -42,10 +42,7 @@ const char* to_string(SequenceMode m) {
 void SequenceOptions::validate() const {
   dic.validate();
   strain.validate();
-  if (!(update_zncc >= 0 && update_zncc <= 1))
-    throw InputError(Location{"", 0, "dic.update_zncc"}, "out of range", std::to_string(update_zncc), "0 to 1");
-  if (!(update_loss >= 0 && update_loss <= 1))
-    throw InputError(Location{"", 0, "dic.update_loss"}, "out of range", std::to_string(update_loss), "0 to 1");
+  check_ranges(*this);
 }
 
 namespace {

@@ -16,8 +16,7 @@ void StrainOptions::validate() const {
   if (window < 3 || window > 51 || window % 2 == 0)
     throw InputError(Location{"", 0, "strain.window"}, window >= 3 && window <= 51 ? "must be odd" : "out of range",
                      std::to_string(window), "an odd number from 3 to 51");
-  if (!(min_fraction >= 0 && min_fraction <= 1))
-    throw InputError(Location{"", 0, "strain.min_fraction"}, "out of range", std::to_string(min_fraction), "0 to 1");
+  check_ranges(*this);
 }
 
 int virtual_strain_gauge(int subset_size, int step, int window) { return (window - 1) * step + subset_size; }

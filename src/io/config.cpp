@@ -1,5 +1,7 @@
 #include "tricot/io/config.hpp"
 
+#include "tricot/core/options.hpp"
+
 #include <utility>
 #include <fmt/format.h>
 
@@ -35,11 +37,7 @@ std::string range_text(const KeySpec& k) {
     for (std::size_t i = 0; i < k.choices.size(); ++i) s += (i ? ", " : "") + k.choices[i];
     return s;
   }
-  const bool lo = std::isfinite(k.min), hi = std::isfinite(k.max);
-  if (lo && hi) return fmt::format("{} to {}", k.min, k.max);
-  if (lo) return fmt::format(">= {}", k.min);
-  if (hi) return fmt::format("<= {}", k.max);
-  return {};
+  return tricot::range_text(k.min, k.max);
 }
 
 std::string to_toml(const Value& v) {

@@ -21,21 +21,21 @@ std::string message_of(const DicSpec& spec) {
 TEST(DicSpec, TheSchemasDefaultsAreTheSpecsDefaults) {
   const DicSpec read = DicSpec::from_config(io::default_config(dic_schema()));
   const DicSpec code;
-  EXPECT_EQ(read.dic.subset_size, code.dic.subset_size);
-  EXPECT_EQ(read.dic.step, code.dic.step);
-  EXPECT_EQ(read.dic.mode, code.dic.mode);
-  EXPECT_EQ(read.dic.order, code.dic.order);
-  EXPECT_EQ(read.dic.min_zncc, code.dic.min_zncc);
-  EXPECT_EQ(read.dic.update_loss, code.dic.update_loss);
-  EXPECT_EQ(read.strain.window, code.strain.window);
+  EXPECT_EQ(read.sequence.dic.icgn.subset_size, code.sequence.dic.icgn.subset_size);
+  EXPECT_EQ(read.sequence.dic.step, code.sequence.dic.step);
+  EXPECT_EQ(read.sequence.mode, code.sequence.mode);
+  EXPECT_EQ(read.sequence.dic.icgn.order, code.sequence.dic.icgn.order);
+  EXPECT_EQ(read.sequence.dic.icgn.min_zncc, code.sequence.dic.icgn.min_zncc);
+  EXPECT_EQ(read.sequence.update_loss, code.sequence.update_loss);
+  EXPECT_EQ(read.sequence.strain.window, code.sequence.strain.window);
   EXPECT_EQ(read.physical.y_up, code.physical.y_up);
   EXPECT_EQ(read.output.panels, code.output.panels);
 }
 
 TEST(DicSpec, BuildsTheEnginesSettings) {
   DicSpec spec;
-  spec.dic.subset_size = 21;
-  spec.dic.mode = "auto";
+  spec.sequence.dic.icgn.subset_size = 21;
+  spec.sequence.mode = dic::SequenceMode::automatic;
   spec.dic.seeds = {10, 20};
   spec.physical.mm_per_px = 0.1;
   const DicSettings s = spec.settings(image::Image(200, 100));
@@ -66,7 +66,7 @@ TEST(DicSpec, OrderAutoAndAGaussianWindowReachTheEngineAndAWindowBelowOnePixelIs
 
 TEST(DicSpec, AnEvenSubsetIsNamedOnceByTheEnginesKey) {
   DicSpec spec;
-  spec.dic.subset_size = 30;
+  spec.sequence.dic.icgn.subset_size = 30;
   EXPECT_EQ(message_of(spec), "dic.subset_size: must be odd (got 30, expected an odd number of px from 7 to 301)");
   spec.dic.origin.set_by_flag("subset_size", "--subset");
   EXPECT_EQ(message_of(spec),

@@ -27,6 +27,24 @@ struct DicOptions {
   int batch = 32;              ///< 1–4096: points propagated per round (in parallel); 1 = strict reliability order
   int threads = 0;             ///< OpenMP threads, 0 = OpenMP's default
 
+  /// The config keys of [dic] these options hold besides icgn's (core/options.hpp); `seeds` is the
+  /// verb's (a list of pixel pairs checked against the image).
+  static auto keys() {
+    using O = DicOptions;
+    return std::tuple{
+        option(&O::step, "dic.step", "Grid step in px between subset centres.", 1, 1000),
+        option(&O::search_radius, "dic.search_radius", "px: how far the FFT cross-correlation seed search looks.", 1,
+               10000),
+        option(&O::max_seeds, "dic.max_seeds", "Seed attempts per image pair before unreached points are given up.", 1,
+               1000),
+        option(&O::seed_min_zncc, "dic.seed_min_zncc",
+               "A seed must correlate at least this well (the points it spreads to need min_zncc).", 0, 1),
+        option(&O::prefilter_sigma, "dic.prefilter_sigma",
+               "px: Gaussian pre-filter of every image (0 = none; 0.5–1 lowers the noise-induced bias).", 0, 5),
+        option(&O::batch, "dic.batch", "Points propagated per round (1 = strict highest-ZNCC-first order).", 1, 4096),
+        option(&O::threads, "dic.threads",
+               "OpenMP threads, 0 = all cores; more than the cores run as many as the cores.", 0, 1024)};
+  }
   /// Throws InputError naming the key (`dic.step`, ...) when a field is out of range.
   void validate() const;
 };

@@ -15,6 +15,7 @@
 #include <limits>
 #include <string>
 
+#include "tricot/core/options.hpp"
 #include "tricot/core/types.hpp"
 #include "tricot/image/bspline.hpp"
 
@@ -86,6 +87,28 @@ struct IcgnOptions {
   /// the same noise (docs/validation.md §3). Sensible σ: N/4 to N/6.
   double weight_sigma = 0;
 
+  /// The config keys of [dic] these options hold (core/options.hpp).
+  static auto keys() {
+    using O = IcgnOptions;
+    return std::tuple{
+        option(&O::subset_size, "dic.subset_size",
+               "Subset size N: N×N px, odd. Larger is less noisy, smaller follows sharper gradients.", 7, 301),
+        option(&O::order, "dic.order",
+               "Shape function: first (affine) or second order; auto (the default): second order only where an "
+               "F-test\non the residual says it pays (steep gradients), first order elsewhere (less noise).",
+               {{ShapeOrder::first, "first"}, {ShapeOrder::second, "second"}, {ShapeOrder::automatic, "auto"}}),
+        option(&O::max_iterations, "dic.max_iterations", "IC-GN iterations per subset.", 1, 1000),
+        option(&O::tolerance, "dic.tolerance", "px: IC-GN stops when the update moves the subset by less than this.",
+               1e-9, 1),
+        option(&O::min_zncc, "dic.min_zncc", "A point whose ZNCC is below this is `low_correlation` (not ok).", 0, 1),
+        option(&O::min_texture, "dic.min_texture",
+               "Fraction of full scale: a subset whose gray-level spread is below it is `no_texture`.", 0, 0.99),
+        option(&O::weight_sigma, "dic.weight_sigma",
+               "px: Gaussian weighting window of each subset, exp(-r²/2σ²) (0 = uniform weights). N/4–N/6 keeps "
+               "the\nnoise of a smaller subset's neighbour but follows steep gradients better (see "
+               "docs/validation.md).",
+               0, 1000)};
+  }
   /// Throws InputError naming the key (`dic.subset_size`, ...) when a field is out of range.
   void validate() const;
 };

@@ -26,6 +26,13 @@ struct OverlayOptions {
   /// except ZNCC, which spans [zncc_floor, 1].
   double zncc_floor = 0.9;  ///< 0–1
 
+  /// The config keys of [output] these options hold (core/options.hpp); `panels` is the verb's (words).
+  static auto keys() {
+    using O = OverlayOptions;
+    return std::tuple{
+        option(&O::panel_width, "output.panel_width", "px: each map is scaled down to at most this width.", 100, 10000),
+        option(&O::zncc_floor, "output.zncc_floor", "The ZNCC map's colours span [zncc_floor, 1].", 0, 0.999)};
+  }
   /// Throws InputError naming the key (`output.panel_width`, ...) when a field is out of range.
   void validate() const;
 };

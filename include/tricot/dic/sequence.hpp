@@ -41,6 +41,22 @@ struct SequenceOptions {
   /// each frame as add() returns it (project::run_dic streams points.csv that way).
   bool keep_frames = true;
 
+  /// The config keys of [dic] these options hold besides dic's (core/options.hpp).
+  static auto keys() {
+    using O = SequenceOptions;
+    return std::tuple{
+        option(&O::mode, "dic.mode",
+               "incremental: each image against the previous one (survives > 100 % strain; positions "
+               "accumulate).\nreference: every image against the first. auto: keep the reference until the "
+               "correlation drops,\nthen move it to the previous image (Ncorr's step analysis).",
+               {{SequenceMode::incremental, "incremental"},
+                {SequenceMode::reference, "reference"},
+                {SequenceMode::automatic, "auto"}}),
+        option(&O::update_zncc, "dic.update_zncc",
+               "auto mode: update the reference when a frame's mean ZNCC drops below this.", 0, 1),
+        option(&O::update_loss, "dic.update_loss", "auto mode: ... or when more than this fraction of the points fail.",
+               0, 1)};
+  }
   void validate() const;
 };
 

@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "tricot/core/options.hpp"
 #include "tricot/dic/grid.hpp"
 
 namespace tricot::dic {
@@ -16,6 +17,14 @@ struct StrainOptions {
   int window = 5;  ///< points per side of the square fitting window, odd, 3–51
   double min_fraction =
       0.35;  ///< 0–1: the fit needs this fraction of the window's points (and ≥ 4); 0.35 keeps grid corners
+
+  /// The config keys of [strain] (core/options.hpp).
+  static auto keys() {
+    using O = StrainOptions;
+    return std::tuple{option(&O::window, "strain.window", "Grid points per side of the fitting window, odd.", 3, 51),
+                      option(&O::min_fraction, "strain.min_fraction",
+                             "The fit needs this fraction of the window's points to be ok.", 0, 1)};
+  }
   void validate() const;
 };
 

@@ -201,9 +201,17 @@ DicSpec dic_spec(const std::string& file, const DicFlags& a) {
   const io::Node root = file.empty() ? io::default_config(dic_schema()) : io::read_config(dic_schema(), file);
   DicSpec spec = DicSpec::from_config(root, file.empty() ? fs::path() : fs::path(file).parent_path());
   DicTable& d = spec.dic;
-  if (a.subset) d.subset_size = *a.subset, d.origin.set_by_flag("subset_size", "--subset");
-  if (a.step) d.step = *a.step, d.origin.set_by_flag("step", "--step");
-  if (!a.mode.empty()) d.mode = a.mode, d.origin.set_by_flag("mode", "--mode");
+  dic::SequenceOptions& o = spec.sequence;
+  if (a.subset) o.dic.icgn.subset_size = *a.subset, d.origin.set_by_flag("subset_size", "--subset");
+  if (a.step) o.dic.step = *a.step, d.origin.set_by_flag("step", "--step");
+  if (!a.mode.empty()) {
+    d.origin.set_by_flag("mode", "--mode");
+    try {
+      o.mode = value_of(option_of(&dic::SequenceOptions::mode), a.mode);
+    } catch (const InputError& e) {
+      spec.rethrow(e);
+    }
+  }
   if (!a.roi.empty()) {
     d.roi = parse_roi_flag(a.roi);
     d.roi_polygon.clear();
@@ -309,17 +317,20 @@ std::optional<RunCheckpoint> decode(const std::string& s) {
 /// shapes the files.
 std::string fingerprint(const DicSpec& spec, const std::vector<std::string>& images, std::size_t points) {
   const DicTable& d = spec.dic;
+  const dic::SequenceOptions& o = spec.sequence;
+  const dic::IcgnOptions& g = o.dic.icgn;
   std::string s = fmt::format(
       "subset {} step {} mode {} order {} roi [{}] polygon [{}] mask {} seeds [{}] radius {} max_seeds {} seed_zncc {} "
       "iterations {} tolerance {} min_zncc {} texture {} prefilter {} update {} {} batch {}; strain {} {}; "
       "physical {} [{}] {} {}; overlays {} {} [{}] {} {} increments {} fields {} {}; points {}; weight {}\n",
-      d.subset_size, d.step, d.mode, d.order, fmt::join(d.roi, ","), fmt::join(d.roi_polygon, ","), d.roi_mask,
-      fmt::join(d.seeds, ","), d.search_radius, d.max_seeds, d.seed_min_zncc, d.max_iterations, d.tolerance, d.min_zncc,
-      d.min_texture, d.prefilter_sigma, d.update_zncc, d.update_loss, d.batch, spec.strain.window,
-      spec.strain.min_fraction, spec.physical.mm_per_px, fmt::join(spec.physical.centre_px, ","),
+      g.subset_size, o.dic.step, word_of(option_of(&dic::SequenceOptions::mode), o.mode),
+      word_of(option_of(&dic::IcgnOptions::order), g.order), fmt::join(d.roi, ","), fmt::join(d.roi_polygon, ","),
+      d.roi_mask, fmt::join(d.seeds, ","), o.dic.search_radius, o.dic.max_seeds, o.dic.seed_min_zncc, g.max_iterations,
+      g.tolerance, g.min_zncc, g.min_texture, o.dic.prefilter_sigma, o.update_zncc, o.update_loss, o.dic.batch,
+      o.strain.window, o.strain.min_fraction, spec.physical.mm_per_px, fmt::join(spec.physical.centre_px, ","),
       spec.physical.angle_deg, spec.physical.y_up, spec.output.overlays, spec.output.overlay_every,
-      fmt::join(spec.output.panels, ","), spec.output.panel_width, spec.output.zncc_floor, spec.output.increments,
-      spec.output.fields, spec.output.fields_every, points, d.weight_sigma);
+      fmt::join(spec.output.panels, ","), spec.overlay.panel_width, spec.overlay.zncc_floor, spec.output.increments,
+      spec.output.fields, spec.output.fields_every, points, g.weight_sigma);
   for (const std::string& i : images) s += i + "\n";
   return s;
 }
