@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "tricot/core/options.hpp"
 #include "tricot/project/log.hpp"
 #include "tricot/fem/model.hpp"
 #include "tricot/fem/solver.hpp"
@@ -29,11 +30,10 @@ namespace tricot::project {
 inline constexpr const char* kImagesFolder = "images";
 inline constexpr const char* kCameraFile = "camera.json";
 
-/// `[synth.images]`: enabled, pixel_size, width, height, speckle_size, coverage, subsamples,
-/// background, noise, bits, every_n_steps (defaults: SynthImagesSpec's).
+/// `[synth.images]`, generated from SynthImagesSpec::keys() (defaults: SynthImagesSpec's).
 io::SectionSpec synth_images_section();
 
-/// `[synth.images]` as a typed spec: the field names are the TOML keys (ranges in synth_images_section()).
+/// `[synth.images]` as a typed spec: each key declared once in keys() (core/options.hpp).
 struct SynthImagesSpec {
   bool enabled = false;
   double pixel_size = 0.1;          ///< mm/px on the specimen
@@ -53,6 +53,48 @@ struct SynthImagesSpec {
   bool setting_frames = true;
   int hold_frames = 2;  ///< frames of the held setting before the pull, 0–1000
   Origin origin{"synth.images"};
+
+  static auto keys() {
+    using O = SynthImagesSpec;
+    return std::tuple{
+        option(&O::enabled, "synth.images.enabled",
+               "Write the images (about 0.1 s of CPU per 1280 × 1024 px frame with 2 × 2 subsamples, the PNG "
+               "included)."),
+        option(&O::pixel_size, "synth.images.pixel_size", "Pixel size on the specimen, mm/px, > 0.", 1e-6, 1e4),
+        option(&O::width, "synth.images.width", "Image width, px.", 8, 20000),
+        option(&O::height, "synth.images.height", "Image height, px.", 8, 20000),
+        OptionKey<O, std::string>{
+            &O::texture,
+            "synth.images.texture",
+            "What the camera sees: \"speckle\" (a painted speckle of round blobs) or \"knit\" (the knit's\n"
+            "natural tracers, as the paper: stitches in wales along the material's wale axis, each a V of two\n"
+            "legs, pitch 2 speckle_size across the wales and 1.6 speckle_size along them, with yarn fuzz).",
+            -1e300,
+            1e300,
+            {"speckle", "knit"}},
+        option(&O::speckle_size, "synth.images.speckle_size",
+               "Speckle size in px of the reference image (twice the mean blob radius).", 0.2, 2000),
+        option(&O::coverage, "synth.images.coverage",
+               "Speckle density: blobs per unit area × π r² (0.6: bright blobs cover about 45 % of the area).", 0.01,
+               99),
+        option(&O::subsamples, "synth.images.subsamples",
+               "Samples per pixel and direction that integrate each pixel's area.", 1, 16),
+        option(&O::background, "synth.images.background",
+               "Flat gray beside the specimen and beyond the grips, fraction of full scale.", 0, 1),
+        option(&O::noise, "synth.images.noise",
+               "σ of Gaussian camera noise in gray levels of the output (8 bit: of 255), ≥ 0.", 0, 1e5),
+        option(&O::bits, "synth.images.bits", "Bit depth of the PNG files: 8 or 16.", 8, 16),
+        option(&O::every_n_steps, "synth.images.every_n_steps", "A frame every n steps (frame j shows step j · n).", 1,
+               100000),
+        option(&O::setting_frames, "synth.images.setting_frames",
+               "A rig test: one frame per increment of its transverse setting (the grip at rest), then\n"
+               "hold_frames of the held setting, then the pull's frames (the lab's set, hold, pull; camera.json\n"
+               "gives each frame's phase). false: the pull's frames only (frame 1 holds the whole setting)."),
+        option(&O::hold_frames, "synth.images.hold_frames",
+               "Frames of the held setting before the pull (with setting_frames): the rest the synchronisation\n"
+               "sees before the cross-head moves.",
+               0, 1000)};
+  }
 
   static SynthImagesSpec from_config(const io::Node& images);
   /// The one check: every key in its range (as a file's are), bits 8 or 16. Throws InputError naming

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "output/json.hpp"
+#include "spec/schema.hpp"
 
 #include "tricot/core/error.hpp"
 #include "tricot/image/image.hpp"
@@ -20,9 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
-using io::KeySpec;
-
-using io::key;
 
 std::string frame_name(int j) { return fmt::format("frame_{:04d}.png", j); }
 
@@ -42,76 +40,24 @@ io::SectionSpec synth_images_section() {
                     false,
                     {},
                     {}};
-  const SynthImagesSpec d;
-  s.keys = {
-      key("enabled", d.enabled,
-          "Write the images (about 0.1 s of CPU per 1280 × 1024 px frame with 2 × 2 subsamples, the PNG included)."),
-      key("pixel_size", d.pixel_size, "Pixel size on the specimen, mm/px, > 0.", 1e-6, 1e4),
-      key("width", std::int64_t{d.width}, "Image width, px.", 8, 20000),
-      key("height", std::int64_t{d.height}, "Image height, px.", 8, 20000),
-      key("texture", d.texture,
-          "What the camera sees: \"speckle\" (a painted speckle of round blobs) or \"knit\" (the knit's\n"
-          "natural tracers, as the paper: stitches in wales along the material's wale axis, each a V of two\n"
-          "legs, pitch 2 speckle_size across the wales and 1.6 speckle_size along them, with yarn fuzz).",
-          -1e300, 1e300, {"speckle", "knit"}),
-      key("speckle_size", d.speckle_size, "Speckle size in px of the reference image (twice the mean blob radius).",
-          0.2, 2000),
-      key("coverage", d.coverage,
-          "Speckle density: blobs per unit area × π r² (0.6: bright blobs cover about 45 % of the area).", 0.01, 99),
-      key("subsamples", std::int64_t{d.subsamples}, "Samples per pixel and direction that integrate each pixel's area.",
-          1, 16),
-      key("background", d.background, "Flat gray beside the specimen and beyond the grips, fraction of full scale.", 0,
-          1),
-      key("noise", d.noise, "σ of Gaussian camera noise in gray levels of the output (8 bit: of 255), ≥ 0.", 0, 1e5),
-      key("bits", std::int64_t{d.bits}, "Bit depth of the PNG files: 8 or 16.", 8, 16),
-      key("every_n_steps", std::int64_t{d.every_n_steps}, "A frame every n steps (frame j shows step j · n).", 1,
-          100000),
-      key("setting_frames", d.setting_frames,
-          "A rig test: one frame per increment of its transverse setting (the grip at rest), then\n"
-          "hold_frames of the held setting, then the pull's frames (the lab's set, hold, pull; camera.json\n"
-          "gives each frame's phase). false: the pull's frames only (frame 1 holds the whole setting)."),
-      key("hold_frames", std::int64_t{d.hold_frames},
-          "Frames of the held setting before the pull (with setting_frames): the rest the synchronisation\n"
-          "sees before the cross-head moves.",
-          0, 1000),
-  };
+  add_keys(s, SynthImagesSpec{});
   return s;
 }
 
 SynthImagesSpec SynthImagesSpec::from_config(const io::Node& s) {
   SynthImagesSpec m;
-  m.enabled = s.boolean("enabled");
-  m.pixel_size = s.real("pixel_size");
-  m.width = static_cast<int>(s.integer("width"));
-  m.height = static_cast<int>(s.integer("height"));
-  m.texture = s.string("texture");
-  m.speckle_size = s.real("speckle_size");
-  m.coverage = s.real("coverage");
-  m.subsamples = static_cast<int>(s.integer("subsamples"));
-  m.background = s.real("background");
-  m.noise = s.real("noise");
-  m.bits = static_cast<int>(s.integer("bits"));
-  m.every_n_steps = static_cast<int>(s.integer("every_n_steps"));
-  m.setting_frames = s.boolean("setting_frames");
-  m.hold_frames = static_cast<int>(s.integer("hold_frames"));
+  read_keys(s, m);
   m.origin = Origin(s);
   return m;
 }
 
 void SynthImagesSpec::validate() const {
-  const io::SectionSpec table = synth_images_section();
-  check_key(origin, table, "pixel_size", pixel_size);
-  check_key(origin, table, "width", std::int64_t{width});
-  check_key(origin, table, "height", std::int64_t{height});
+  try {
+    check_ranges(*this);  // a spec built in code (a file's keys were checked when read)
+  } catch (const InputError& e) {
+    origin.rethrow(e);
+  }
   if (!synth::texture_from_string(texture)) origin.fail("texture", "not a texture", texture, "\"speckle\" or \"knit\"");
-  check_key(origin, table, "speckle_size", speckle_size);
-  check_key(origin, table, "coverage", coverage);
-  check_key(origin, table, "subsamples", std::int64_t{subsamples});
-  check_key(origin, table, "background", background);
-  check_key(origin, table, "noise", noise);
-  check_key(origin, table, "bits", std::int64_t{bits});
-  check_key(origin, table, "every_n_steps", std::int64_t{every_n_steps});
-  check_key(origin, table, "hold_frames", std::int64_t{hold_frames});
   if (bits != 8 && bits != 16) origin.fail("bits", "PNG files are 8 or 16 bit", std::to_string(bits), "8 or 16");
 }
 

@@ -13,37 +13,35 @@
 #include "tricot/project/synth_images.hpp"
 #include "tricot/synth/lab_record.hpp"
 
+#include "spec/schema.hpp"
+
 namespace tricot::project {
 
 namespace fs = std::filesystem;
-using io::key;
 
 io::SectionSpec synth_lab_section() {
-  return io::SectionSpec{
+  io::SectionSpec s{
       "lab",
       "The raw lab record of each test (needs [synth.images]): a load-cell log, a camera log, a relaxation log.",
       false,
-      {key("enabled", false, "Write DIR/<test>/lab/ (load.txt, camera.csv, relaxation.txt, truth.json)."),
-       key("fps", 2.0, "Camera frame rate, images per second, > 0.", 1e-6, 1e6),
-       key("log_rate_hz", 100.0, "Load-cell sampling rate, Hz, > 0.", 1e-3, 1e6),
-       key("clock_offset_s", 0.37, "Log clock minus camera clock, s."),
-       key("tare_N", 0.8, "Force the load cell reads at rest, N."),
-       key("noise", 0.01, "σ of the force noise, fraction of the test's peak force, ≥ 0.", 0, 1),
-       key("crosshead", true, "The log has a cross-head column (Traverse [mm], twice the quarter's grip)."),
-       key("crosshead_noise_mm", 0.001, "σ of the cross-head reading, mm, ≥ 0.", 0, 1e3),
-       key("log_lead_s", 2.0, "The log starts this long before image 0 (at rest), s, ≥ 0.", 0, 1e6),
-       key("log_tail_s", 2.0, "... and stops this long after the last image (held), s, ≥ 0.", 0, 1e6),
-       key("relaxation", true, "Also write relaxation.txt: a relaxation test's log (1 sample/s, 1 h hold)."),
-       key("relaxation_tau_s", io::Reals{360}, "Its characteristic times, s, > 0 (1 to 3).", 1e-3, 1e9),
-       key("relaxation_amplitudes_N", io::Reals{10}, "Their amplitudes F_i, N (one per time).")},
+      {},
       {}};
+  add_keys(s, SynthLabSpec{});
+  return s;
 }
 
-int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, const fs::path& test_dir,
+SynthLabSpec SynthLabSpec::from_config(const io::Node& lab) {
+  SynthLabSpec s;
+  read_keys(lab, s);
+  s.origin = Origin(lab);
+  return s;
+}
+
+int write_lab_record(const SynthLabSpec& lab, const fem::SimulationResult& sim, const fs::path& test_dir,
                      std::uint64_t seed, const Log& log) {
   const CameraFile cam = read_camera(test_dir / kImagesFolder);
-  const double fps = lab.real("fps"), rate = lab.real("log_rate_hz"), delta = lab.real("clock_offset_s");
-  const double lead = lab.real("log_lead_s"), tail = lab.real("log_tail_s"), tare = lab.real("tare_N");
+  const double fps = lab.fps, rate = lab.log_rate_hz, delta = lab.clock_offset_s;
+  const double lead = lab.log_lead_s, tail = lab.log_tail_s, tare = lab.tare_N;
   // Frames: camera time, true force and grip (quarter model) from the FE step each one shows.
   const std::size_t n = cam.frames.size();
   std::vector<double> tc(n), force(n), grip(n);
@@ -71,7 +69,7 @@ int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, cons
   };
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
-  const double sigma_f = lab.real("noise") * peak, sigma_c = lab.real("crosshead_noise_mm");
+  const double sigma_f = lab.noise * peak, sigma_c = lab.crosshead_noise_mm;
   const double duration = lead + double(n - 1) / fps + tail;
   const int samples = static_cast<int>(std::floor(duration * rate)) + 1;
   io::LogWriter w;
@@ -81,7 +79,7 @@ int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, cons
                 "X_Columns\tOne",         "Time_Pref\tRelative",
                 "Operator\ttricot synth", fmt::format("Date\tsynthetic; sample rate {:g} Hz", rate)};
   w.columns = {"Temps [s]", "Force [N]"};
-  const bool crosshead = lab.boolean("crosshead");
+  const bool crosshead = lab.crosshead;
   if (crosshead) w.columns.push_back("Traverse [mm]");
   w.columns_data.resize(w.columns.size());
   w.digits = 8;
@@ -109,14 +107,14 @@ int write_lab_record(const io::Node& lab, const fem::SimulationResult& sim, cons
                                   {"grip_mm", grip},
                                   {"setting_frames", cam.setting_frames()},
                                   {"hold_frames", cam.hold_frames()}};
-  if (lab.boolean("relaxation")) {
+  if (lab.relaxation) {
     synth::RelaxationRecordOptions r;
     r.rate_hz = 1;
-    r.tau_s = lab.reals("relaxation_tau_s");
-    r.amplitudes_N = lab.reals("relaxation_amplitudes_N");
+    r.tau_s = lab.relaxation_tau_s;
+    r.amplitudes_N = lab.relaxation_amplitudes_N;
     if (r.tau_s.size() != r.amplitudes_N.size())
-      lab.fail("relaxation_amplitudes_N", "one amplitude per relaxation time", std::to_string(r.amplitudes_N.size()),
-               std::to_string(r.tau_s.size()));
+      lab.origin.fail("relaxation_amplitudes_N", "one amplitude per relaxation time",
+                      std::to_string(r.amplitudes_N.size()), std::to_string(r.tau_s.size()));
     r.seed = seed + 1000;
     const synth::RelaxationRecord rec = synth::make_relaxation_record(r);
     io::write_atomic(dir / "relaxation.txt", io::to_log_text(synth::labview_log(rec)));

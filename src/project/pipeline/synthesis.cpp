@@ -18,16 +18,56 @@
 #include "tricot/project/synth_images.hpp"
 #include "tricot/project/synth_lab.hpp"
 
+#include "spec/schema.hpp"
+
 namespace tricot::project {
 
 namespace {
 
 namespace fs = std::filesystem;
-using io::KeySpec;
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+// [synth]: how the measurements are taken from the FE runs, each key declared once (core/options.hpp).
+struct SynthSpec {
+  double noise_edge_displacement = 0;
+  double noise_edge_force = 0;
+  double noise_field = 0;
+  double noise_relative = 0;
+  std::int64_t seed = 20070101;
+  bool field = true;
+  ident::FieldKind field_kind = ident::FieldKind::cumulative;
+  int nx = 6;
+  int ny = 20;
+  double spacing = 0;
+  double inset = 1;
 
-using io::key;
+  static auto keys() {
+    using O = SynthSpec;
+    return std::tuple{
+        option(&O::noise_edge_displacement, "synth.noise_edge_displacement",
+               "σ of the grip displacement, mm (absolute), ≥ 0.", 0, 1e6),
+        option(&O::noise_edge_force, "synth.noise_edge_force", "σ of the grip force, N (absolute), ≥ 0.", 0, 1e9),
+        option(&O::noise_field, "synth.noise_field", "σ of u and v at the field points, mm (absolute), ≥ 0.", 0, 1e6),
+        option(&O::noise_relative, "synth.noise_relative",
+               "σ as a fraction of each group's RMS (edge displacement, edge force, field u and v together),\n"
+               "per test: 0.005 = 0.5 %. Replaces the absolute σ; give one or the other.",
+               0, 1),
+        option(&O::seed, "synth.seed", "Seed of the noise generator (std::mt19937_64).", 0, 9.2e18),
+        option(&O::field, "synth.field", "Write field.csv (displacements at points); false = edge data only."),
+        option(&O::field_kind, "synth.field_kind",
+               "cumulative: u(X, t_k) of material points tracked from the reference (x, y = X).\n"
+               "incremental: x(t_k) − x(t_{k−1}) of the material under points fixed in the images (the\n"
+               "paper's window centres); points that leave the specimen are left out (the summary says how many).",
+               {{ident::FieldKind::cumulative, "cumulative"}, {ident::FieldKind::incremental, "incremental"}}),
+        option(&O::nx, "synth.nx", "Field points across the quarter's width (a regular grid).", 1, 10000),
+        option(&O::ny, "synth.ny", "Field points along the quarter's height.", 1, 10000),
+        option(&O::spacing, "synth.spacing",
+               "DIC-like grid: a point every `spacing` mm from the inset corner (like the centres of DIC\n"
+               "subsets); 0 = the nx × ny grid.",
+               0, 1e5),
+        option(&O::inset, "synth.inset", "Distance of the outermost points from the quarter's edges, mm, ≥ 0.", 0,
+               1e5)};
+  }
+};
 
 io::SectionSpec synth_section() {
   io::SectionSpec s{"synth",
@@ -37,29 +77,7 @@ io::SectionSpec synth_section() {
                     false,
                     {},
                     {}};
-  s.keys = {
-      key("noise_edge_displacement", 0.0, "σ of the grip displacement, mm (absolute), ≥ 0.", 0, 1e6),
-      key("noise_edge_force", 0.0, "σ of the grip force, N (absolute), ≥ 0.", 0, 1e9),
-      key("noise_field", 0.0, "σ of u and v at the field points, mm (absolute), ≥ 0.", 0, 1e6),
-      key("noise_relative", 0.0,
-          "σ as a fraction of each group's RMS (edge displacement, edge force, field u and v together),\n"
-          "per test: 0.005 = 0.5 %. Replaces the absolute σ; give one or the other.",
-          0, 1),
-      key("seed", std::int64_t{20070101}, "Seed of the noise generator (std::mt19937_64).", 0, 9.2e18),
-      key("field", true, "Write field.csv (displacements at points); false = edge data only."),
-      key("field_kind", std::string("cumulative"),
-          "cumulative: u(X, t_k) of material points tracked from the reference (x, y = X).\n"
-          "incremental: x(t_k) − x(t_{k−1}) of the material under points fixed in the images (the\n"
-          "paper's window centres); points that leave the specimen are left out (the summary says how many).",
-          -kInf, kInf, {"cumulative", "incremental"}),
-      key("nx", std::int64_t{6}, "Field points across the quarter's width (a regular grid).", 1, 10000),
-      key("ny", std::int64_t{20}, "Field points along the quarter's height.", 1, 10000),
-      key("spacing", 0.0,
-          "DIC-like grid: a point every `spacing` mm from the inset corner (like the centres of DIC\n"
-          "subsets); 0 = the nx × ny grid.",
-          0, 1e5),
-      key("inset", 1.0, "Distance of the outermost points from the quarter's edges, mm, ≥ 0.", 0, 1e5),
-  };
+  add_keys(s, SynthSpec{});
   s.sections.push_back(synth_images_section());  // [synth.images]
   s.sections.push_back(synth_lab_section());     // [synth.lab]
   return s;
@@ -67,14 +85,15 @@ io::SectionSpec synth_section() {
 
 // Positions of the field points in the box [lo, lo + (W, H)] (the quarter, or the bounding box of any
 // mesh: points in its holes are left out later): the nx × ny grid, or every `spacing` mm.
-Eigen::Matrix2Xd grid_points(const io::Node& s, const Vec2& lo, double W, double H, const io::Node& test) {
-  const double inset = s.real("inset");
+Eigen::Matrix2Xd grid_points(const io::Node& node, const SynthSpec& s, const Vec2& lo, double W, double H,
+                             const io::Node& test) {
+  const double inset = s.inset;
   if (2 * inset >= std::min(W, H))
-    s.fail("inset", fmt::format("leaves no room for points in test '{}' ({} × {} mm)", test.string("name"), W, H),
-           io::to_toml(inset), fmt::format("< {} mm", std::min(W, H) / 2));
+    node.fail("inset", fmt::format("leaves no room for points in test '{}' ({} × {} mm)", test.string("name"), W, H),
+              io::to_toml(inset), fmt::format("< {} mm", std::min(W, H) / 2));
   auto axis = [&](double length, std::int64_t n) {
     std::vector<double> a;
-    const double spacing = s.real("spacing");
+    const double spacing = s.spacing;
     if (spacing > 0) {
       for (double x = inset; x <= length - inset + 1e-9 * length; x += spacing) a.push_back(x);
     } else if (n == 1) {
@@ -84,7 +103,7 @@ Eigen::Matrix2Xd grid_points(const io::Node& s, const Vec2& lo, double W, double
     }
     return a;
   };
-  const auto xs = axis(W, s.integer("nx")), ys = axis(H, s.integer("ny"));
+  const auto xs = axis(W, s.nx), ys = axis(H, s.ny);
   Eigen::Matrix2Xd P(2, xs.size() * ys.size());
   Eigen::Index c = 0;
   for (double y : ys)
@@ -134,15 +153,18 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
   spec.check_tests();
   const auto law = spec.law.law(spec.mesh.region_names());
   const fem::SolveOptions solver = spec.solver.options();
-  const io::Node& s = root.section("synth");
-  if (s.real("noise_relative") > 0)
-    for (const char* k : {"noise_edge_displacement", "noise_edge_force", "noise_field"})
-      if (s.real(k) > 0)
-        s.fail(k, "give either absolute σ or noise_relative, not both", io::to_toml(s.real(k)),
-               "0 with noise_relative");
-  const auto kind =
-      s.string("field_kind") == "incremental" ? ident::FieldKind::incremental : ident::FieldKind::cumulative;
-  const SynthImagesSpec images = SynthImagesSpec::from_config(s.section("images"));
+  const io::Node& node = root.section("synth");
+  SynthSpec s;
+  read_keys(node, s);
+  if (s.noise_relative > 0)
+    for (const auto& [k, sigma] :
+         {std::pair{"noise_edge_displacement", s.noise_edge_displacement},
+          std::pair{"noise_edge_force", s.noise_edge_force}, std::pair{"noise_field", s.noise_field}})
+      if (sigma > 0)
+        node.fail(k, "give either absolute σ or noise_relative, not both", io::to_toml(sigma), "0 with noise_relative");
+  const ident::FieldKind kind = s.field_kind;
+  const SynthImagesSpec images = SynthImagesSpec::from_config(node.section("images"));
+  const SynthLabSpec lab = SynthLabSpec::from_config(node.section("lab"));
   const bool with_images = images.enabled;
   if (with_images) images.validate();  // a bad [synth.images] stops before any work
 
@@ -162,8 +184,8 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
   truth.names = law->coefficient_names();
   const Eigen::VectorXd c = law->coefficients();
   truth.values.assign(c.data(), c.data() + c.size());
-  truth.noise_relative = s.real("noise_relative");
-  truth.seed = static_cast<std::uint64_t>(s.integer("seed"));
+  truth.noise_relative = s.noise_relative;
+  truth.seed = static_cast<std::uint64_t>(s.seed);
   truth.field_kind = kind;
 
   std::vector<ident::TestData> data;
@@ -178,7 +200,7 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
     Eigen::Matrix2Xd points(2, 0);
     std::vector<int> ids;
     int dropped = 0;
-    if (s.boolean("field")) {
+    if (s.field) {
       Vec2 lo = Vec2::Zero(), size;
       if (model.has_conditions()) {  // any mesh: its bounding box
         lo = model.mesh.X.rowwise().minCoeff();
@@ -187,7 +209,7 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
         const fem::MeshOptions quarter = spec.test[i].mesh_options(spec.mesh);
         size = Vec2(quarter.width, quarter.height);
       }
-      const Eigen::Matrix2Xd grid = grid_points(s, lo, size.x(), size.y(), nodes[i]);
+      const Eigen::Matrix2Xd grid = grid_points(node, s, lo, size.x(), size.y(), nodes[i]);
       const std::vector<int> kept = inside_at_every_step(model, sim, grid, kind);
       dropped = static_cast<int>(grid.cols()) - static_cast<int>(kept.size());
       points.resize(2, Eigen::Index(kept.size()));
@@ -197,10 +219,9 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
       }
     }
     ident::TestData d = ident::measure(model, sim, points, ids, kind);
-    const double rel = s.real("noise_relative");
-    const ident::Sigma sigma =
-        rel > 0 ? ident::rms_fraction(d, rel)
-                : ident::Sigma{s.real("noise_edge_displacement"), s.real("noise_edge_force"), s.real("noise_field")};
+    const ident::Sigma sigma = s.noise_relative > 0
+                                   ? ident::rms_fraction(d, s.noise_relative)
+                                   : ident::Sigma{s.noise_edge_displacement, s.noise_edge_force, s.noise_field};
     ident::add_noise(d, sigma, truth.seed + i);  // one stream per test
     data.push_back(d);
 
@@ -226,8 +247,7 @@ Truth synthesize(const io::Node& root, const fs::path& dir, const Log& log) {
     if (with_images) {  // the speckle of test i is seeded with seed + i, like its noise
       const int frames = write_images(images, model, sim, truth.seed + i, staged / model.name, log, d.edge_force);
       field += fmt::format("; {} images in {}", frames, (dir / model.name / kImagesFolder / "").string());
-      if (s.section("lab").boolean("enabled"))
-        write_lab_record(s.section("lab"), sim, staged / model.name, truth.seed + i, log);
+      if (lab.enabled) write_lab_record(lab, sim, staged / model.name, truth.seed + i, log);
     }
     log.print(fmt::format("{}: {} steps on {} {} dofs in {}; last step {:.5g} N at {:.5g} mm; {}; {}", model.name,
                           d.steps(), tt.dofs, fem::to_string(tt.mesh.type), format_duration(sim.seconds),

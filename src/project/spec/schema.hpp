@@ -38,8 +38,8 @@ KeySpec key_of(const OptionKey<O, T>& k, const T& value) {
     s.default_value = value;
     for (std::string_view w : k.words) s.choices.emplace_back(w);
   } else {
-    static_assert(std::is_same_v<T, int>, "an option is a bool, an int, a double, a word, an enum or a list");
-    s.default_value = std::int64_t{value};
+    static_assert(std::is_integral_v<T>, "an option is a bool, an integer, a double, a word, an enum or a list");
+    s.default_value = static_cast<std::int64_t>(value);
   }
   return s;
 }
@@ -71,7 +71,7 @@ void read_keys(const Node& table, O& o) {
     } else if constexpr (std::is_same_v<T, Strings>) {
       v = table.strings(name);
     } else {
-      v = static_cast<int>(table.integer(name));
+      v = static_cast<T>(table.integer(name));
     }
   });
 }
