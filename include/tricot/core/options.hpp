@@ -1,4 +1,4 @@
-// The one declaration of an engine option's config key (docs/design.md §2, "Options and their keys").
+// The one declaration of an engine option's config key (docs/design.md §4.1, "Options and their keys").
 //
 // An engine's XxxOptions lists its keys in a static keys(): for each, the member it sets, the dotted
 // config key ("dic.subset_size": the table, then the key), the help and the range or the words. The
