@@ -1,5 +1,6 @@
 #include "tricot/io/files.hpp"
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
 #include <cerrno>
@@ -94,15 +95,72 @@ std::vector<double> Table::values(const std::string& name, const std::string& fi
   return v;
 }
 
-std::string to_csv(const Table& t) {
-  std::string s;
-  for (std::size_t i = 0; i < t.columns.size(); ++i) s += (i ? "," : "") + t.columns[i];
-  s += "\n";
-  for (const auto& r : t.rows) {
-    for (std::size_t i = 0; i < r.size(); ++i) s += (i ? "," : "") + fmt::format("{:.17g}", r[i]);
-    s += "\n";
+void CsvWriter::next_cell() {
+  if (in_row_) out_ += ',';
+  in_row_ = true;
+}
+
+CsvWriter& CsvWriter::number(double v, CsvFormat format) {
+  next_cell();
+  const auto out = std::back_inserter(out_);
+  switch (format.style) {
+    case CsvFormat::Style::significant: fmt::format_to(out, FMT_COMPILE("{:.{}g}"), v, format.precision); break;
+    case CsvFormat::Style::decimals: fmt::format_to(out, FMT_COMPILE("{:.{}f}"), v, format.precision); break;
+    case CsvFormat::Style::shortest: fmt::format_to(out, FMT_COMPILE("{}"), v); break;
   }
+  return *this;
+}
+
+CsvWriter& CsvWriter::number_or_empty(double v, CsvFormat format) {
+  if (std::isfinite(v)) return number(v, format);
+  next_cell();
+  return *this;
+}
+
+CsvWriter& CsvWriter::integer(long long v) {
+  next_cell();
+  fmt::format_to(std::back_inserter(out_), FMT_COMPILE("{}"), v);
+  return *this;
+}
+
+CsvWriter& CsvWriter::text(std::string_view cell) {
+  next_cell();
+  if (cell.find_first_of(",\"\r\n") == std::string_view::npos) {
+    out_ += cell;
+    return *this;
+  }
+  out_ += '"';
+  for (char c : cell) out_ += c == '"' ? std::string_view("\"\"") : std::string_view(&c, 1);
+  out_ += '"';
+  return *this;
+}
+
+CsvWriter& CsvWriter::row(const std::vector<std::string>& cells) {
+  for (const auto& c : cells) text(c);
+  return end_row();
+}
+
+CsvWriter& CsvWriter::end_row() {
+  out_ += '\n';
+  in_row_ = false;
+  return *this;
+}
+
+std::string CsvWriter::take() {
+  std::string s = std::move(out_);
+  out_.clear();
+  in_row_ = false;
   return s;
+}
+
+std::string to_csv(const Table& t) {
+  CsvWriter csv;
+  csv.row(t.columns);
+  for (const auto& r : t.rows) {
+    for (double v : r) csv.number(v);
+    csv.end_row();
+  }
+  return csv.take();
 }
 
 namespace {

@@ -332,9 +332,10 @@ std::vector<FrameTime> read_camera_log(const std::filesystem::path& path, std::s
 }
 
 std::string to_camera_log_text(const std::vector<FrameTime>& frames) {
-  std::string s = "file,time [s]\n";
-  for (const auto& f : frames) s += fmt::format("{},{:.6f}\n", f.file, f.time);
-  return s;
+  CsvWriter csv;
+  csv.row({"file", "time [s]"});
+  for (const auto& f : frames) csv.text(f.file).number(f.time, CsvFormat::decimals(6)).end_row();
+  return csv.take();
 }
 
 double time_from_file_name(const std::string& file_name) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "tricot/core/error.hpp"
@@ -18,6 +19,29 @@ TEST(Csv, RoundTripsDoublesExactly) {
   EXPECT_EQ(r.columns, t.columns);
   EXPECT_EQ(r.rows, t.rows);
   EXPECT_EQ(r.values("force", "a.csv")[1], 1.0 / 3.0);
+}
+
+TEST(Csv, TableNumbersHave17SignificantDigits) {
+  const Table t{{"step", "force"}, {{1, 0.1}, {2, -2.5e-7}}, {}};
+  EXPECT_EQ(to_csv(t), "step,force\n1,0.10000000000000001\n2,-2.4999999999999999e-07\n");
+}
+
+TEST(Csv, WriterQuotesTextCellsOnlyWhereRfc4180NeedsIt) {
+  CsvWriter csv;
+  csv.row({"image", "status", "x"});
+  csv.text("frame_0001.png").text("ok").number(0.1).end_row();
+  csv.text("a,b.png").text("say \"hi\"").number_or_empty(NAN, CsvFormat::decimals(5)).end_row();
+  csv.text("two\nlines").text("cr\r").number(1.0 / 3.0, CsvFormat::decimals(5)).end_row();
+  csv.integer(-7).text("").number(2.5, CsvFormat::significant(9)).number(0.3, CsvFormat::shortest()).end_row();
+  csv.end_row();
+  EXPECT_EQ(csv.take(),
+            "image,status,x\n"
+            "frame_0001.png,ok,0.10000000000000001\n"
+            "\"a,b.png\",\"say \"\"hi\"\"\",\n"
+            "\"two\nlines\",\"cr\r\",0.33333\n"
+            "-7,,2.5,0.3\n"
+            "\n");
+  EXPECT_EQ(csv.take(), "");  // take() leaves the writer empty, for the next frame's rows
 }
 
 TEST(Csv, NanCellNamesFileLineAndColumn) {

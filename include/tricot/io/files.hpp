@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace tricot::io {
@@ -21,7 +22,46 @@ std::string read_text(const std::filesystem::path& path);
 void remove_numbered_files(const std::filesystem::path& dir, const std::string& prefix, const std::string& extension,
                            long first_stale);
 
-/// A numeric table with a header row. Cells are doubles; `text` holds columns that are words.
+/// How a CSV cell writes a number. The default, `%.17g`, reads back as the same double; the files
+/// whose numbers have a precision of their own name theirs (the DIC tables: pixels to 1e-5; the plots'
+/// data: 9 digits).
+struct CsvFormat {
+  enum class Style { significant, decimals, shortest };
+  Style style = Style::significant;
+  int precision = 17;  ///< significant digits, or decimals
+
+  static constexpr CsvFormat significant(int digits) { return {Style::significant, digits}; }
+  static constexpr CsvFormat decimals(int n) { return {Style::decimals, n}; }
+  /// The fewest digits that read back as the same double.
+  static constexpr CsvFormat shortest() { return {Style::shortest, 0}; }
+};
+
+/// Writes CSV text row by row: cells separated by ',', each row ended by '\n'. Every CSV file tricot
+/// writes is made here: to_csv's tables, the DIC tables that grow frame by frame, the plots' data.
+class CsvWriter {
+ public:
+  /// A number in `format` (`nan`, `inf` when it is not finite).
+  CsvWriter& number(double v, CsvFormat format = {});
+  /// A number in `format`, or an empty cell (a missing value) when it is not finite.
+  CsvWriter& number_or_empty(double v, CsvFormat format = {});
+  CsvWriter& integer(long long v);
+  /// A text cell: as it is, or quoted (RFC 4180: in '"', a '"' doubled) when it holds a ',', a '"' or
+  /// a line break.
+  CsvWriter& text(std::string_view cell);
+  /// A whole row of text cells: a header.
+  CsvWriter& row(const std::vector<std::string>& cells);
+  /// Ends the row. A row without cells is an empty line (gnuplot's break between a surface's scans).
+  CsvWriter& end_row();
+  /// The text written so far, which the writer then forgets (a growing file appends it frame by frame).
+  std::string take();
+
+ private:
+  void next_cell();
+  std::string out_;
+  bool in_row_ = false;
+};
+
+/// A numeric table with a header row. Cells are doubles.
 struct Table {
   std::vector<std::string> columns;
   std::vector<std::vector<double>> rows;
@@ -34,7 +74,7 @@ struct Table {
   std::vector<double> values(const std::string& name, const std::string& file = {}) const;
 };
 
-/// Formats a table as CSV (header row, then `%.17g` numbers so that values round-trip).
+/// Formats a table as CSV (CsvWriter: the header row, then `%.17g` numbers so that values round-trip).
 std::string to_csv(const Table& t);
 /// Reads a CSV table of numbers with a header row. Empty lines and lines starting with '#' are
 /// skipped. Throws FileError when unreadable, InputError with FILE:LINE: COLUMN for a cell that is

@@ -85,16 +85,8 @@ DicRun run_dic(const DicSpec& spec, const std::vector<std::string>& images, cons
 /// `vsg_px` (dic::virtual_strain_gauge).
 io::VtuGrid fields_vtu(const std::vector<dic::GridPoint>& grid, const dic::TrackedFrame& frame, int vsg_px = 0);
 
-/// DIR/points.csv: frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy (empty cells where there is no value).
-std::string points_csv(const dic::SequenceResult& r);
-/// points.csv's rows of one frame (no header).
+/// DIR/points.csv's rows of one frame (its header aside): frame,id,x0,y0,x,y,u,v,zncc,status,exx,eyy,exy,
+/// sigma_x,sigma_y (empty cells where there is no value).
 std::string points_rows(const std::vector<dic::GridPoint>& grid, const dic::TrackedFrame& f);
-/// DIR/frames.csv: frame,image,reference_frame,ok,points,mean_zncc,seconds,vsg_px. vsg_px (issue 16) is
-/// the strains' virtual strain gauge (dic::virtual_strain_gauge), an empty cell when ≤ 0.
-std::string frames_csv(const dic::SequenceResult& r, const std::vector<std::string>& images, int vsg_px = 0);
-/// DIR/increments.csv: from,to,id,x,y,u,v,zncc,status (fixed-point incremental fields).
-std::string increments_csv(const dic::SequenceResult& r);
-/// DIR/specimen.csv: points.csv in specimen millimetres.
-std::string specimen_csv(const dic::SequenceResult& r, const dic::PhysicalFrame& p);
 
 }  // namespace tricot::project

@@ -11,6 +11,7 @@
 #include <omp.h>
 
 #include "output/json.hpp"
+#include "output/plot.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/core/format.hpp"
 #include "tricot/fem/locate.hpp"
@@ -201,45 +202,42 @@ void write_eq9(const fs::path& dir, const SurfacePoints& points, const fem::Law&
     }
     io::write_atomic(dir / ("eq9_" + name + ".csv"), io::to_csv(t));
     // The identified surface on a 25 × 25 grid over the points' strain range (blank line per scan).
-    std::string grid = "eC,eW,force_id\n";
+    io::CsvWriter grid;
+    grid.row({"eC", "eW", "force_id"});
+    constexpr io::CsvFormat kDigits = io::CsvFormat::significant(9);
     for (int a = 0; a <= 24; ++a) {
       for (int b = 0; b <= 24; ++b) {
         const double eC = c0 + (c1 - c0) * a / 24, eW = w0 + (w1 - w0) * b / 24;
-        grid += fmt::format("{:.9g},{:.9g},{:.9g}\n", eC, eW, identified_force(law, f, eC, eW));
+        grid.number(eC, kDigits).number(eW, kDigits).number(identified_force(law, f, eC, eW), kDigits).end_row();
       }
-      grid += "\n";
+      grid.end_row();
     }
-    io::write_atomic(dir / ("eq9_surface_" + name + ".csv"), grid);
+    io::write_atomic(dir / ("eq9_surface_" + name + ".csv"), grid.take());
     if (!plots) continue;
-    const std::string script = fmt::format(R"gp(set terminal pngcairo size 1300,560 font ",11"
-set output {0}
-set datafile separator ","
-set multiplot layout 1,2 \
-  title "eq. 9, {1} force: identified surface and experimental points; relative error (practical domain outlined)" \
+    const std::string body = fmt::format(R"gp(set multiplot layout 1,2 \
+  title "eq. 9, {0} force: identified surface and experimental points; relative error (practical domain outlined)" \
   noenhanced
 set xlabel "eps_C (Green-Lagrange)"
 set ylabel "eps_W"
-set zlabel "F_{{{1}}} [N/mm]" rotate
+set zlabel "F_{{{0}}} [N/mm]" rotate
 set view 60,35
 set key top left
-splot {2} using 1:2:3 skip 1 with lines lc rgb "#4060c0" title "identified", \
-  {3} using 1:2:3 skip 1 with points pt 7 ps 0.7 lc rgb "#000000" title "experimental"
+splot {1} using 1:2:3 skip 1 with lines lc rgb "#4060c0" title "identified", \
+  {2} using 1:2:3 skip 1 with points pt 7 ps 0.7 lc rgb "#000000" title "experimental"
 set view map
 unset zlabel
 set key off
 set title "|F_id - F_exp| / |F_exp|" noenhanced
-set object 1 rect from {4:.6g},{5:.6g} to {6:.6g},{7:.6g} fs empty border lc rgb "#d00000" lw 2 front
+set object 1 rect from {3:.6g},{4:.6g} to {5:.6g},{6:.6g} fs empty border lc rgb "#d00000" lw 2 front
 set cbrange [0:*]
 set palette rgbformulae 22,13,-31
-plot {3} using 1:2:5 skip 1 with points pt 7 ps 1.2 palette
+plot {2} using 1:2:5 skip 1 with points pt 7 ps 1.2 palette
 unset multiplot
 )gp",
-                                           io::gnuplot_quote(dir / "plots" / ("eq9_" + name + ".png")), name,
-                                           io::gnuplot_quote(dir / ("eq9_surface_" + name + ".csv")),
-                                           io::gnuplot_quote(dir / ("eq9_" + name + ".csv")), practical.eC_min,
-                                           practical.eW_min, practical.eC_max, practical.eW_max);
-    std::string why;
-    if (!io::run_gnuplot(script, &why)) log.print("  (no plot: " + why + ")");
+                                         name, io::gnuplot_quote(dir / ("eq9_surface_" + name + ".csv")),
+                                         io::gnuplot_quote(dir / ("eq9_" + name + ".csv")), practical.eC_min,
+                                         practical.eW_min, practical.eC_max, practical.eW_max);
+    plot({.png = dir / "plots" / ("eq9_" + name + ".png"), .width = 1300, .height = 560}, body, log);
   }
 }
 
@@ -373,29 +371,24 @@ void plot_history(const fs::path& dir, const IdentifyOutcome& o, const Log& log)
                     lines.empty() ? "" : ", \\\n  ", io::gnuplot_quote(dir / "history.csv"), k + 3, ref, r.names[k]);
   }
   const std::string by = o.truth ? "truth" : "identified value";
-  const std::string script =
-      fmt::format(R"gp(set terminal pngcairo size 900,800 font ",11"
-set output {0}
-set datafile separator ","
-set multiplot layout 2,1 title "tricot identify: {1} ({2} Jacobian)" noenhanced
+  const std::string body =
+      fmt::format(R"gp(set multiplot layout 2,1 title "tricot identify: {0} ({1} Jacobian)" noenhanced
 set grid
 set key top right
 set logscale y
 set format y "10^{{%L}}"
 set ylabel "objective f"
-plot {3} using 1:2 skip 1 with linespoints pt 7 ps 0.5 lc rgb "#000000" title "f (eq. 1)"
+plot {2} using 1:2 skip 1 with linespoints pt 7 ps 0.5 lc rgb "#000000" title "f (eq. 1)"
 unset logscale y
 set format y "%g"
 set xlabel "LM iteration"
-set ylabel "coefficient / {4}"
+set ylabel "coefficient / {3}"
 set key bottom right
-plot {5}
+plot {4}
 unset multiplot
 )gp",
-                  io::gnuplot_quote(dir / "plots" / "history.png"), o.data, ident::to_string(r.jacobian),
-                  io::gnuplot_quote(dir / "history.csv"), by, lines);
-  std::string why;
-  if (!io::run_gnuplot(script, &why)) log.print("  (no plot: " + why + ")");
+                  o.data, ident::to_string(r.jacobian), io::gnuplot_quote(dir / "history.csv"), by, lines);
+  plot({.png = dir / "plots" / "history.png", .width = 900, .height = 800}, body, log);
 }
 
 // The identified model against the measured edge data, per test: DIR/fit_<test>.csv and plots/fit_<test>.png.
@@ -425,22 +418,16 @@ void write_fit(const fs::path& dir, const ident::Objective& objective, const ide
     const std::string measured = d.edge_displacement.empty() ? "\"model_edge_displacement\":\"edge_force\""
                                  : d.edge_force.empty()      ? "\"edge_displacement\":\"model_edge_force\""
                                                              : "\"edge_displacement\":\"edge_force\"";
-    std::string why;
-    if (!io::run_gnuplot(fmt::format(R"gp(set terminal pngcairo size 800,560 font ",11"
-set output {0}
-set datafile separator ","
-set grid
+    const std::string body = fmt::format(R"gp(set grid
 set key top left
-set title "{1}: measured and identified grip response" noenhanced
+set title "{0}: measured and identified grip response" noenhanced
 set xlabel "grip displacement (quarter model), mm"
 set ylabel "grip force, N"
-plot {2} using {3} with points pt 6 ps 1 title "measured", \
-  {2} using "model_edge_displacement":"model_edge_force" with lines lw 2 title "identified model"
+plot {1} using {2} with points pt 6 ps 1 title "measured", \
+  {1} using "model_edge_displacement":"model_edge_force" with lines lw 2 title "identified model"
 )gp",
-                                     io::gnuplot_quote(dir / "plots" / ("fit_" + m.name + ".png")), m.name,
-                                     io::gnuplot_quote(csv), measured),
-                         &why))
-      log.print("  (no plot: " + why + ")");
+                                         m.name, io::gnuplot_quote(csv), measured);
+    plot({.png = dir / "plots" / ("fit_" + m.name + ".png"), .width = 800, .height = 560}, body, log);
   }
 }
 
@@ -463,26 +450,20 @@ Vec2 write_wrinkles(const fs::path& dir, const fem::TestModel& m, const fem::Law
   const fs::path csv = dir / ("wrinkles_" + m.name + ".csv");
   io::write_atomic(csv, io::to_csv(tab));
   if (!plots) return area;
-  std::string why;
-  if (!io::run_gnuplot(fmt::format(R"gp(set terminal pngcairo size 700,640 font ",11"
-set output {0}
-set datafile separator ","
-set size ratio -1
-set title "{1} at the last step: wrinkled {2:.1f} %, slack {3:.1f} % of the area" noenhanced
+  const std::string body = fmt::format(R"gp(set size ratio -1
+set title "{0} at the last step: wrinkled {1:.1f} %, slack {2:.1f} % of the area" noenhanced
 set key below
 set xlabel "x (reference), mm"
 set ylabel "y, mm"
 set cbrange [0:1]
 set palette defined (0 "#f0f0f0", 1 "#1f77b4")
 set cblabel "wrinkled fraction"
-plot {4} using "x":"y":"wrinkled" with points pt 5 ps 1.6 lc palette title "element (colour: wrinkled fraction)", \
-  {4} using (column("slack") > 0.5 ? column("x") : 1/0):"y" \
+plot {3} using "x":"y":"wrinkled" with points pt 5 ps 1.6 lc palette title "element (colour: wrinkled fraction)", \
+  {3} using (column("slack") > 0.5 ? column("x") : 1/0):"y" \
   with points pt 2 ps 1.6 lc rgb "#555555" title "slack element"
 )gp",
-                                   io::gnuplot_quote(dir / "plots" / ("wrinkles_" + m.name + ".png")), m.name,
-                                   100 * area(0), 100 * area(1), io::gnuplot_quote(csv)),
-                       &why))
-    log.print("  (no plot: " + why + ")");
+                                       m.name, 100 * area(0), 100 * area(1), io::gnuplot_quote(csv));
+  plot({.png = dir / "plots" / ("wrinkles_" + m.name + ".png"), .width = 700, .height = 640}, body, log);
   return area;
 }
 
@@ -537,24 +518,18 @@ std::vector<TestFit> write_fit_field(const fs::path& dir, const ident::Objective
     const fs::path csv = dir / ("fit_field_" + m.name + ".csv");
     io::write_atomic(csv, io::to_csv(tab));
     if (!plots || n == 0) continue;
-    std::string why;
-    if (!io::run_gnuplot(fmt::format(R"gp(set terminal pngcairo size 700,640 font ",11"
-set output {0}
-set datafile separator ","
-set grid
+    const std::string body = fmt::format(R"gp(set grid
 set size ratio -1
-set title "{1}: field residual (model − measured) at step {2}, ×{3:g}; RMS over all steps {4:.3g} mm" noenhanced
+set title "{0}: field residual (model − measured) at step {1}, ×{2:g}; RMS over all steps {3:.3g} mm" noenhanced
 set xlabel "x (quarter model), mm"
 set ylabel "y, mm"
-plot {5} using (column("step") == {2} ? column("x") : 1/0):"y" \
-  :(({3:g})*(column("model_u") - column("u"))):(({3:g})*(column("model_v") - column("v"))) \
+plot {4} using (column("step") == {1} ? column("x") : 1/0):"y" \
+  :(({2:g})*(column("model_u") - column("u"))):(({2:g})*(column("model_v") - column("v"))) \
   with vectors head filled lw 2 lc rgb "#d62728" title "residual", \
-  {5} using (column("step") == {2} ? column("x") : 1/0):"y" with points pt 7 ps 0.8 lc rgb "#333333" title "point"
+  {4} using (column("step") == {1} ? column("x") : 1/0):"y" with points pt 7 ps 0.8 lc rgb "#333333" title "point"
 )gp",
-                                     io::gnuplot_quote(dir / "plots" / ("fit_field_" + m.name + ".png")), m.name,
-                                     d.steps(), 10.0, fits[t].points_rms_mm, io::gnuplot_quote(csv)),
-                         &why))
-      log.print("  (no plot: " + why + ")");
+                                         m.name, d.steps(), 10.0, fits[t].points_rms_mm, io::gnuplot_quote(csv));
+    plot({.png = dir / "plots" / ("fit_field_" + m.name + ".png"), .width = 700, .height = 640}, body, log);
   }
   return fits;
 }

@@ -10,6 +10,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "output/plot.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/io/config.hpp"
 #include "tricot/io/files.hpp"
@@ -162,22 +163,24 @@ std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& exp
     DicQuality d;
     d.name = t.name();
     d.grid = int(seq.grid.size());
-    std::string ok = "x,y,zncc\n", lost = "x,y\n";
+    io::CsvWriter ok, lost;
+    ok.row({"x", "y", "zncc"}), lost.row({"x", "y"});
+    constexpr io::CsvFormat kShortest = io::CsvFormat::shortest();
     double sum = 0, lo = 1;
     for (std::size_t p = 0; p < seq.grid.size(); ++p) {
       if (last.status[p] == dic::PointStatus::ok) {
         ++d.ok_last, sum += last.zncc[p], lo = std::min(lo, last.zncc[p]);
-        ok += fmt::format("{},{},{}\n", last.x[p](0), last.x[p](1), last.zncc[p]);
+        ok.number(last.x[p](0), kShortest).number(last.x[p](1), kShortest).number(last.zncc[p], kShortest).end_row();
       } else {
-        lost += fmt::format("{},{}\n", seq.grid[p].x(0), seq.grid[p].x(1));
+        lost.number(seq.grid[p].x(0), kShortest).number(seq.grid[p].x(1), kShortest).end_row();
       }
     }
     if (d.ok_last > 0) d.mean_zncc = sum / d.ok_last, d.min_zncc = lo;
     if (sync.contains(d.name)) d.kept = sync[d.name].value("points", 0);
     q.push_back(d);
     const fs::path a = plots / ("dic_" + d.name + "_ok.csv"), b = plots / ("dic_" + d.name + "_lost.csv");
-    io::write_atomic(a, ok);
-    io::write_atomic(b, lost);
+    io::write_atomic(a, ok.take());
+    io::write_atomic(b, lost.take());
     if (d.ok_last > 0) floor = std::min(floor, std::floor(100 * d.min_zncc) / 100);
     panels += fmt::format(
         "set title \"{} ({} of {} ok)\" noenhanced\nplot {} skip 1 using 1:2:3 with points pt 7 ps 0.6 palette", d.name,
@@ -186,16 +189,18 @@ std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& exp
       panels += fmt::format(", {} skip 1 using 1:2 with points pt 2 ps 0.8 lc rgb \"black\"", io::gnuplot_quote(b));
     panels += "\n";
   }
-  const std::string script = fmt::format(
-      "set terminal pngcairo size 1500,{} font \",10\"\nset output {}\nset datafile separator \",\"\n"
+  const std::string body = fmt::format(
       "set multiplot layout {},5 title \"DIC quality at the last frame: ZNCC of each point (lost points: black ×)\"\n"
       "set size ratio -1\nset xrange [0:{}]\nset yrange [{}:0]\nunset key\nset cbrange [{}:1]\n"
       "set palette defined (0 \"#b2182b\", 0.7 \"#fddbc7\", 1 \"#2166ac\")\nset format x \"\"\nset format y \"\"\n{}"
       "unset multiplot\n",
-      tests.size() > 5 ? 700 : 380, io::gnuplot_quote(plots / "dic_quality.png"), tests.size() > 5 ? 2 : 1, cam.width,
-      cam.height, floor, panels);
-  std::string why;
-  if (!io::run_gnuplot(script, &why)) log.reporter().info("no dic_quality.png: " + why);
+      tests.size() > 5 ? 2 : 1, cam.width, cam.height, floor, panels);
+  plot({.png = plots / "dic_quality.png",
+        .width = 1500,
+        .height = tests.size() > 5 ? 700 : 380,
+        .font_size = 10,
+        .name = "dic_quality.png"},
+       body, log);
   return q;
 }
 

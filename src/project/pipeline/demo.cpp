@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "output/plot.hpp"
 #include "tricot/fem/mooney_rivlin.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/project/identification.hpp"
@@ -249,10 +250,9 @@ void table1(const fs::path& out, const std::vector<Run>& runs, const Log& log) {
       "| data | coefficient | target | identified | rel. error | std error | iterations | evaluations | wall | "
       "paper CPU (PIII 1.2 GHz) | paper iterations | speed-up |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  std::string csv =
-      "data,coefficient,target,identified,relative_error,std_error,iterations,evaluations,wall_seconds,paper_cpu_"
-      "seconds,"
-      "paper_iterations,speed_up,termination\n";
+  io::CsvWriter csv;
+  csv.row({"data", "coefficient", "target", "identified", "relative_error", "std_error", "iterations", "evaluations",
+           "wall_seconds", "paper_cpu_seconds", "paper_iterations", "speed_up", "termination"});
   log.print("");
   log.print("Table 1 — Mooney–Rivlin target and identified coefficients, uniaxial tension (paper §3.3.1)");
   log.print(fmt::format("{:<30} {:<4} {:>10} {:>12} {:>10} {:>10} {:>5} {:>5} {:>9} {:>9} {:>9}", "data", "", "target",
@@ -275,13 +275,14 @@ void table1(const fs::path& out, const std::vector<Run>& runs, const Log& log) {
                         first ? std::to_string(r.iterations) : "", first ? std::to_string(r.evaluations) : "",
                         first ? format_duration(r.wall_seconds) : "", first ? fmt::format("{} h", p.hours) : "",
                         first ? std::to_string(p.iterations) : "", first ? fmt::format("{:.0f}×", speed_up) : "");
-      csv += fmt::format("{},{},{:.17g},{:.17g},{:.17g},{:.17g},{},{},{:.6g},{},{},{:.6g},{}\n", p.name, kNames[k],
-                         truth()[k], J, e, se, r.iterations, r.evaluations, r.wall_seconds, paper_s, p.iterations,
-                         speed_up, ident::to_string(r.termination));
+      csv.text(p.name).text(kNames[k]).number(truth()[k]).number(J).number(e).number(se);
+      csv.integer(r.iterations).integer(r.evaluations).number(r.wall_seconds, io::CsvFormat::significant(6));
+      csv.number(paper_s, io::CsvFormat::shortest()).integer(p.iterations);
+      csv.number(speed_up, io::CsvFormat::significant(6)).text(ident::to_string(r.termination)).end_row();
     }
   }
   io::write_atomic(out / "table1.md", md);
-  io::write_atomic(out / "table1.csv", csv);
+  io::write_atomic(out / "table1.csv", csv.take());
 }
 
 // The ε study (paper §3.3.2, Fig. 10). A run with tolerance ε stops at its first accepted step with
@@ -318,29 +319,25 @@ void epsilon_study(const fs::path& out, const Run& run, const std::vector<ident:
   }
   const fs::path csv = out / "epsilon.csv";
   io::write_atomic(csv, io::to_csv(t));
-  std::string why;
-  if (!io::run_gnuplot(fmt::format(R"gp(set terminal pngcairo size 900,800 font ",11"
-set output {0}
-set datafile separator ","
-set multiplot layout 2,1 title "ε study (paper Fig. 10): both data, exact Jacobian, 2218 dofs"
+  const std::string body = fmt::format(
+      R"gp(set multiplot layout 2,1 title "ε study (paper Fig. 10): both data, exact Jacobian, 2218 dofs"
 set grid
 set logscale x
 set format x "10^{{%L}}"
 set xrange [1e-13:1e-1]
 set key top right
 set ylabel "wall time, s"
-plot {1} using "epsilon":"wall_seconds" with linespoints pt 7 lw 2 title "tricot (this machine)"
+plot {0} using "epsilon":"wall_seconds" with linespoints pt 7 lw 2 title "tricot (this machine)"
 set logscale y
 set format y "10^{{%L}}"
 set xlabel "convergence tolerance ε (eq. 2)"
 set ylabel "max relative error of C_{{ij}}"
 set key top left
-plot {1} using "epsilon":"max_relative_error" with linespoints pt 7 lw 2 title "max_k |C_k - target| / |target|"
+plot {0} using "epsilon":"max_relative_error" with linespoints pt 7 lw 2 title "max_k |C_k - target| / |target|"
 unset multiplot
 )gp",
-                                   io::gnuplot_quote(out / "plots" / "epsilon.png"), io::gnuplot_quote(csv)),
-                       &why))
-    log.print("  (no plot: " + why + ")");
+      io::gnuplot_quote(csv));
+  plot({.png = out / "plots" / "epsilon.png", .width = 900, .height = 800}, body, log);
 }
 
 // Exact Jacobian (FE sensitivities, docs/theory.md §7) against central finite differences at the start point

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <nlohmann/json.hpp>
 
+#include "output/plot.hpp"
 #include "tricot/core/error.hpp"
 #include "tricot/ident/problem.hpp"
 #include "tricot/image/image.hpp"
@@ -358,23 +359,26 @@ void write_field(const fs::path& file, const lab::QuarterField& q) {
   io::write_atomic(file, io::to_csv(t));
 }
 
+// sync.png's data: two columns `x`, `y` to 9 digits.
+std::string sync_csv(const std::vector<std::string>& columns, const std::vector<double>& x,
+                     const std::vector<double>& y) {
+  constexpr io::CsvFormat kDigits = io::CsvFormat::significant(9);
+  io::CsvWriter csv;
+  csv.row(columns);
+  for (std::size_t i = 0; i < x.size(); ++i) csv.number(x[i], kDigits).number(y[i], kDigits).end_row();
+  return csv.take();
+}
+
 void write_sync_data(const fs::path& dir, const lab::LoadLog& log, const lab::SyncResult& s) {
-  std::string a = "log_time,force\n";
-  for (std::size_t i = 0; i < log.time.size(); ++i) a += num(log.time[i]) + "," + num(log.force[i] - s.tare_N) + "\n";
-  io::write_atomic(dir / "sync_log.csv", a);
-  std::string b = "log_time,force\n";
-  for (std::size_t k = 0; k < s.log_time.size(); ++k) b += num(s.log_time[k]) + "," + num(s.force[k]) + "\n";
-  io::write_atomic(dir / "sync_images.csv", b);
-  std::string c = "lag_s,criterion\n";
-  for (std::size_t i = 0; i < s.lag_s.size(); ++i) c += num(s.lag_s[i]) + "," + num(s.correlation[i]) + "\n";
-  io::write_atomic(dir / "sync_criterion.csv", c);
+  std::vector<double> force = log.force;
+  for (double& f : force) f -= s.tare_N;
+  io::write_atomic(dir / "sync_log.csv", sync_csv({"log_time", "force"}, log.time, force));
+  io::write_atomic(dir / "sync_images.csv", sync_csv({"log_time", "force"}, s.log_time, s.force));
+  io::write_atomic(dir / "sync_criterion.csv", sync_csv({"lag_s", "criterion"}, s.lag_s, s.correlation));
 }
 
 void plot_sync(const fs::path& out, const std::vector<LabTestResult>& tests, const Log& log) {
-  std::string script = fmt::format(
-      "set terminal pngcairo size 1000,{} font \",10\"\nset output {}\nset datafile separator \",\"\n"
-      "set multiplot layout {},2\n",
-      380 * tests.size(), io::gnuplot_quote(out / "sync.png"), tests.size());
+  std::string script = fmt::format("set multiplot layout {},2\n", tests.size());
   for (const auto& t : tests) {
     const fs::path d = out / t.name;
     script += fmt::format(
@@ -395,8 +399,12 @@ void plot_sync(const fs::path& out, const std::vector<LabTestResult>& tests, con
           t.sync.clock_offset_s, io::gnuplot_quote(d / "sync_criterion.csv"));
   }
   script += "unset multiplot\n";
-  std::string why;
-  if (!io::run_gnuplot(script, &why)) log.print("  (no sync.png: " + why + ")");
+  plot({.png = out / "sync.png",
+        .width = 1000,
+        .height = 380 * static_cast<int>(tests.size()),
+        .font_size = 10,
+        .name = "sync.png"},
+       script, log);
 }
 
 // A rig test's set, hold, pull (lab_schema(): setting_images, hold_images): δ from the pull and the
@@ -694,15 +702,17 @@ LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const
   write_field(tdir / kFieldFile, tt.field);
   if (!tt.clamp_motion
            .empty()) {  // the full model's clamps: series for [[test.boundary]] (series = "<test>/clamps.csv")
-    std::string c = "step";
-    for (const auto& m : tt.clamp_motion) c += fmt::format(",{0}_ux,{0}_uy", m.marker);
-    c += "\n";
+    std::vector<std::string> columns{"step"};
+    for (const auto& m : tt.clamp_motion) columns.insert(columns.end(), {m.marker + "_ux", m.marker + "_uy"});
+    constexpr io::CsvFormat kDigits = io::CsvFormat::significant(9);
+    io::CsvWriter c;
+    c.row(columns);
     for (std::size_t k = 0; k < tt.steps.size(); ++k) {
-      c += std::to_string(k + 1);
-      for (const auto& m : tt.clamp_motion) c += "," + num(m.u[k](0)) + "," + num(m.u[k](1));
-      c += "\n";
+      c.integer(static_cast<long long>(k + 1));
+      for (const auto& m : tt.clamp_motion) c.number(m.u[k](0), kDigits).number(m.u[k](1), kDigits);
+      c.end_row();
     }
-    io::write_atomic(tdir / "clamps.csv", c);
+    io::write_atomic(tdir / "clamps.csv", c.take());
   }
   std::vector<double> all;
   for (const auto& f : tt.steps) all.push_back(f.force_N);
@@ -729,8 +739,9 @@ LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const
                      {"points_incomplete", tt.field.incomplete},
                      {"report", tt.report}};
   // sync.png's data: the force per step (synchronised by frame number, no clock offset to find).
-  std::string a = "log_time,force\n";
-  for (const auto& f : tt.steps) a += num(f.time_s) + "," + num(f.force_N) + "\n";
+  std::vector<double> time, force;
+  for (const auto& f : tt.steps) time.push_back(f.time_s), force.push_back(f.force_N);
+  const std::string a = sync_csv({"log_time", "force"}, time, force);
   io::write_atomic(tdir / "sync_log.csv", a);
   io::write_atomic(tdir / "sync_images.csv", a);
   return r;

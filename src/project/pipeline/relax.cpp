@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "output/plot.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/io/log.hpp"
 
@@ -53,31 +54,29 @@ RelaxRun run_relax(const RelaxSpec& spec, const fs::path& dir, const Log& log) {
                          {"min_duration_s", run.verdict->min_duration_s}};
   io::write_atomic(dir / "relax.json", j.dump(2) + "\n");
 
-  std::string csv = "time,hold_time,force";
-  for (std::size_t m = 1; m <= r.fits.size(); ++m) csv += fmt::format(",fit_{}", m);
-  csv += "\n";
+  std::vector<std::string> columns{"time", "hold_time", "force"};
+  for (std::size_t m = 1; m <= r.fits.size(); ++m) columns.push_back(fmt::format("fit_{}", m));
+  io::CsvWriter csv;
+  csv.row(columns);
+  constexpr io::CsvFormat kDigits = io::CsvFormat::significant(9);  // the plot's data
   for (std::size_t i = r.hold_first; i <= r.hold_last; ++i) {
     const double s = t[i] - r.hold_start_s;
-    csv += fmt::format("{:.9g},{:.9g},{:.9g}", t[i], s, f[i] - r.tare_N);
-    for (const auto& p : r.fits) csv += fmt::format(",{:.9g}", p.force(s));
-    csv += "\n";
+    csv.number(t[i], kDigits).number(s, kDigits).number(f[i] - r.tare_N, kDigits);
+    for (const auto& p : r.fits) csv.number(p.force(s), kDigits);
+    csv.end_row();
   }
-  io::write_atomic(dir / "relax.csv", csv);
+  io::write_atomic(dir / "relax.csv", csv.take());
 
   std::string curves;
   for (std::size_t m = 1; m <= r.fits.size(); ++m)
     curves += fmt::format(", '' using 2:{} with lines lw 2 title \"{} term{}{}\"", m + 3, m, m > 1 ? "s" : "",
                           int(m) == r.chosen_terms ? " (chosen by BIC)" : "");
-  std::string why;
-  if (!io::run_gnuplot(
-          fmt::format("set terminal pngcairo size 900,600 font \",11\"\nset output {}\nset datafile separator \",\"\n"
-                      "set title \"{}\" noenhanced font \",9\"\nset xlabel \"time since the hold began (s)\"\n"
-                      "set ylabel \"force, tare removed (N)\"\nset key top right\n"
-                      "plot {} using 2:3 with points pt 7 ps 0.3 lc rgb \"#999999\" title \"log\"{}\n",
-                      io::gnuplot_quote(dir / "relax.png"), r.brief_report(), io::gnuplot_quote(dir / "relax.csv"),
-                      curves),
-          &why))
-    log.print("  (no relax.png: " + why + ")");
+  plot({.png = dir / "relax.png", .width = 900, .height = 600, .name = "relax.png"},
+       fmt::format("set title \"{}\" noenhanced font \",9\"\nset xlabel \"time since the hold began (s)\"\n"
+                   "set ylabel \"force, tare removed (N)\"\nset key top right\n"
+                   "plot {} using 2:3 with points pt 7 ps 0.3 lc rgb \"#999999\" title \"log\"{}\n",
+                   r.brief_report(), io::gnuplot_quote(dir / "relax.csv"), curves),
+       log);
   log.print(r.brief_report());
   if (run.verdict)
     log.print(fmt::format(

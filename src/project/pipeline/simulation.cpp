@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 
+#include "output/plot.hpp"
 #include "tricot/fem/corotational.hpp"
 #include "tricot/fem/element.hpp"
 #include "tricot/ident/problem.hpp"
@@ -83,11 +84,6 @@ void write_vtus(const fs::path& dir, const fem::TestModel& test, const fem::Law&
   io::write_pvd(dir / "steps.pvd", series);
 }
 
-void plot(const Log& log, const std::string& script) {
-  std::string why;
-  if (!io::run_gnuplot(script, &why)) log.print("  (no plot: " + why + ")");
-}
-
 // --- FE tests ---------------------------------------------------------------------------------------
 
 struct TestOutcome {
@@ -131,18 +127,16 @@ TestOutcome run_fe_test(const fem::TestModel& test, const fem::Law& law, const f
 
   if (!r.steps.empty()) {
     const bool force = test.control == fem::GripControl::force;
-    plot(log, fmt::format(R"gp(set terminal pngcairo size 800,560 font ",11" noenhanced
-set output {}
-set datafile separator ","
-set key top left
+    const std::string body =
+        fmt::format(R"gp(set key top left
 set grid
 set title "{}: force per unit initial width"
 set xlabel "grip displacement (quarter model), mm"
 set ylabel "force per width, N/mm"
 plot {} using "edge_displacement":"force_per_width" with linespoints pt 7 ps 0.6 title "{}"
 )gp",
-                          io::gnuplot_quote(dir / "force.png"), test.name, io::gnuplot_quote(dir / "steps.csv"),
-                          force ? "force-controlled" : "FE"));
+                    test.name, io::gnuplot_quote(dir / "steps.csv"), force ? "force-controlled" : "FE");
+    plot({.png = dir / "force.png", .width = 800, .height = 560, .enhanced = false}, body, log);
   }
 
   const std::string where = (shown / test.name / "").string();
@@ -214,20 +208,18 @@ TestOutcome run_simple_shear(const fem::TestModel& test, const fem::Law& law, co
   {0} using "gamma":"green_naghdi_s11" with lines lc rgb "#2ca02c" dt 3 title "σ11 Green–Naghdi")gp",
         cf);
   }
-  if (!t.rows.empty())
-    plot(log, fmt::format(R"gp(set terminal pngcairo size 900,680 font ",11" noenhanced
-set output {0}
-set datafile separator ","
-set key below maxrows 4
+  if (!t.rows.empty()) {
+    const std::string body = fmt::format(R"gp(set key below maxrows 4
 set grid
-set title "{1}: simple shear F = [[1, γ], [0, 1]], Cauchy stress"
+set title "{0}: simple shear F = [[1, γ], [0, 1]], Cauchy stress"
 set xlabel "shear γ"
 set ylabel "σ, N/mm"
-plot {2} using "gamma":"s12" with points pt 6 ps 0.8 lc rgb "#1f77b4" title "σ12 tricot ({3})", \
-  {2} using "gamma":"s11" with points pt 4 ps 0.7 lc rgb "#d62728" title "σ11 tricot"{4}
+plot {1} using "gamma":"s12" with points pt 6 ps 0.8 lc rgb "#1f77b4" title "σ12 tricot ({2})", \
+  {1} using "gamma":"s11" with points pt 4 ps 0.7 lc rgb "#d62728" title "σ11 tricot"{3}
 )gp",
-                          io::gnuplot_quote(dir / "force.png"), test.name, io::gnuplot_quote(dir / "steps.csv"),
-                          law.name(), extra));
+                                         test.name, io::gnuplot_quote(dir / "steps.csv"), law.name(), extra);
+    plot({.png = dir / "force.png", .width = 900, .height = 680, .enhanced = false}, body, log);
+  }
 
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!t.rows.empty()) {
@@ -248,17 +240,15 @@ void plot_all(const Log& log, const fs::path& dir, const std::vector<std::string
     curves +=
         fmt::format("{}{} using \"edge_displacement\":\"force_per_width\" with linespoints pt 7 ps 0.4 title \"{}\"",
                     curves.empty() ? "" : ", \\\n  ", io::gnuplot_quote(dir / t / "steps.csv"), t);
-  plot(log, fmt::format(R"gp(set terminal pngcairo size 900,600 font ",11" noenhanced
-set output {}
-set datafile separator ","
-set key top left
+  const std::string body = fmt::format(R"gp(set key top left
 set grid
 set title "force per unit initial width, every test"
 set xlabel "grip displacement (quarter model), mm"
 set ylabel "force per width, N/mm"
 plot {}
 )gp",
-                        io::gnuplot_quote(dir / "forces.png"), curves));
+                                       curves);
+  plot({.png = dir / "forces.png", .width = 900, .height = 600, .enhanced = false}, body, log);
 }
 
 }  // namespace
