@@ -8,6 +8,7 @@
 #include "console.hpp"
 #include "tricot/project/campaign_demo.hpp"
 #include "tricot/project/demo.hpp"
+#include "tricot/project/examples.hpp"
 #include "verbs.hpp"
 
 namespace tricot::cli {
@@ -40,6 +41,7 @@ The whole chain of the paper's Fig. 1 on the §4 campaign of the reference knit,
   5. report  DIR/identify/report.html with the DIC quality, the synchronisation, Tables 4 and 5.
 One progress line per stage, a summary of wall and CPU time per stage at the end. The files each
 stage ran are in DIR (experiment.toml, dic.toml, lab.toml, experiment/project.toml): rerun any by hand.
+The campaign's files are examples/knit-campaign/demo/*.toml.
 
 --table1: the paper's §3.3 validation instead (Table 1 and Fig. 10, Mooney–Rivlin from FE data):
   tricot synth of the uniaxial-mooney case, tricot identify from the grip displacement only, the
@@ -60,10 +62,14 @@ Exit codes: 0 ok, 4 the identification (a Table 1 run) did not converge.
   cmd->add_flag_callback(
       "--print-config",
       [] {
-        std::cout << "# tricot demo takes no config file. This is the campaign it synthesises (tricot synth); it\n"
-                     "# writes it, dic.toml, lab.toml and project-template.toml to DIR. `tricot demo --print-example\n"
-                     "# experiment|project` prints the --table1 job's files (examples/uniaxial-mooney).\n\n"
-                  << project::campaign_experiment_toml({});
+        const std::string example = project::campaign_example({});
+        std::cout << "# tricot demo takes no config file. This is the campaign it synthesises (tricot synth),\n"
+                     "# examples/"
+                  << example
+                  << "/experiment.toml; it writes it, dic.toml, lab.toml and project-template.toml\n"
+                     "# to DIR. `tricot demo --print-example experiment|project` prints the --table1 job's files\n"
+                     "# (examples/uniaxial-mooney).\n\n"
+                  << project::example_file(example + "/experiment.toml");
         throw CLI::Success();
       },
       "Print the demo's built-in campaign (its experiment file) and exit");

@@ -1,10 +1,15 @@
-// tricot demo (apps/tricot/demo.cpp, src/project/pipeline/demo.cpp): its built-in files are the examples a
-// user runs by hand.
+// tricot demo (apps/tricot/demo.cpp, src/project/pipeline/demo.cpp, campaign_demo.cpp): its files are
+// the examples a user runs by hand, built into tricot (project/examples.hpp).
 #include "tricot/project/demo.hpp"
 
 #include <gtest/gtest.h>
 
+#include "tricot/fem/mooney_rivlin.hpp"
+#include "tricot/project/campaign_demo.hpp"
+#include "tricot/project/dic_spec.hpp"
+#include "tricot/project/examples.hpp"
 #include "tricot/project/identification.hpp"
+#include "tricot/project/lab_experiment.hpp"
 #include "tricot/project/synthesis.hpp"
 #include "testing/paths.hpp"
 #include "tricot/io/files.hpp"
@@ -12,16 +17,74 @@
 namespace tricot::project {
 namespace {
 
-const std::filesystem::path kExample = test::source_dir() / "examples" / "uniaxial-mooney";
+const std::filesystem::path kExamples = test::source_dir() / "examples";
+const std::filesystem::path kExample = kExamples / "uniaxial-mooney";
 
 TEST(Demo, ExampleExperimentIsTheDemosExperiment) {
-  EXPECT_EQ(io::read_text(kExample / "experiment.toml"), demo_experiment_toml())
-      << "regenerate: tricot demo --print-example experiment > examples/uniaxial-mooney/experiment.toml";
+  EXPECT_EQ(io::read_text(kExample / "experiment.toml"), demo_experiment_toml()) << "rebuild tricot";
 }
 
 TEST(Demo, ExampleProjectIsTheDemosBothDataProject) {
-  EXPECT_EQ(io::read_text(kExample / "project.toml"), demo_project_toml({}))
-      << "regenerate: tricot demo --print-example project > examples/uniaxial-mooney/project.toml";
+  EXPECT_EQ(io::read_text(kExample / "project.toml"), demo_project_toml({})) << "rebuild tricot";
+}
+
+TEST(Demo, EveryBuiltInFileIsTheExampleFileByteForByte) {
+  ASSERT_GE(example_files().size(), 10u);
+  for (const ExampleFile& f : example_files()) EXPECT_EQ(io::read_text(kExamples / f.path), f.text) << f.path;
+  EXPECT_EQ(example_file("uniaxial-mooney/project.toml"), io::read_text(kExample / "project.toml"));
+  EXPECT_THROW(example_file("uniaxial-mooney/nope.toml"), std::logic_error);
+}
+
+// Table 1's targets are the experiment's law: the paper's coefficients.
+TEST(Demo, ItsExperimentsLawIsThePapersTruth) {
+  const io::Node e = io::parse_config(synth_schema(), demo_experiment_toml(), "experiment.toml");
+  const io::Node& law = e.section("law").section("mooney_rivlin");
+  const auto terms = fem::paper_mooney_rivlin_terms();
+  ASSERT_EQ(law.reals("values").size(), terms.size());
+  for (std::size_t k = 0; k < terms.size(); ++k) {
+    EXPECT_EQ(law.strings("terms")[k], "C" + std::to_string(terms[k].i) + std::to_string(terms[k].j));
+    EXPECT_EQ(law.reals("values")[k], terms[k].C);
+  }
+}
+
+// A variant is the example with one value changed, its comment kept, every other byte the same.
+TEST(Demo, AVariantChangesOneValueOfItsTableAndKeepsTheComment) {
+  const std::string toml =
+      "top = 1\n[a]\nfield_kind = \"x\"  # not field\nfield = 1.0   # weight\n[a.b]\nfield = 2.0\n"
+      "[[t]]\nname = \"a # b\" # c\n";
+  EXPECT_EQ(with_value(toml, "a", "field", 0.0),
+            "top = 1\n[a]\nfield_kind = \"x\"  # not field\nfield = 0.0   # weight\n[a.b]\nfield = 2.0\n"
+            "[[t]]\nname = \"a # b\" # c\n");
+  EXPECT_EQ(with_value(toml, "a.b", "field", io::Reals{1, 2}),
+            "top = 1\n[a]\nfield_kind = \"x\"  # not field\nfield = 1.0   # weight\n[a.b]\nfield = [1.0, 2.0]\n"
+            "[[t]]\nname = \"a # b\" # c\n");
+  EXPECT_EQ(with_value(toml, "t", "name", std::string("z")),
+            "top = 1\n[a]\nfield_kind = \"x\"  # not field\nfield = 1.0   # weight\n[a.b]\nfield = 2.0\n"
+            "[[t]]\nname = \"z\" # c\n");
+  EXPECT_EQ(with_value(toml, "", "top", std::int64_t{2}).substr(0, 8), "top = 2\n");
+  EXPECT_THROW(with_value(toml, "a", "top", 0.0), std::logic_error);
+  EXPECT_THROW(with_value(toml, "b", "field", 0.0), std::logic_error);
+}
+
+// The campaign's files (examples/knit-campaign/demo and its small/) are valid for their verbs, and
+// the reduced chain is the one its doc says: two tests, 6 pull steps, 320 × 256 px.
+TEST(Demo, TheCampaignsFilesAreValidForTheirVerbs) {
+  for (const bool small : {false, true}) {
+    SCOPED_TRACE(small);
+    const std::string dir = campaign_example({small});
+    const io::Node e = io::parse_config(synth_schema(), example_file(dir + "/experiment.toml"), "experiment.toml");
+    const io::Node l = io::parse_config(lab_schema(), example_file(dir + "/lab.toml"), "lab.toml");
+    const io::Node d = io::parse_config(dic_schema(), example_file(dir + "/dic.toml"), "dic.toml");
+    EXPECT_EQ(d.section("dic").string("mode"), "incremental");
+    ASSERT_EQ(e.array("test").size(), small ? 2u : 10u);
+    ASSERT_EQ(l.array("test").size(), e.array("test").size());
+    for (std::size_t k = 0; k < e.array("test").size(); ++k) {
+      EXPECT_EQ(l.array("test")[k].string("name"), e.array("test")[k].string("name"));
+      EXPECT_EQ(e.array("test")[k].integer("steps"), small ? 6 : 21);
+    }
+    EXPECT_EQ(e.section("synth").section("images").integer("width"), small ? 320 : 1280);
+    EXPECT_EQ(l.section("experiment").string("project_template"), "project-template.toml");
+  }
 }
 
 TEST(Demo, ItsFilesAreValidForTheirVerbs) {

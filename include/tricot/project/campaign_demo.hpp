@@ -1,8 +1,9 @@
 // tricot demo: the whole chain of the paper's Fig. 1 on the §4 campaign of the reference knit
-// (issue 13), built in code: camera images and load-cell logs of the 110 × 110 mm² series (tricot
-// synth), DIC of every test (tricot dic), the lab files turned into an experiment (tricot experiment:
+// (issue 13): camera images and load-cell logs of the 110 × 110 mm² series (tricot synth), DIC of
+// every test (tricot dic), the lab files turned into an experiment (tricot experiment:
 // synchronisation, specimen coordinates), the `paper14` identification (tricot identify) and the lab
-// report. Each stage is the verb's own pipeline function, run in this process.
+// report. Each stage is the verb's own pipeline function, run in this process, on the campaign's files
+// in examples/knit-campaign/demo (built into tricot, examples.hpp), which it writes to DIR first.
 //
 //   DIR/experiment.toml     the synthetic campaign (tricot synth); DIR/raw/ its output: per test the
 //                           FE data (forces.csv, field.csv), images/ and lab/ (load.txt, camera.csv)
@@ -23,15 +24,15 @@ namespace tricot::project {
 /// Which campaign the demo runs.
 struct CampaignDemoOptions {
   /// The reduced chain the browser test runs: two tests (wale 40 %, course 30 %), 6 pull steps, a
-  /// 12 × 10 generating mesh, 320 × 256 px images, two LM iterations without the stability test.
+  /// 12 × 10 generating mesh, 320 × 256 px images, two LM iterations without the stability test
+  /// (examples/knit-campaign/demo/small).
   bool small = false;
 };
 
-/// The demo's files, as text (the user can rerun any stage by hand with the verbs).
-std::string campaign_experiment_toml(const CampaignDemoOptions& o);   ///< tricot synth
-std::string campaign_dic_toml(const CampaignDemoOptions& o);          ///< tricot dic
-std::string campaign_lab_toml(const CampaignDemoOptions& o);          ///< tricot experiment
-std::string campaign_project_template(const CampaignDemoOptions& o);  ///< [experiment] project_template
+/// The folder under examples/ of the campaign's files (the user can rerun any stage by hand with the
+/// verbs): experiment.toml (tricot synth), dic.toml (tricot dic), lab.toml (tricot experiment) and
+/// project-template.toml (its [experiment] project_template).
+std::string campaign_example(const CampaignDemoOptions& o);
 
 /// Wall and CPU (user + sys, every thread) seconds of one stage.
 struct StageTime {

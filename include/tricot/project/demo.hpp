@@ -1,11 +1,11 @@
-// tricot demo: the paper's §3.3 validation (Table 1, Fig. 10) on built-in data. The experiment and
-// project files it runs are generated here; examples/uniaxial-mooney/{experiment,project}.toml are
-// copies of the default ones (a test keeps them equal), so a user can run the same by hand.
+// tricot demo --table1: the paper's §3.3 validation (Table 1, Fig. 10) on built-in data. The files it
+// runs are examples/uniaxial-mooney/{experiment,project}.toml, built into tricot (examples.hpp); each
+// run is the project file with some values changed, written to the run's folder.
 #pragma once
 
-#include <array>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "tricot/project/identification_spec.hpp"
@@ -13,25 +13,26 @@
 
 namespace tricot::project {
 
-/// The experiment file of the `uniaxial-mooney` case: the truth fem::paper_mooney_rivlin_terms(),
-/// force-controlled uniaxial strip, 35 steps, generated on 14 × 48 Q8 (4282 dofs); `noise_relative`
-/// as in [synth].
-std::string demo_experiment_toml(double noise_relative = 0);
+/// The experiment file of the `uniaxial-mooney` case (examples/uniaxial-mooney/experiment.toml): the
+/// truth fem::paper_mooney_rivlin_terms(), force-controlled uniaxial strip, 35 steps, generated on
+/// 14 × 48 Q8 (4282 dofs); with `noise_relative`, its [synth] noise_relative changed.
+std::string demo_experiment_toml(std::optional<double> noise_relative = std::nullopt);
 
-/// One identification of the case on the paper's mesh size (10 × 34 Q8, 2218 dofs).
+/// One identification of the case on the paper's mesh size (10 × 34 Q8, 2218 dofs): the example's
+/// project (both data, from targets × 0.5, exact Jacobian, ε = 1e-12) with the values given here.
 struct DemoProject {
-  std::array<double, 4> start{0.05, -0.0125, 0.0075, 0.005};  ///< C10, C20, C21, C03 (truth × 0.5)
-  double edge_displacement = 1;                               ///< [data] weights: Table 1's choices
-  double field = 1;
-  std::string experiment_dir = "experiment";
-  std::string jacobian = "exact";
-  bool sigma_from_truth = false;
-  double epsilon = 1e-12;
+  std::optional<io::Reals> start;           ///< [law.mooney_rivlin] values: C10, C20, C21, C03
+  std::optional<double> edge_displacement;  ///< [data] weights: Table 1's choices
+  std::optional<double> field;
+  std::optional<std::string> experiment_dir;  ///< [experiment] dir
+  std::optional<std::string> jacobian;        ///< [identify]
+  std::optional<bool> sigma_from_truth;       ///< [experiment]
+  std::optional<double> epsilon;              ///< [identify]
 };
-/// The project of one identification, built in code (what demo runs).
-IdentificationSpec demo_project_spec(const DemoProject& p);
-/// The project file of demo_project_spec(p), for the user to read and run by hand.
+/// The project file of one identification: examples/uniaxial-mooney/project.toml with p's values.
 std::string demo_project_toml(const DemoProject& p);
+/// What demo runs: demo_project_toml(p) read as `tricot identify` reads a project file.
+IdentificationSpec demo_project_spec(const DemoProject& p);
 
 /// How to run the demo.
 struct DemoRequest {

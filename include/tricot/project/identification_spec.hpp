@@ -1,7 +1,7 @@
 // The project file of `tricot identify` as a typed spec: the case ([mesh], [law], [solver], [rig],
 // [[test]]) with [experiment], [[parameter]], [data], [identify] and [eq9]; each field is named by its
-// TOML key. read_identification_spec() reads it from a file validated by identify_schema();
-// `tricot demo` builds it in code. IdentificationSpec::validate() is its one check; the checks that
+// TOML key. read_identification_spec() reads it from a file validated by identify_schema(); a spec
+// may also be built in code. IdentificationSpec::validate() is its one check; the checks that
 // need the measurements (the experiment folder, truth.json, field.csv's columns, eq. 9's domain
 // against the data) are made by build_project() (identification.hpp), which reads them.
 #pragma once

@@ -15,12 +15,15 @@
 #include "tricot/io/config.hpp"
 #include "tricot/io/files.hpp"
 #include "tricot/io/log.hpp"
+#include "tricot/project/case_spec.hpp"
 #include "tricot/project/dic_run.hpp"
+#include "tricot/project/examples.hpp"
 #include "tricot/project/identification.hpp"
 #include "tricot/project/identification_spec.hpp"
 #include "tricot/project/lab_experiment.hpp"
 #include "tricot/project/report.hpp"
 #include "tricot/project/synth_images.hpp"
+#include "tricot/project/synth_lab.hpp"
 #include "tricot/project/synthesis.hpp"
 
 namespace tricot::project {
@@ -30,57 +33,30 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
-// One test of the campaign (paper §4.2: 110 × 110 mm², 5 transverse settings per direction, 21 steps).
-struct CampaignTest {
-  const char* pull;
-  double transverse_strain;
-  double pull_strain;
-  std::string name() const { return fmt::format("s110-{}-{:03d}", pull, int(std::lround(100 * transverse_strain))); }
+// What the chain and its report need to know of the campaign, read from its experiment file and its
+// DIC file: the tests, the images of each, the camera, the lab record's truth.
+struct Campaign {
+  std::vector<std::string> tests;         // [[test]] names
+  int setting = 0, hold = 0, pull = 0;    // images after image 0: set, hold, pull
+  int width = 0, height = 0;              // px
+  double clock_offset_s = 0, tare_N = 0;  // the lab record's truth: log clock − camera clock, force at rest
+  int subset_size = 0, step = 0;          // DIC, px
+  std::size_t frames() const { return std::size_t(1 + setting + hold + pull); }
 };
 
-std::vector<CampaignTest> campaign_tests(const CampaignDemoOptions& o) {
-  if (o.small) return {{"wale", 0.4, 0.65}, {"course", 0.3, 1.0}};
-  std::vector<CampaignTest> t;
-  for (double s : {0.0, 0.2, 0.4, 0.55, 0.7}) t.push_back({"wale", s, 0.65});
-  for (double s : {0.0, 0.15, 0.3, 0.45, 0.6}) t.push_back({"course", s, 1.0});
-  return t;
-}
-
-// The camera: 1280 × 1024 px at 0.2 mm/px holds the 110 mm specimen stretched to 173 % along the
-// pull (190 mm) and 155 % across it; the small demo's 320 × 256 px at 0.8 mm/px the same field.
-struct CameraSetup {
-  int width, height;
-  double mm_per_px;
-  double centre_x() const { return 0.5 * (width - 1); }
-  double centre_y() const { return 0.5 * (height - 1); }
-};
-CameraSetup camera(const CampaignDemoOptions& o) {
-  return o.small ? CameraSetup{320, 256, 0.8} : CameraSetup{1280, 1024, 0.2};
-}
-
-int pull_steps(const CampaignDemoOptions& o) { return o.small ? 6 : 21; }
-int setting_steps(const CampaignDemoOptions& o) { return o.small ? 2 : 4; }
-constexpr int kHoldFrames = 2;
-constexpr double kClockOffset = 0.37;  // s, log clock − camera clock (the lab record's truth)
-constexpr double kTare = 0.8;          // N
-
-std::string rig_table(const CampaignDemoOptions& o) {
-  return fmt::format(R"([rig]                    # the rig of every test (fem::RigOptions; docs/theory/fabric.md §5)
-guide_gap = 0.15
-guide_taper = 0.15
-tie_stiffness = 2.0
-clip_tie_stiffness = 2.0
-clip_taper = 0.15
-clips_follow_guide = true
-setting_steps = {}        # increments that set the transverse dimension before the pull
-)",
-                     setting_steps(o));
-}
-
-std::string test_lines(const CampaignTest& t, const CampaignDemoOptions& o) {
-  return fmt::format(
-      "kind = \"rig\"\nside = 110.0\npull = \"{}\"\ntransverse_strain = {}\npull_strain = {}\nsteps = {}\n", t.pull,
-      io::to_toml(t.transverse_strain), io::to_toml(t.pull_strain), pull_steps(o));
+Campaign read_campaign(const io::Node& experiment, const DicSpec& dic) {
+  Campaign c;
+  const CaseSpec campaign = CaseSpec::from_config(experiment);
+  for (const TestSpec& t : campaign.test) c.tests.push_back(t.name);
+  c.setting = campaign.rig.setting_steps;
+  const SynthImagesSpec images = SynthImagesSpec::from_config(experiment.section("synth").section("images"));
+  c.hold = images.hold_frames;
+  c.pull = campaign.test.front().steps;  // every test pulls in as many steps
+  c.width = images.width, c.height = images.height;
+  const SynthLabSpec lab = SynthLabSpec::from_config(experiment.section("synth").section("lab"));
+  c.clock_offset_s = lab.clock_offset_s, c.tare_N = lab.tare_N;
+  c.subset_size = dic.sequence.dic.icgn.subset_size, c.step = dic.sequence.dic.step;
+  return c;
 }
 
 // User + system CPU seconds of the process, every thread.
@@ -150,18 +126,17 @@ struct DicQuality {
   int grid = 0, ok_last = 0, kept = 0;
   double mean_zncc = NAN, min_zncc = NAN;
 };
-std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& experiment,
-                                    const std::vector<CampaignTest>& tests, const CameraSetup& cam,
+std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& experiment, const Campaign& c,
                                     const fs::path& plots, const Log& log) {
   std::vector<DicQuality> q;
   const json sync = read_json_file(experiment / "sync.json");
   std::string panels;
   double floor = 0.99;  // the colour scale spans [floor, 1]: the worst point's ZNCC, at most 0.99
-  for (const auto& t : tests) {
-    const dic::SequenceResult seq = read_dic_folder(dic_dir / t.name());
+  for (const auto& name : c.tests) {
+    const dic::SequenceResult seq = read_dic_folder(dic_dir / name);
     const auto& last = seq.frames.back();
     DicQuality d;
-    d.name = t.name();
+    d.name = name;
     d.grid = int(seq.grid.size());
     io::CsvWriter ok, lost;
     ok.row({"x", "y", "zncc"}), lost.row({"x", "y"});
@@ -194,229 +169,47 @@ std::vector<DicQuality> dic_quality(const fs::path& dic_dir, const fs::path& exp
       "set size ratio -1\nset xrange [0:{}]\nset yrange [{}:0]\nunset key\nset cbrange [{}:1]\n"
       "set palette defined (0 \"#b2182b\", 0.7 \"#fddbc7\", 1 \"#2166ac\")\nset format x \"\"\nset format y \"\"\n{}"
       "unset multiplot\n",
-      tests.size() > 5 ? 2 : 1, cam.width, cam.height, floor, panels);
+      c.tests.size() > 5 ? 2 : 1, c.width, c.height, floor, panels);
   plot({.png = plots / "dic_quality.png",
         .width = 1500,
-        .height = tests.size() > 5 ? 700 : 380,
+        .height = c.tests.size() > 5 ? 700 : 380,
         .font_size = 10,
         .name = "dic_quality.png"},
        body, log);
   return q;
 }
 
+// The files of the campaign, one per verb, written to DIR: what each stage reads.
+constexpr const char* kCampaignFiles[] = {"experiment.toml", "dic.toml", "lab.toml", "project-template.toml"};
+
 // The paper's Table 5 (110 × 110 mm², 14 coefficients): eq. 9 whole and practical, course and wale.
 constexpr double kPaperWhole[2] = {0.218, 0.313}, kPaperPractical[2] = {0.084, 0.079};
 
 }  // namespace
 
-std::string campaign_experiment_toml(const CampaignDemoOptions& o) {
-  const CameraSetup cam = camera(o);
-  std::string s = fmt::format(
-      R"(# tricot demo (issue 13): the paper's §4 campaign of the reference knit, 110 × 110 mm², as a lab
-# would record it: camera images (the knit's own stitches as tracers) and a load-cell log per test.
-# Each test sets its transverse dimension ({} increments, one image each), holds it ({} images), then
-# pulls in {} steps (one image each). Written by src/project/pipeline/campaign_demo.cpp; rerun by hand with
-#   tricot synth experiment.toml -o raw
-
-[mesh]                   # generating mesh, finer than the identification's 12 × 10 Q8
-element = "Q8"
-nx = {}
-ny = {}
-grading = 0.5
-grading_x = 0.5
-
-[law]
-type = "reference_fabric"   # the truth: the reference knit (docs/theory/fabric.md §4), default coefficients
-
-{}
-[synth]
-seed = 20070412
-field = true             # the FE data too (raw/<test>/field.csv): the same identification without images
-field_kind = "cumulative"
-nx = 3
-ny = 3
-inset = 9.0              # every 18 mm from 9 mm: the material points of the DIC grid (dic.toml)
-spacing = 18.0
-
-[synth.images]
-enabled = true
-pixel_size = {}          # mm/px
-width = {}
-height = {}
-texture = "knit"         # the knit's natural tracers (paper §3.2)
-speckle_size = 5.0       # px: stitches 10 px (2 mm) apart across the wales
-subsamples = 2
-noise = 1.0              # gray levels of 255
-setting_frames = true    # set, hold, pull
-hold_frames = {}
-
-[synth.lab]
-enabled = true
-fps = 1.0
-log_rate_hz = 100.0
-clock_offset_s = {}
-tare_N = {}
-noise = 0.002            # σ = 0.2 % of the peak force
-crosshead = true
-crosshead_noise_mm = 0.001
-relaxation = false
-)",
-      setting_steps(o), kHoldFrames, pull_steps(o), o.small ? 12 : 24, o.small ? 10 : 20, rig_table(o),
-      io::to_toml(cam.mm_per_px), cam.width, cam.height, kHoldFrames, io::to_toml(kClockOffset), io::to_toml(kTare));
-  for (const auto& t : campaign_tests(o)) s += fmt::format("\n[[test]]\nname = \"{}\"\n{}", t.name(), test_lines(t, o));
-  return s;
-}
-
-std::string campaign_dic_toml(const CampaignDemoOptions& o) {
-  const CameraSetup cam = camera(o);
-  // A coarse grid over ±45 mm of the reference specimen (clear of the guides and the clips): the
-  // identification needs a few dozen field points per test, not a dense field. 6 × 6 points, at the
-  // material points of the FE data's grid ([synth] spacing 18 mm from 9 mm, folded into the quarter;
-  // docs/validation.md §9: with 10 × 10 the LM run stopped on an FE failure of wale-070).
-  const double half = 45 / cam.mm_per_px;
-  return fmt::format(R"(# tricot dic of every test's images (tricot demo):
-#   tricot dic dic.toml raw/<test>/images/frame_*.png -o dic/<test>
-[dic]
-subset_size = {}
-step = {}
-roi = [{}, {}, {}, {}]
-mode = "incremental"     # frame to frame, as the paper
-order = "second"
-
-[output]
-overlays = false
-increments = false
-)",
-                     o.small ? 21 : 31, o.small ? 20 : 90, std::floor(cam.centre_x() - half),
-                     std::floor(cam.centre_y() - half), std::ceil(cam.centre_x() + half),
-                     std::ceil(cam.centre_y() + half));
-}
-
-std::string campaign_lab_toml(const CampaignDemoOptions& o) {
-  const CameraSetup cam = camera(o);
-  std::string s = fmt::format(R"(# tricot experiment of the demo's raw record:
-#   tricot experiment lab.toml -o experiment
-[experiment]
-field_kind = "cumulative"
-control = "displacement"
-project_template = "project-template.toml"
-force_sigma = false      # weights as the FE-data identification: every group scaled by its RMS
-
-[physical]
-mm_per_px = {}
-centre_px = [{}, {}]
-)",
-                              io::to_toml(cam.mm_per_px), io::to_toml(cam.centre_x()), io::to_toml(cam.centre_y()));
-  for (const auto& t : campaign_tests(o)) {
-    const std::string n = t.name();
-    std::string model = test_lines(t, o);
-    std::string escaped;
-    for (char c : model) escaped += c == '"' ? std::string("\\\"") : c == '\n' ? std::string("\\n") : std::string(1, c);
-    s += fmt::format(R"(
-[[test]]
-name = "{0}"
-dic = "dic/{0}"
-frame_times = "camera_log"
-camera_log = "raw/{0}/lab/camera.csv"
-log = "raw/{0}/lab/load.txt"
-time_column = "Temps"
-force_column = "Force"
-crosshead_column = "Traverse"
-width_mm = 110.0
-free_length_mm = 110.0
-direction = "{1}"
-setting_images = {2}
-hold_images = {3}
-model = "{4}"
-)",
-                     n, t.pull, setting_steps(o), kHoldFrames, escaped);
-  }
-  return s;
-}
-
-std::string campaign_project_template(const CampaignDemoOptions& o) {
-  std::string s = fmt::format(
-      R"(# The identification of tricot demo: `paper14` (docs/theory.md §5) from the field and the grip force of every
-# test together, on the paper's 120 Q8 elements, as examples/knit-campaign/project-110.toml.
-
-[mesh]
-element = "Q8"
-nx = 12
-ny = 10
-grading = 0.5
-grading_x = 0.5
-
-[law]
-type = "response_surface"
-
-[law.response_surface]
-preset = "paper14"
-coefficients = [0.39279, -0.000371527, 4.64332e-05, 0.000466978, 0.00083818, 0.00115181, 0.00620026, 0.0147041,
-                0.226856, -0.0025306, -0.00514861, 0, 0.00627933, 0.0119436]
-shear_stiffness = 0.05
-
-{}
-[data]
-edge_force = 1.0
-field = 1.0
-
-[identify]
-epsilon = 1e-12
-delta = 1e-5
-jacobian = "exact"
-{}
-[eq9]
-{}
-
-[identifiability]
-pinned_relative_error = 0.1
-
-[stability]
-enabled = {}
-)",
-      rig_table(o),
-      o.small ? "max_iterations = 2\nstability_test = false\n"
-              : "initial_trust_region_radius = 100  # as examples/knit-campaign/project-110.toml\n"
-                "line_search_trials = 4\n",
-      o.small ? "practical_course = [0.0, 1.2]   # two tests: the whole range they span\n"
-                "practical_wale = [0.0, 0.7]\n"
-                "min_held_levels = 1              # one test per surface: a path, not the surface"
-              : "practical_course = [0.6, 1.0]\npractical_wale = [0.2, 0.4]",
-      o.small ? "false" : "true");
-  const std::pair<const char*, double> parameters[] = {
-      {"a1", 0.39279},    {"a2", 0.001},      {"a3", 0.001},      {"a4", 0.001},    {"a5", 0.001},
-      {"a6", 0.00115181}, {"b1", 0.00620026}, {"b2", 0.0147041},  {"c1", 0.226856}, {"c2", 0.0025306},
-      {"c3", 0.00514861}, {"c4", 0.00898148}, {"d1", 0.00627933}, {"d2", 0.0119436}};
-  for (const auto& [name, scale] : parameters) {
-    s += fmt::format("\n[[parameter]]\nname = \"{}\"\nscale = {}\n", name, io::to_toml(scale));
-    if (std::string(name) == "a6" || std::string(name) == "c4")
-      s += "bounds = [0.0, 10.0]        # a knit locks, it never softens in tension\n";
-  }
-  return s;
+std::string campaign_example(const CampaignDemoOptions& o) {
+  return o.small ? "knit-campaign/demo/small" : "knit-campaign/demo";
 }
 
 CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::path& out, const Log& log) {
   CampaignDemoResult result;
-  const auto tests = campaign_tests(o);
-  const std::size_t n = tests.size();
-  const CameraSetup cam = camera(o);
   fs::create_directories(out);
-  io::write_atomic(out / "experiment.toml", campaign_experiment_toml(o));
-  io::write_atomic(out / "dic.toml", campaign_dic_toml(o));
-  io::write_atomic(out / "lab.toml", campaign_lab_toml(o));
-  io::write_atomic(out / "project-template.toml", campaign_project_template(o));
-  const std::size_t frames = std::size_t(1 + setting_steps(o) + kHoldFrames + pull_steps(o));
+  for (const char* f : kCampaignFiles)
+    io::write_atomic(out / f, std::string(example_file(campaign_example(o) + "/" + f)));
+  const io::Node experiment = io::read_config(synth_schema(), (out / "experiment.toml").string());
+  const DicSpec dic = dic_spec((out / "dic.toml").string(), {});
+  const Campaign c = read_campaign(experiment, dic);
+  const std::size_t n = c.tests.size(), frames = c.frames();
   log.print(fmt::format(
       "tricot demo: the §4 campaign of the reference knit, 110 × 110 mm², {} tests × {} images of {} × {} px "
       "(knit texture), load-cell logs at 100 Hz (clock offset {} s, tare {} N) → DIC → experiment → "
       "identify paper14 → report, in {}",
-      n, frames, cam.width, cam.height, kClockOffset, kTare, out.string()));
+      n, frames, c.width, c.height, c.clock_offset_s, c.tare_N, out.string()));
 
   // 1. Render: FE of every test with the reference knit, its images and its lab record.
   {
     Stage st(log, "1/5 render", n * frames);
-    const io::Node root = io::read_config(synth_schema(), (out / "experiment.toml").string());
-    synthesize(root, out / "raw", st.inner([](const Progress& p) { return p.stage.rfind("images ", 0) == 0; }));
+    synthesize(experiment, out / "raw", st.inner([](const Progress& p) { return p.stage.rfind("images ", 0) == 0; }));
     result.stages.push_back(
         st.finish(fmt::format("{} images and {} lab logs in {}", n * frames, n, (out / "raw").string())));
   }
@@ -424,14 +217,13 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
   // 2. DIC of every test (tricot dic), incremental.
   {
     Stage st(log, "2/5 dic", n * (frames - 1));
-    const DicSpec spec = dic_spec((out / "dic.toml").string(), {});
     int ok = 0, points = 0;
-    for (const auto& t : tests) {
+    for (const auto& name : c.tests) {
       std::vector<std::string> images;
-      for (const auto& f : list_images(out / "raw" / t.name() / kImagesFolder)) images.push_back(f.string());
+      for (const auto& f : list_images(out / "raw" / name / kImagesFolder)) images.push_back(f.string());
       DicRunOptions streamed;
       streamed.keep_frames = false;  // the tables are written frame by frame; only the last frame is held
-      const DicRun run = run_dic(spec, images, out / "dic" / t.name(),
+      const DicRun run = run_dic(dic, images, out / "dic" / name,
                                  st.inner([](const Progress& p) { return p.stage == "dic"; }), streamed);
       st.close_inner();
       ok += run.result.frames.back().ok, points += int(run.result.grid.size());
@@ -446,7 +238,7 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
     const LabExperimentResult lab = run_lab_experiment(
         root, out / "experiment", st.inner([](const Progress& p) { return p.stage == "experiment"; }));
     double worst = 0;
-    for (const auto& t : lab.tests) worst = std::max(worst, std::abs(t.sync.clock_offset_s - kClockOffset));
+    for (const auto& t : lab.tests) worst = std::max(worst, std::abs(t.sync.clock_offset_s - c.clock_offset_s));
     result.stages.push_back(
         st.finish(fmt::format("{} tests; clock offsets within {:.1f} ms of the truth", lab.tests.size(), 1e3 * worst)));
   }
@@ -471,7 +263,7 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
     const fs::path id = out / "identify";
     const fs::path plots = id / "plots";
     fs::create_directories(plots);
-    const auto quality = dic_quality(out / "dic", out / "experiment", tests, cam, plots, log);
+    const auto quality = dic_quality(out / "dic", out / "experiment", c, plots, log);
     std::error_code ec;
     fs::copy_file(out / "experiment" / "sync.png", plots / "sync.png", fs::copy_options::overwrite_existing, ec);
     const json sync = read_json_file(out / "experiment" / "sync.json");
@@ -481,20 +273,20 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
       double offset, error_ms, tare, force_rms, force_max, peak;
     };
     std::vector<SyncRow> rows;
-    for (const auto& t : tests) {
-      const json truth = read_json_file(out / "raw" / t.name() / "lab" / "truth.json");
-      const json& s = sync[t.name()];
-      const io::LogTable f = io::read_log(out / "experiment" / t.name() / "forces.csv", io::LogFormat{',', false, 1});
+    for (const auto& name : c.tests) {
+      const json truth = read_json_file(out / "raw" / name / "lab" / "truth.json");
+      const json& s = sync[name];
+      const io::LogTable f = io::read_log(out / "experiment" / name / "forces.csv", io::LogFormat{',', false, 1});
       const auto measured = f.numbers("edge_force");
       const auto& true_force = truth["force_N"];
-      const std::size_t first = std::size_t(1 + setting_steps(o) + kHoldFrames);
+      const std::size_t first = std::size_t(1 + c.setting + c.hold);
       double s2 = 0, worst = 0, peak = 0;
       for (std::size_t k = 0; k < measured.size(); ++k) {
         const double e = measured[k] - true_force[first + k].get<double>();
         s2 += e * e, worst = std::max(worst, std::abs(e));
         peak = std::max(peak, std::abs(true_force[first + k].get<double>()));
       }
-      rows.push_back({number(s, "clock_offset_s"), 1e3 * (number(s, "clock_offset_s") - kClockOffset),
+      rows.push_back({number(s, "clock_offset_s"), 1e3 * (number(s, "clock_offset_s") - c.clock_offset_s),
                       number(s, "tare_N"), std::sqrt(s2 / double(std::max<std::size_t>(1, measured.size()))), worst,
                       peak});
     }
@@ -502,14 +294,14 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
       using namespace report;
       d.title = "tricot demo: the §4 campaign from images and load-cell logs to the knit's law";
       d.subtitle = fmt::format("{} tests of 110 × 110 mm² · {} images each of {} × {} px · paper14 · {}", n, frames,
-                               cam.width, cam.height, result.converged ? "converged" : "NOT converged");
+                               c.width, c.height, result.converged ? "converged" : "NOT converged");
       {
         Section& s = d.section(kDic, "DIC quality per test");
         s.paragraph(
             fmt::format("tricot dic, incremental, second-order subsets ({}; dic.toml) on every test's {} images. The "
                         "points kept are those inside the specimen and measured in every image (the field of "
                         "experiment/<test>/field.csv).",
-                        o.small ? "21 px subsets every 20 px" : "31 px subsets every 90 px", frames));
+                        fmt::format("{} px subsets every {} px", c.subset_size, c.step), frames));
         s.figure(fs::path("plots") / "dic_quality.png",
                  "Every test's DIC points at its last frame, coloured by ZNCC; lost points as black crosses.");
         NumericTable t{"Points per test",
@@ -532,7 +324,7 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
             fmt::format("The clock offset δ (log − camera) from the cross-head and the DIC grip motion over the last "
                         "setting image, the {} hold images and the pull (set, hold, pull); the tare from the log "
                         "before image 0. Truth: δ = {} s, tare {} N.",
-                        kHoldFrames, kClockOffset, kTare));
+                        c.hold, c.clock_offset_s, c.tare_N));
         s.figure(
             fs::path("plots") / "sync.png",
             "Per test: the log's force (tare removed) with the image instants, and the criterion near its optimum.");
@@ -546,7 +338,7 @@ CampaignDemoResult run_campaign_demo(const CampaignDemoOptions& o, const fs::pat
             {}};
         t.column_digits = {6, 3, 4, 3, 3, 4};
         for (std::size_t i = 0; i < n; ++i) {
-          t.labels.push_back(tests[i].name());
+          t.labels.push_back(c.tests[i]);
           t.rows.push_back(
               {rows[i].offset, rows[i].error_ms, rows[i].tare, rows[i].force_rms, rows[i].force_max, rows[i].peak});
         }

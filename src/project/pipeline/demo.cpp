@@ -4,7 +4,7 @@
 //       field only, both) and print Table 1 with the paper's CPU times beside ours;
 //   (c) the ε study of the paper's Fig. 10, read off the both-data run (see epsilon_study()).
 // --full adds the robustness studies of docs/validation.md: two more starting points, 0.5 %
-// noise with measurement σ, and the finite-difference Jacobian.
+// noise with measurement σ, and the finite-difference Jacobian. Its files are examples/uniaxial-mooney's.
 #include "tricot/project/demo.hpp"
 
 #include <fmt/format.h>
@@ -14,8 +14,8 @@
 #include <filesystem>
 
 #include "output/plot.hpp"
-#include "tricot/fem/mooney_rivlin.hpp"
 #include "tricot/io/files.hpp"
+#include "tricot/project/examples.hpp"
 #include "tricot/project/identification.hpp"
 #include "tricot/project/synthesis.hpp"
 
@@ -25,164 +25,47 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::array<const char*, 4> kNames{"C10", "C20", "C21", "C03"};
+constexpr std::string_view kExperiment = "uniaxial-mooney/experiment.toml";
+constexpr std::string_view kProject = "uniaxial-mooney/project.toml";
 
-std::array<double, 4> truth() {
-  std::array<double, 4> t{};
-  const auto terms = fem::paper_mooney_rivlin_terms();
-  for (std::size_t k = 0; k < 4; ++k)
-    for (const auto& term : terms)
-      if (fmt::format("C{}{}", term.i, term.j) == kNames[k]) t[k] = term.C;
+// Table 1's coefficients and their targets: the law the experiment is synthesised with.
+struct Truth {
+  io::Strings names;  // C10, C20, C21, C03
+  io::Reals values;
+};
+const Truth& truth() {
+  static const Truth t = [] {
+    const MooneyRivlinSpec law =
+        CaseSpec::from_config(io::parse_config(synth_schema(), example_file(kExperiment), std::string(kExperiment)))
+            .law.mooney_rivlin;
+    Truth r{law.terms, law.values};
+    if (r.values.size() != 4) throw std::logic_error(std::string(kExperiment) + ": Table 1 is four coefficients");
+    return r;
+  }();
   return t;
-}
-
-std::string list(const std::array<double, 4>& v) { return io::to_toml(io::Reals(v.begin(), v.end())); }
-
-// A word or a list of words as a TOML basic string ("Q8"; the words here need no escapes).
-std::string word(const std::string& w) { return "\"" + w + "\""; }
-std::string words(const io::Strings& ws) {
-  std::string s;
-  for (const auto& w : ws) s += (s.empty() ? "" : ", ") + word(w);
-  return "[" + s + "]";
-}
-
-// A real as TOML, with the exponent written as a person would ("1e-5", not "1e-05").
-std::string real(double x) {
-  std::string s = io::to_toml(x);
-  for (const char* e : {"e-0", "e+0"})
-    if (const auto at = s.find(e); at != std::string::npos) s.erase(at + 2, 1);
-  return s;
 }
 
 }  // namespace
 
-std::string demo_experiment_toml(double noise_relative) {
-  return fmt::format(
-      R"(# The paper's generated validation case (§3.3, Fig. 6, Table 1) as a synthetic experiment: a rubber
-# strip, clamped in its grips and pulled by a prescribed force in 35 steps, with the four-term
-# Mooney–Rivlin law C10, C20, C21, C03 (the truth; fem::paper_mooney_rivlin_terms()). The data are
-# generated on a finer mesh (14 × 48 Q8, 4282 dofs) than project.toml identifies on (10 × 34 Q8,
-# 2218 dofs, the paper's ~2200), so that the identification is not an inverse crime.
-#   tricot synth examples/uniaxial-mooney/experiment.toml -o examples/uniaxial-mooney/experiment
-# (`tricot demo` runs the same file, written by src/project/pipeline/demo.cpp.)
-
-[mesh]
-width = 50.0        # mm, full strip width
-height = 200.0      # mm, free length between the grips
-element = "Q8"
-nx = 14             # across the quarter (25 mm)
-ny = 48             # along the quarter (100 mm)
-
-[law]
-type = "mooney_rivlin"
-
-[law.mooney_rivlin]
-terms = ["C10", "C20", "C21", "C03"]
-values = {}    # N/mm: the truth
-
-[[test]]
-name = "tension"
-kind = "uniaxial"
-control = "force"     # force-controlled: the grip (cross-head) displacement is the edge measurement
-grip_holds_x = true   # clamped: the strip necks between its grips
-load_max = 20.0       # N on the full strip: it stretches to λ ≈ 1.9
-steps = 35
-
-[synth]
-noise_relative = {}  # 0 = noise-free; 0.005 = 0.5 % of each group's RMS
-seed = 20070101
-field = true
-field_kind = "cumulative"
-nx = 6                # field points across the quarter
-ny = 20               # and along it: 120 points, 1 mm inside the edges
-inset = 1.0
-)",
-      list(truth()), io::to_toml(noise_relative));
-}
-
-IdentificationSpec demo_project_spec(const DemoProject& p) {
-  IdentificationSpec s;
-  s.mesh.width = 50, s.mesh.height = 200, s.mesh.element = "Q8", s.mesh.nx = 10, s.mesh.ny = 34;
-  s.law.type = "mooney_rivlin";
-  s.law.mooney_rivlin.terms = io::Strings(kNames.begin(), kNames.end());
-  s.law.mooney_rivlin.values = io::Reals(p.start.begin(), p.start.end());
-  TestSpec t;
-  t.name = "tension", t.kind = "uniaxial", t.control = "force", t.grip_holds_x = true;
-  t.load_max = 20, t.steps = 35;
-  s.test = {t};
-  s.experiment.dir = p.experiment_dir;
-  s.experiment.field_kind = "cumulative";
-  s.experiment.sigma_from_truth = p.sigma_from_truth;
-  for (const char* name : kNames) {
-    ParameterSpec q;
-    q.name = name;
-    s.parameter.push_back(q);
-  }
-  s.data.edge_displacement = p.edge_displacement;
-  s.data.field = p.field;
-  s.identify.epsilon = p.epsilon;
-  s.identify.delta = 1e-5;
-  s.identify.jacobian = p.jacobian;
-  return s;
+std::string demo_experiment_toml(std::optional<double> noise_relative) {
+  const std::string_view text = example_file(kExperiment);
+  return noise_relative ? with_value(text, "synth", "noise_relative", *noise_relative) : std::string(text);
 }
 
 std::string demo_project_toml(const DemoProject& p) {
-  const IdentificationSpec s = demo_project_spec(p);
-  const MeshSpec& m = s.mesh;
-  const TestSpec& t = s.test.front();
-  std::string parameters;
-  for (const auto& q : s.parameter) parameters += fmt::format("[[parameter]]\nname = {}\n", word(q.name));
-  return fmt::format(
-      R"(# Identify the four Mooney–Rivlin coefficients of the paper's validation case (§3.3, Table 1) from
-# the synthetic experiment of experiment.toml, on the paper's mesh size (10 × 34 Q8, 2218 dofs).
-#   tricot synth examples/uniaxial-mooney/experiment.toml -o examples/uniaxial-mooney/experiment
-#   tricot identify examples/uniaxial-mooney/project.toml -o out/uniaxial-mooney
-# The start point is [law] below. [data] picks the data of Table 1: edge_displacement (the grip) and
-# field; set one weight to 0.0 for "field only" or "edge only". (Written by src/project/pipeline/demo.cpp.)
+  std::string s(example_file(kProject));
+  if (p.start) s = with_value(s, "law.mooney_rivlin", "values", *p.start);
+  if (p.experiment_dir) s = with_value(s, "experiment", "dir", *p.experiment_dir);
+  if (p.sigma_from_truth) s = with_value(s, "experiment", "sigma_from_truth", *p.sigma_from_truth);
+  if (p.edge_displacement) s = with_value(s, "data", "edge_displacement", *p.edge_displacement);
+  if (p.field) s = with_value(s, "data", "field", *p.field);
+  if (p.epsilon) s = with_value(s, "identify", "epsilon", *p.epsilon);
+  if (p.jacobian) s = with_value(s, "identify", "jacobian", *p.jacobian);
+  return s;
+}
 
-[mesh]
-width = {}
-height = {}
-element = {}
-nx = {}
-ny = {}
-
-[law]
-type = {}
-
-[law.mooney_rivlin]
-terms = {}
-values = {}   # N/mm: the start point
-
-[[test]]
-name = {}
-kind = {}
-control = {}
-grip_holds_x = {}
-load_max = {}
-steps = {}
-
-[experiment]
-dir = {}
-field_kind = {}
-sigma_from_truth = {}   # true: σ of the noise synth added, from truth.json (docs/theory.md §8)
-
-{}
-[data]
-edge_displacement = {}
-field = {}
-
-[identify]
-epsilon = {}         # the paper's ε (eq. 2)
-delta = {}            # the paper's δ (eq. 3)
-jacobian = {}
-)",
-      io::to_toml(m.width), io::to_toml(m.height), word(m.element), m.nx, m.ny, word(s.law.type),
-      words(s.law.mooney_rivlin.terms), io::to_toml(s.law.mooney_rivlin.values), word(t.name), word(t.kind),
-      word(t.control), io::to_toml(*t.grip_holds_x), io::to_toml(t.load_max), t.steps, word(s.experiment.dir),
-      word(s.experiment.field_kind), io::to_toml(s.experiment.sigma_from_truth), parameters,
-      io::to_toml(s.data.edge_displacement), io::to_toml(s.data.field), real(s.identify.epsilon),
-      real(s.identify.delta), word(s.identify.jacobian));
+IdentificationSpec demo_project_spec(const DemoProject& p) {
+  return read_identification_spec(io::parse_config(identify_schema(), demo_project_toml(p), "project.toml"));
 }
 
 namespace {
@@ -210,10 +93,10 @@ struct Run {
 Run identify_case(const fs::path& out, const std::string& name, const std::string& label, const DemoProject& p,
                   const Log& log, const DemoRequest& args, std::function<void(const ident::Checkpoint&)> observe = {}) {
   Run run{name, label, out / name, {}};
-  // The spec is built in code; project.toml is written from it for the user (and not read back).
-  IdentificationSpec spec = demo_project_spec(p);
-  spec.file = run.dir / "project.toml";
-  io::write_atomic(spec.file, demo_project_toml(p));
+  // What runs is the project.toml written here, read back as `tricot identify` reads it.
+  const fs::path file = run.dir / "project.toml";
+  io::write_atomic(file, demo_project_toml(p));
+  const IdentificationSpec spec = read_identification_spec(io::read_config(identify_schema(), file.string()));
   IdentifyRequest req;
   req.base = run.dir;
   req.out = run.dir;
@@ -233,13 +116,14 @@ double std_error(const ident::IdentifyResult& r, std::size_t k) {
 }
 
 double relative_error(const ident::IdentifyResult& r, std::size_t k) {
-  const double t = truth()[k];
+  const double t = truth().values[k];
   return (r.parameters(Eigen::Index(k)) - t) / std::abs(t);
 }
 
 double max_relative_error(const Eigen::VectorXd& J) {
   double e = 0;
-  for (std::size_t k = 0; k < 4; ++k) e = std::max(e, std::abs(J(Eigen::Index(k)) - truth()[k]) / std::abs(truth()[k]));
+  for (std::size_t k = 0; k < 4; ++k)
+    e = std::max(e, std::abs(J(Eigen::Index(k)) - truth().values[k]) / std::abs(truth().values[k]));
   return e;
 }
 
@@ -266,16 +150,16 @@ void table1(const fs::path& out, const std::vector<Run>& runs, const Log& log) {
       const double se = std_error(r, k);
       const double J = r.parameters(Eigen::Index(k)), e = relative_error(r, k);
       log.print(fmt::format("{:<30} {:<4} {:>10.6g} {:>12.7g} {:>9.4f}% {:>10.2g} {:>5} {:>5} {:>9} {:>9} {:>9}",
-                            first ? p.label : "", kNames[k], truth()[k], J, 100 * e, se,
+                            first ? p.label : "", truth().names[k], truth().values[k], J, 100 * e, se,
                             first ? std::to_string(r.iterations) : "", first ? std::to_string(r.evaluations) : "",
                             first ? format_duration(r.wall_seconds) : "", first ? fmt::format("{} h", p.hours) : "",
                             first ? fmt::format("{:.0f}×", speed_up) : ""));
       md += fmt::format("| {} | {} | {:.6g} | {:.7g} | {:+.4f} % | {:.2g} | {} | {} | {} | {} | {} | {} |\n",
-                        first ? p.label : "", kNames[k], truth()[k], J, 100 * e, se,
+                        first ? p.label : "", truth().names[k], truth().values[k], J, 100 * e, se,
                         first ? std::to_string(r.iterations) : "", first ? std::to_string(r.evaluations) : "",
                         first ? format_duration(r.wall_seconds) : "", first ? fmt::format("{} h", p.hours) : "",
                         first ? std::to_string(p.iterations) : "", first ? fmt::format("{:.0f}×", speed_up) : "");
-      csv.text(p.name).text(kNames[k]).number(truth()[k]).number(J).number(e).number(se);
+      csv.text(p.name).text(truth().names[k]).number(truth().values[k]).number(J).number(e).number(se);
       csv.integer(r.iterations).integer(r.evaluations).number(r.wall_seconds, io::CsvFormat::significant(6));
       csv.number(paper_s, io::CsvFormat::shortest()).integer(p.iterations);
       csv.number(speed_up, io::CsvFormat::significant(6)).text(ident::to_string(r.termination)).end_row();
@@ -294,7 +178,7 @@ void epsilon_study(const fs::path& out, const Run& run, const std::vector<ident:
                    const Log& log) {
   io::Table t;
   t.columns = {"epsilon", "reached", "iterations", "evaluations", "wall_seconds", "objective", "max_relative_error"};
-  for (const char* n : kNames) t.columns.push_back(std::string("relative_error_") + n);
+  for (const auto& n : truth().names) t.columns.push_back("relative_error_" + n);
   const auto& r = run.outcome.result;
   log.print("");
   log.print("Fig. 10 — the ε study (both data): a run stopped by eq. (2) at f < ε");
@@ -312,7 +196,8 @@ void epsilon_study(const fs::path& out, const Run& run, const std::vector<ident:
     const double wall = hit ? hit->wall_seconds : r.wall_seconds, f = hit ? hit->objective : r.objective;
     const Eigen::VectorXd J = hit ? hit->parameters : r.parameters;
     std::vector<double> row{eps, hit ? 1.0 : 0.0, double(it), double(ev), wall, f, max_relative_error(J)};
-    for (std::size_t k = 0; k < 4; ++k) row.push_back((J(Eigen::Index(k)) - truth()[k]) / std::abs(truth()[k]));
+    for (std::size_t k = 0; k < 4; ++k)
+      row.push_back((J(Eigen::Index(k)) - truth().values[k]) / std::abs(truth().values[k]));
     log.print(fmt::format("{:>8.0e} {:>12} {:>5} {:>5} {:>9} {:>11.3g} {:>13.3g}%", eps,
                           hit ? "ε (eq. 2)" : "δ (eq. 3)", it, ev, format_duration(wall), f, 100 * row[6]));
     t.rows.push_back(std::move(row));
@@ -343,11 +228,11 @@ unset multiplot
 // Exact Jacobian (FE sensitivities, docs/theory.md §7) against central finite differences at the start point
 // of Table 1, and what each costs against one forward FE solve (best of three, this machine).
 std::string jacobian_check(const fs::path& out) {
-  DemoProject p;
-  const Project P = build_project(demo_project_spec(p), out);
+  const IdentificationSpec spec = demo_project_spec({});
+  const Project P = build_project(spec, out);
   const ident::Problem& problem = *P.objective;
-  Eigen::VectorXd J(4);
-  for (std::size_t k = 0; k < 4; ++k) J(Eigen::Index(k)) = p.start[k];
+  const io::Reals& start = spec.law.mooney_rivlin.values;
+  const Eigen::VectorXd J = Eigen::Map<const Eigen::VectorXd>(start.data(), Eigen::Index(start.size()));
   auto best_of_three = [](auto&& f) {
     double best = 1e300;
     for (int i = 0; i < 3; ++i) {
@@ -377,7 +262,7 @@ std::string jacobian_check(const fs::path& out) {
 
 // --full: the robustness studies of docs/validation.md.
 void studies(const fs::path& out, const Run& both, const Log& log, const DemoRequest& args) {
-  const auto T = truth();
+  const io::Reals& T = truth().values;
   std::vector<Run> runs;
   DemoProject p;
   p.experiment_dir = "../experiment";
@@ -430,18 +315,18 @@ void studies(const fs::path& out, const Run& both, const Log& log, const DemoReq
       "\nCorrelation matrix of the 0.5 % noise run (C10, C20, C21, C03):\n\n| | C10 | C20 | C21 | C03 "
       "|\n|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < 4; ++i) {
-    md += fmt::format("| {} |", kNames[i]);
+    md += fmt::format("| {} |", truth().names[i]);
     for (std::size_t k = 0; k < 4; ++k)
       md += fmt::format(" {:+.3f} |", noise.uncertainty.correlation(Eigen::Index(i), Eigen::Index(k)));
     md += "\n";
   }
   md += "\nStandard errors (relative): ";
   for (std::size_t k = 0; k < 4; ++k)
-    md += fmt::format("{}{} {:.3g} %", k ? ", " : "", kNames[k], 100 * std_error(noise, k) / std::abs(T[k]));
+    md += fmt::format("{}{} {:.3g} %", k ? ", " : "", truth().names[k], 100 * std_error(noise, k) / std::abs(T[k]));
   md += fmt::format(".\nCondition number {:.3g}; least identifiable direction (relative changes):",
                     noise.uncertainty.condition_number);
   for (std::size_t k = 0; k < 4; ++k)
-    md += fmt::format(" {:+.3f} δ{}", noise.uncertainty.least_identifiable(Eigen::Index(k)), kNames[k]);
+    md += fmt::format(" {:+.3f} δ{}", noise.uncertainty.least_identifiable(Eigen::Index(k)), truth().names[k]);
   md += ".\n";
   md += jacobian_check(out);
   io::write_atomic(out / "studies.md", md);
