@@ -67,9 +67,9 @@ Runner add_experiment(CLI::App& app) {
   add_print_config(cmd, project::lab_schema);
   return [args]() {
     check_out_dir(args->out_dir);
-    const io::Node root = io::read_config(project::lab_schema(), args->file);
+    const auto spec = project::LabSpec::from_config(io::read_config(project::lab_schema(), args->file));
     Console console(args->verbose, args->quiet);
-    project::run_lab_experiment(root, args->out_dir, console.log());
+    project::run_lab_experiment(spec, args->out_dir, console.log());
     return ExitCode::ok;
   };
 }

@@ -24,43 +24,11 @@
 
 #include "tricot/dic/sequence.hpp"
 #include "tricot/io/config.hpp"
-#include "tricot/lab/specimen.hpp"
 #include "tricot/lab/sync.hpp"
+#include "tricot/project/lab_spec.hpp"
 #include "tricot/project/log.hpp"
-#include "tricot/project/spec.hpp"
 
 namespace tricot::project {
-
-/// The lab file: [experiment], [camera], [sync], [[test]] and the `tricot dic` tables ([dic], [strain]).
-io::SectionSpec lab_schema();
-
-/// `[experiment]` of the lab file: what the experiment folder holds. The field names are the TOML keys
-/// (help and ranges in lab_schema()).
-struct ExperimentSpec {
-  std::string field_kind = "cumulative";  ///< field.csv: cumulative or incremental
-  std::string control = "displacement";   ///< forces.csv's load: displacement or force
-  std::string grip = "auto";              ///< the grip displacement: auto, crosshead or field
-  bool plot = true;                       ///< DIR/sync.png
-  bool force_sigma = true;                ///< project.toml's sigma_edge_force from the logs' spread at rest
-  double sigma_edge_displacement = 0;     ///< mm, ≥ 0: written to project.toml when > 0
-  double sigma_edge_force = 0;            ///< N, ≥ 0: written to project.toml when > 0 (replaces the logs' spread)
-  std::string model =
-      "quarter";  ///< quarter (rigid motion removed with the clamps) or full (point tracks in the mesh frame)
-  /// The project template, relative to the lab file's folder as written in the file ("" = a skeleton);
-  /// from_config resolves it against that folder.
-  std::filesystem::path project_template;
-  Origin origin{"experiment"};
-
-  static ExperimentSpec from_config(const io::Node& table);
-  /// The one check: each word one of its choices, σ in its range. Throws InputError naming the key,
-  /// the value and the range.
-  void validate() const;
-  lab::FieldKind kind() const {
-    return field_kind == "incremental" ? lab::FieldKind::incremental : lab::FieldKind::cumulative;
-  }
-  bool force_control() const { return control == "force"; }
-  bool full() const { return model == "full"; }
-};
 
 /// What one test produced.
 struct LabTestResult {
@@ -82,11 +50,14 @@ struct LabExperimentResult {
 /// One test's [[test]] table of DIR/project.toml: its name, the `model` lines, the material's orientation
 /// from `direction` (wale: material_angle = 0, pull = "wale"; course: 90, "course"), the control and the
 /// loads. Throws InputError at `model` when its lines set material_angle or pull themselves.
+std::string project_test_table(const LabTestSpec& test, const LabTestResult& result, const ExperimentSpec& e);
+/// The same for a [[test]] table read from a file.
 std::string project_test_table(const io::Node& test, const LabTestResult& result, const ExperimentSpec& e);
 
-/// Runs every test of a validated lab file (`root` from read_config(lab_schema(), file)) and writes
-/// DIR. Relative paths in the file are taken from the file's folder. Throws InputError / FileError
-/// naming the file, line and key of what is wrong.
+/// Checks the lab file (LabSpec::validate()), runs every test and writes DIR. Throws InputError /
+/// FileError naming the file, line and key of what is wrong.
+LabExperimentResult run_lab_experiment(const LabSpec& spec, const std::filesystem::path& dir, const Log& log);
+/// The same for a lab file read with lab_schema() (`root` from read_config(lab_schema(), file)).
 LabExperimentResult run_lab_experiment(const io::Node& root, const std::filesystem::path& dir, const Log& log);
 
 /// Reads a `tricot dic` output folder back: points.csv (with sigma_x, sigma_y), increments.csv when

@@ -25,10 +25,9 @@
 #include <vector>
 
 #include "tricot/core/types.hpp"
-#include "tricot/dic/physical.hpp"
-#include "tricot/io/config.hpp"
 #include "tricot/lab/specimen.hpp"
 #include "tricot/lab/sync.hpp"
+#include "tricot/project/lab_spec.hpp"
 
 namespace tricot::project {
 
@@ -47,7 +46,7 @@ struct PointTracks {
 /// file or folder is missing, InputError naming FILE:LINE: KEY for: a long table whose frame lacks a
 /// point, a wide table with an empty cell, columns in px and mm mixed (or against tracks_unit), a
 /// frame given twice.
-PointTracks read_point_tracks(const io::Node& test);
+PointTracks read_point_tracks(const LabTestSpec& test);
 
 /// A per-frame force: a frame column and a force column (N).
 struct FrameForces {
@@ -57,7 +56,7 @@ struct FrameForces {
   std::vector<double> force_N;
 };
 /// Reads a [[test]]'s `frame_forces` (frame_column, force_column). InputError at a bad cell.
-FrameForces read_frame_forces(const io::Node& test);
+FrameForces read_frame_forces(const LabTestSpec& test);
 
 /// One test of point tracks, ready for the experiment folder.
 struct TracksTest {
@@ -81,8 +80,9 @@ struct TracksTest {
   std::string report;  ///< one line: frames, steps, points kept
 };
 
-/// Reads a [[test]] of point tracks and its per-frame force and makes its steps and field. `physical`
-/// is the lab file's [physical] (scale, centre, axes), which the test's own mm_per_px overrides.
+/// Reads a [[test]] of point tracks (of a validated LabSpec: its force file, two clamps or none) and its
+/// per-frame force and makes its steps and field. `physical` is the lab file's [physical] (scale,
+/// centre, axes), which the test's own mm_per_px overrides.
 /// `full` = false: the quarter model, the points folded into X, Y ≥ 0, those beyond the specimen's
 /// rectangle left out, and the clamps' mean displacement subtracted (with clamps given); true: the
 /// whole specimen, every point where it is (tracks in mm are points of the mesh frame as they stand,
@@ -91,6 +91,6 @@ struct TracksTest {
 /// Throws InputError naming FILE:LINE: KEY for: a force file whose frames are not the tracks' (the
 /// first frame in one and not the other), a clamp that is not a tracked point, clamps whose distance
 /// does not change (a clamp marker that does not move), a scale missing for tracks in px.
-TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full);
+TracksTest tracks_test(const LabTestSpec& test, const LabPhysicalSpec& physical, bool full);
 
 }  // namespace tricot::project

@@ -29,188 +29,6 @@ namespace tricot::project {
 
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
-using io::key;
-
-namespace {
-
-io::SectionSpec experiment_section() {
-  const ExperimentSpec d;
-  return io::SectionSpec{
-      "experiment",
-      "What the experiment folder holds.",
-      false,
-      {key("field_kind", d.field_kind,
-           "field.csv: cumulative (material points tracked from image 0) or incremental (fixed points, "
-           "displacement since the previous image; docs/theory.md §7).",
-           -1e300, 1e300, {"cumulative", "incremental"}),
-       key("control", d.control,
-           "The FE load of each step in forces.csv: displacement (load = grip displacement of the quarter, mm) "
-           "or force (load = the full specimen's force, N).",
-           -1e300, 1e300, {"displacement", "force"}),
-       key("grip", d.grip,
-           "The grip displacement: crosshead (half the synchronised cross-head travel), field (from the DIC "
-           "field, lab::grip_from_field) or auto (crosshead when the log has one).",
-           -1e300, 1e300, {"auto", "crosshead", "field"}),
-       key("plot", d.plot, "Write DIR/sync.png (gnuplot)."),
-       key("force_sigma", d.force_sigma,
-           "Write the logs' largest spread at rest to project.toml as sigma_edge_force (displacement control);\n"
-           "false: leave it out, so that the force group is scaled by its RMS like the others."),
-       key("sigma_edge_force", d.sigma_edge_force,
-           "Written to project.toml's [experiment] when > 0: the load cell's σ, N (its specification), in place\n"
-           "of the logs' spread at rest (force_sigma). A full model's tracks have no frames at rest: give it here.",
-           0, 1e9),
-       key("sigma_edge_displacement", d.sigma_edge_displacement,
-           "Written to project.toml's [experiment] when > 0: the grip's σ, mm (half the cross-head's), so that\n"
-           "every group has a measurement σ and the covariance is a real one (docs/theory.md §8).",
-           0, 1e6),
-       key("model", d.model,
-           "The FE model of each test: quarter (the quarter specimen with two symmetry axes; a one-sided pull's\n"
-           "rigid motion is removed with its clamps' mean displacement) or full (the whole specimen: point\n"
-           "tracks only, every point where it is in the mesh frame, nothing removed; each [[test]]'s `model`\n"
-           "lines give its kind = \"custom\" and [[test.boundary]] tables, its loads are the steps' frame\n"
-           "numbers; docs/tutorial-own-specimen.md).",
-           -1e300, 1e300, {"quarter", "full"}),
-       key("project_template", d.project_template.string(),
-           "A TOML file with the project's [mesh], [law], [[parameter]], [data], [identify] (no [[test]], no\n"
-           "[experiment]): DIR/project.toml is it plus one [[test]] per test (loads from forces.csv) and\n"
-           "[experiment]. \"\" = a skeleton to edit.")},
-      {}};
-}
-
-}  // namespace
-
-ExperimentSpec ExperimentSpec::from_config(const io::Node& n) {
-  ExperimentSpec e;
-  e.field_kind = n.string("field_kind");
-  e.control = n.string("control");
-  e.grip = n.string("grip");
-  e.plot = n.boolean("plot");
-  e.force_sigma = n.boolean("force_sigma");
-  e.sigma_edge_displacement = n.real("sigma_edge_displacement");
-  e.sigma_edge_force = n.real("sigma_edge_force");
-  e.model = n.string("model");
-  const fs::path t = n.string("project_template");
-  e.project_template = t.empty() || t.is_absolute() ? t : fs::path(n.file()).parent_path() / t;
-  e.origin = Origin(n);
-  return e;
-}
-
-void ExperimentSpec::validate() const {
-  const io::SectionSpec table = experiment_section();
-  check_key(origin, table, "field_kind", field_kind);
-  check_key(origin, table, "control", control);
-  check_key(origin, table, "grip", grip);
-  check_key(origin, table, "sigma_edge_displacement", sigma_edge_displacement);
-  check_key(origin, table, "sigma_edge_force", sigma_edge_force);
-  check_key(origin, table, "model", model);
-  if (full() && force_control())
-    origin.fail(
-        "control",
-        "a full model's boundaries carry the motion (its loads are the steps' frames): force control is the quarter's",
-        "\"force\"", "\"displacement\"");
-}
-
-io::SectionSpec lab_schema() {
-  io::SectionSpec root{
-      "", "tricot experiment: a lab's raw files → an experiment folder for `tricot identify`.", false, {}, {}};
-  root.sections.push_back(experiment_section());
-  root.sections.push_back(io::SectionSpec{
-      "sync",
-      "Load-cell synchronisation (lab::SyncOptions). Per test, clock_offset_s and tare_N override the estimates.",
-      false,
-      {key("max_offset_s", 10.0, "Search range of the clock offset, s: |δ| ≤ max_offset_s.", 1e-6, 1e6),
-       key("exposure_s", 0.0, "Exposure of each image, s: the force is averaged over it (0 = the instant).", 0, 1e3),
-       key("onset_fraction", 0.3, "Onset method: fit up to this fraction of the travel, (0, 1].", 1e-3, 1),
-       key("force_degree", std::int64_t{3}, "Onset method: degree of the force–motion polynomial.", 1, 5),
-       key("crosshead_degree", std::int64_t{3},
-           "Cross-head method: degree of the cross-head–grip polynomial (1 = affine, Pearson's r).", 1, 4),
-       key("tare_margin_s", 0.05, "Log samples this close before the motion are left out of the tare, s.", 0, 1e3)},
-      {}});
-  io::SectionSpec test{
-      "test",
-      "One test: its images (or a `tricot dic` output folder), its frame times, its load-cell log and its specimen.",
-      true,
-      {key("name", std::string("tension"), "Folder name of the test in DIR (and [[test]] name in project.toml)."),
-       key("images", std::string(""), "Folder of the numbered image sequence (.png, .tif, .bmp; image 0 unloaded)."),
-       key("dic", std::string(""),
-           "Or: a `tricot dic` output folder to reuse (points.csv, frames.csv, increments.csv)."),
-       key("frame_times", std::string("camera_log"),
-           "Where frame times come from: camera_log (CSV of file and time), fps (fps and start_s) or "
-           "file_names (`img_0003_t1.500s.tif`).",
-           -1e300, 1e300, {"camera_log", "fps", "file_names"}),
-       key("camera_log", std::string(""), "The camera log (frame_times = camera_log)."),
-       key("camera_file_column", std::string("file"), "Its column of image file names."),
-       key("camera_time_column", std::string("time"), "Its column of times, s."),
-       key("fps", 0.0, "Frames per second (frame_times = fps), > 0.", 0, 1e6),
-       key("start_s", 0.0, "Camera time of image 0, s (frame_times = fps)."),
-       key("log", std::string(""), "The load-cell log (CSV or tab-separated; header lines, decimal comma, units)."),
-       key("time_column", std::string("time"), "Its time column, s (names match ignoring case and units)."),
-       key("force_column", std::string("force"), "Its force column, N."),
-       key("crosshead_column", std::string(""), "Its cross-head column, mm; \"\" = none (onset synchronisation)."),
-       key("clock_offset_s", 0.0,
-           "When given: the clock offset (log − camera), s, used as is. Leave the key out to estimate it\n"
-           "(a --print-config file lists it: delete the line)."),
-       key("tare_N", 0.0, "When given: the force at rest, N, used as is. Leave the key out to estimate it."),
-       key("width_mm", 50.0, "Specimen width (full), mm.", 1e-9, 1e6),
-       key("free_length_mm", 200.0, "Free length between the clips (full), mm.", 1e-9, 1e6),
-       key("direction", std::string("wale"), "Direction loaded: wale or course.", -1e300, 1e300, {"wale", "course"}),
-       key("guide_mm", 0.0, "Guide setting of a biaxial-induced test, mm (0 = free edges).", 0, 1e6),
-       key("setting_images", std::int64_t{0},
-           "A rig test's images after image 0 that show the transverse dimension being set, the grip at rest\n"
-           "(`tricot synth` camera.json: phase \"setting\"). They and the hold images are not steps: the steps\n"
-           "are the pull's images. The clock offset comes from the last setting image, the hold and the pull\n"
-           "(the cross-head at rest, then moving), the tare from the log before image 0. Cumulative fields only.",
-           0, 1e6),
-       key("hold_images", std::int64_t{0},
-           "Images of the held setting after the setting images, before the pull (phase \"hold\").", 0, 1e6),
-       key("tolerance_mm", 0.0, "DIC points up to this far beyond the outline count as inside, mm.", 0, 1e6),
-       key("tracks", std::string(""),
-           "Or: point tracks made by another tool (lab_tracks.hpp): a CSV file (tracks_format long or wide) or\n"
-           "the folder of DICe's DICe_solution_NNNN.txt files (dice). Needs frame_forces; no images, no log."),
-       key("tracks_format", std::string("long"),
-           "long: a row per point and frame (frame, point, x, y); wide: a row per frame (frame, <point>_x,\n"
-           "<point>_y, ...); dice: DICe's solution files.",
-           -1e300, 1e300, {"long", "wide", "dice"}),
-       key("tracks_unit", std::string("px"), "The tracks' positions: px (then a scale) or mm. Header units must agree.",
-           -1e300, 1e300, {"px", "mm"}),
-       key("frame_column", std::string("frame"), "The frame column of the tracks and of frame_forces."),
-       key("point_column", std::string("point"), "The point-name column of long tracks."),
-       key("x_column", std::string("x"), "The x column of long tracks (image axes)."),
-       key("y_column", std::string("y"), "The y column of long tracks (image axes; y down)."),
-       key("frame_forces", std::string(""),
-           "A per-frame CSV that holds the force (frame_column, force_column), synchronised with the tracks\n"
-           "by frame number: its frames must be the tracks'."),
-       key("clamps", io::Strings{},
-           "[A, B]: the tracked markers on the two clamps. The grip displacement is half the change of their\n"
-           "distance along the pull, the free length their distance in the first frame (unless\n"
-           "free_length_mm is given), and a one-sided pull's rigid motion is removed with their mean."),
-       key("points", io::Strings{}, "The tracked points that are the field (default: every point but the clamps)."),
-       key("sigma_tracks", 0.5, "σ of a tracked position, in tracks_unit (field.csv's sigma_u, sigma_v).", 0, 1e6),
-       key("frame_stride", std::int64_t{1},
-           "Steps are every frame_stride-th frame after the first (the reference), and the last.", 1, 1000000),
-       key("mm_per_px", 0.0, "This test's pixel size, mm/px (a camera and zoom per test); 0 = [physical] mm_per_px.", 0,
-           1e6),
-       key("model", std::string("kind = \"uniaxial\""),
-           "TOML lines added to this test's [[test]] in DIR/project.toml (kind, grip_holds_x, mesh, ...)."),
-       key("force_scale", false,
-           "Identify this specimen's force scale k too (a [[parameter]] \"<name>.force_scale\" in\n"
-           "DIR/project.toml; its model force is k times the law's): repeats of one fabric differ in stiffness.\n"
-           "Leave it off on one test per direction, whose specimen sets the law's scale (docs/theory.md §2).")},
-      {}};
-  root.sections.push_back(test);
-  for (io::SectionSpec s : dic_schema().sections) {
-    if (s.name == "physical") {
-      s.help = "The camera: scale (mm_per_px, or two image points a known distance apart), specimen centre, axes.";
-      for (io::KeySpec& k : s.keys)
-        if (k.name == "mm_per_px") k.help = "Pixel size, mm/px; 0 = from scale_points and scale_distance_mm.";
-      s.keys.push_back(
-          key("scale_points", io::Reals{}, "[x0, y0, x1, y1] px: two image points a known distance apart."));
-      s.keys.push_back(key("scale_distance_mm", 0.0, "Their distance, mm.", 0, 1e9));
-    }
-    root.sections.push_back(std::move(s));
-  }
-  return root;
-}
 
 namespace {
 
@@ -220,12 +38,6 @@ std::vector<double> optional_numbers(const io::LogTable& t, const char* column) 
 }
 
 std::string num(double v) { return fmt::format("{:.9g}", v); }
-
-fs::path resolve(const io::Node& n, const std::string& k) {
-  const fs::path p = n.string(k);
-  if (p.empty() || p.is_absolute()) return p;
-  return fs::path(n.file()).parent_path() / p;
-}
 
 bool is_image(const fs::path& p) {
   std::string e = p.extension().string();
@@ -244,83 +56,40 @@ long frame_number(const fs::path& p) {
   return std::stol(s.substr(begin, end - begin + 1));
 }
 
-// The pixel size from [physical]: mm_per_px, or two points a known distance apart. A scale of zero
-// is an error at its key.
-double camera_scale(const io::Node& physical) {
-  if (physical.given("mm_per_px") || !physical.given("scale_points")) {
-    const double s = physical.real("mm_per_px");
-    if (!(s > 0))
-      physical.fail("mm_per_px",
-                    "a scale of zero: the pixel size must be > 0 (or give scale_points and scale_distance_mm)", num(s),
-                    "mm_per_px > 0");
-    return s;
-  }
-  const io::Reals& p = physical.reals("scale_points");
-  if (p.size() != 4)
-    physical.fail("scale_points", "two points are four numbers", std::to_string(p.size()) + " numbers",
-                  "[x0, y0, x1, y1]");
-  try {
-    return lab::scale_from_points({p[0], p[1]}, {p[2], p[3]}, physical.real("scale_distance_mm"));
-  } catch (const InputError& e) {
-    physical.fail(e.where().key.find("distance") != std::string::npos ? "scale_distance_mm" : "scale_points",
-                  e.problem());
-  }
-}
-
-// The camera's frame: the scale, the specimen centre (default the image centre) and the axes.
-dic::PhysicalFrame camera_frame(const io::Node& physical, int width, int height) {
-  dic::PhysicalFrame f;
-  f.mm_per_px = camera_scale(physical);
-  const io::Reals& c = physical.reals("centre_px");
-  if (c.empty()) f.centre_px = {0.5 * (width - 1), 0.5 * (height - 1)};
-  else if (c.size() == 2) f.centre_px = {c[0], c[1]};
-  else physical.fail("centre_px", "the centre is two numbers", std::to_string(c.size()) + " numbers", "[x, y] or []");
-  f.angle_deg = physical.real("angle_deg");
-  f.y_up = physical.boolean("y_up");
-  return f;
-}
-
 // Frame times (camera clock) of the images, by the test's source.
-std::vector<double> image_times(const io::Node& t, const std::vector<std::string>& names) {
-  const std::string source = t.string("frame_times");
+std::vector<double> image_times(const LabTestSpec& t, const std::vector<std::string>& names) {
   std::vector<double> times;
-  if (source == "fps") {
-    if (!(t.real("fps") > 0)) t.fail("fps", "frame_times = \"fps\" needs a frame rate", num(t.real("fps")), "fps > 0");
-    return lab::frame_times(static_cast<int>(names.size()), t.real("fps"), t.real("start_s"));
-  }
-  if (source == "file_names") {
+  if (t.frame_times == "fps") return lab::frame_times(static_cast<int>(names.size()), t.fps, t.start_s);
+  if (t.frame_times == "file_names") {
     for (const auto& n : names) times.push_back(io::time_from_file_name(fs::path(n).filename().string()));
   } else {
-    const fs::path log = resolve(t, "camera_log");
-    if (log.empty())
-      t.fail("camera_log", "frame_times = \"camera_log\" needs the camera log", "\"\"", "a CSV file of file and time");
-    const auto frames = io::read_camera_log(log, t.string("camera_file_column"), t.string("camera_time_column"));
+    const fs::path& log = t.camera_log;
+    const auto frames = io::read_camera_log(log, t.camera_file_column, t.camera_time_column);
     std::map<std::string, double> by_name;
     for (const auto& f : frames) by_name[fs::path(f.file).filename().string()] = f.time;
     for (const auto& n : names) {
       const auto it = by_name.find(fs::path(n).filename().string());
       if (it == by_name.end())
-        throw InputError({log.string(), 0, t.string("camera_file_column")},
+        throw InputError({log.string(), 0, t.camera_file_column},
                          "no time for image " + fs::path(n).filename().string(), "", "a row for every image");
       times.push_back(it->second);
     }
   }
   for (std::size_t k = 1; k < times.size(); ++k)
     if (!(times[k] > times[k - 1]))
-      throw InputError(t.where("frame_times"), "frame time goes backwards at " + fs::path(names[k]).filename().string(),
+      throw InputError(t.origin.where("frame_times"),
+                       "frame time goes backwards at " + fs::path(names[k]).filename().string(),
                        num(times[k]) + " s after " + num(times[k - 1]) + " s", "increasing times");
   return times;
 }
 
-lab::LoadLog load_log(const io::Node& t) {
-  const fs::path file = resolve(t, "log");
-  if (file.empty()) t.fail("log", "a test needs its load-cell log", "\"\"", "a CSV or tab-separated file");
-  const io::LogTable table = io::read_log(file);
+lab::LoadLog load_log(const LabTestSpec& t) {
+  const io::LogTable table = io::read_log(t.log);
   lab::LoadLog log;
-  log.source = file.string();
-  log.time = table.times(t.string("time_column"));
-  log.force = table.numbers(t.string("force_column"));
-  if (!t.string("crosshead_column").empty()) log.crosshead = table.numbers(t.string("crosshead_column"));
+  log.source = t.log.string();
+  log.time = table.times(t.time_column);
+  log.force = table.numbers(t.force_column);
+  if (!t.crosshead_column.empty()) log.crosshead = table.numbers(t.crosshead_column);
   return log;
 }
 
@@ -413,7 +182,7 @@ void plot_sync(const fs::path& out, const std::vector<LabTestResult>& tests, con
 // tare from the log before image 0 (the setting loads the cell), then every image's force with both.
 lab::SyncResult synchronise_set_hold_pull(const lab::LoadLog& load, const lab::ImageTimes& images,
                                           std::size_t last_setting, const lab::SyncOptions& options,
-                                          const io::Node& t) {
+                                          const LabTestSpec& t) {
   lab::ImageTimes pull;
   for (std::size_t k = last_setting; k < images.time.size(); ++k) {
     pull.time.push_back(images.time[k]);
@@ -429,8 +198,9 @@ lab::SyncResult synchronise_set_hold_pull(const lab::LoadLog& load, const lab::I
     double sum = 0;
     for (std::size_t i = 0; i < load.time.size() && load.time[i] < until; ++i) sum += load.force[i], ++samples;
     if (samples == 0)
-      t.fail("log", "the log starts after image 0, so the force at rest before the setting is unknown",
-             num(load.time.front()) + " s", fmt::format("a log from before {} s (image 0), or tare_N", num(until)));
+      t.origin.fail("log", "the log starts after image 0, so the force at rest before the setting is unknown",
+                    num(load.time.front()) + " s",
+                    fmt::format("a log from before {} s (image 0), or tare_N", num(until)));
     given.tare_N = sum / samples;
   }
   lab::SyncResult all = lab::synchronise(load, images, given);
@@ -449,23 +219,21 @@ lab::SyncResult synchronise_set_hold_pull(const lab::LoadLog& load, const lab::I
 
 }  // namespace
 
-std::string project_test_table(const io::Node& t, const LabTestResult& r, const ExperimentSpec& e);
-
 namespace {
 
-std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, const std::vector<LabTestResult>& tests,
-                             const fs::path& out) {
+std::string project_skeleton(const LabSpec& spec, const std::vector<LabTestResult>& tests, const fs::path& out) {
+  const ExperimentSpec& e = spec.experiment;
   std::string s = fmt::format("# Written by `tricot experiment` from {}; then\n#   tricot identify {} -o OUT\n\n",
-                              root.file(), (out / "project.toml").string());
+                              spec.file, (out / "project.toml").string());
   const fs::path& tpl = e.project_template;
   if (!tpl.empty()) {
     s += io::read_text(tpl) + "\n";
   } else {
-    const io::Node& t0 = root.array("test").front();
+    const LabTestSpec& t0 = spec.test.front();
     s += fmt::format(
         "[mesh]   # the quarter of the full specimen: width and height are the full sizes\nwidth = {}\nheight = {}\n"
         "element = \"Q8\"\nnx = 10\nny = 34\n\n",
-        num(t0.real("width_mm")), num(t0.real("free_length_mm")));
+        num(t0.width_mm), num(t0.free_length_mm));
     s += "[law]\ntype = \"mooney_rivlin\"   # choose the law\n\n[law.mooney_rivlin]\nterms = [\"C10\", \"C20\", "
          "\"C21\"]\n"
          "values = [0.05, -0.01, 0.005]   # the start point\n\n";
@@ -475,8 +243,8 @@ std::string project_skeleton(const io::Node& root, const ExperimentSpec& e, cons
         e.force_control() ? "edge_displacement" : "edge_force");
   }
   for (std::size_t i = 0; i < tests.size(); ++i) {
-    s += project_test_table(root.array("test")[i], tests[i], e);
-    if (root.array("test")[i].boolean("force_scale"))
+    s += project_test_table(spec.test[i], tests[i], e);
+    if (spec.test[i].force_scale)
       s += fmt::format(
           "[[parameter]]   # {0}'s specimen against the law's (force_scale in the lab file)\nname = \"{0}.{1}\"\n\n",
           tests[i].name, ident::kForceScale);
@@ -520,9 +288,9 @@ std::optional<std::string> toml_line_value(const std::string& lines, std::string
 
 }  // namespace
 
-std::string project_test_table(const io::Node& t, const LabTestResult& r, const ExperimentSpec& e) {
+std::string project_test_table(const LabTestSpec& t, const LabTestResult& r, const ExperimentSpec& e) {
   if (e.full()) {  // the model lines last: they may hold [[test.boundary]] tables
-    std::string lines = t.string("model");
+    std::string lines = t.model;
     if (!lines.empty() && lines.back() != '\n') lines += '\n';
     // With clamps: the specimen between them, for a generated mesh ([mesh] whole = true).
     const std::string mesh = r.free_length_mm > 0
@@ -538,8 +306,8 @@ std::string project_test_table(const io::Node& t, const LabTestResult& r, const 
   // `direction` sets the material's orientation (issue 29): wale = material_angle 0, course = 90 (and a
   // rig's `pull`). Model lines that set them too must agree, or a course test would silently be fitted
   // as a wale one.
-  const std::string model = t.string("model");
-  const std::string direction = t.string("direction");
+  const std::string& model = t.model;
+  const std::string& direction = t.direction;
   const bool course = direction == "course";
   const auto angle = toml_line_value(model, "material_angle");
   const auto pull = toml_line_value(model, "pull");
@@ -550,13 +318,13 @@ std::string project_test_table(const io::Node& t, const LabTestResult& r, const 
     } catch (const std::exception&) {}
     const double m = std::fmod(std::fabs(a), 180.0);
     if (!(std::fabs(m - (course ? 90.0 : 0.0)) < 1e-9 || (!course && std::fabs(m - 180.0) < 1e-9)))
-      t.fail("model", fmt::format("its material_angle contradicts direction = \"{}\"", direction),
-             "material_angle = " + *angle,
-             course ? "90 (or leave it out: direction sets it)" : "0 (or leave it out: direction sets it)");
+      t.origin.fail("model", fmt::format("its material_angle contradicts direction = \"{}\"", direction),
+                    "material_angle = " + *angle,
+                    course ? "90 (or leave it out: direction sets it)" : "0 (or leave it out: direction sets it)");
   }
   if (pull && *pull != direction)
-    t.fail("model", fmt::format("its pull contradicts direction = \"{}\"", direction), "pull = \"" + *pull + "\"",
-           "\"" + direction + "\" (or leave it out: direction sets it)");
+    t.origin.fail("model", fmt::format("its pull contradicts direction = \"{}\"", direction),
+                  "pull = \"" + *pull + "\"", "\"" + direction + "\" (or leave it out: direction sets it)");
   std::string orientation;
   if (!angle) orientation += fmt::format("material_angle = {}   # direction = \"{}\"\n", course ? 90 : 0, direction);
   if (!pull) orientation += fmt::format("pull = \"{}\"\n", direction);
@@ -576,8 +344,12 @@ std::string project_test_table(const io::Node& t, const LabTestResult& r, const 
                                                       num(r.width_mm), num(r.free_length_mm))
                                                 : "";
   return fmt::format("[[test]]   # {} direction{}\nname = \"{}\"\n{}{}control = \"{}\"\n{}{}\n", direction,
-                     t.real("guide_mm") > 0 ? fmt::format(", guide {} mm", num(t.real("guide_mm"))) : "", r.name, lines,
-                     orientation, e.control, loads, mesh);
+                     t.guide_mm > 0 ? fmt::format(", guide {} mm", num(t.guide_mm)) : "", r.name, lines, orientation,
+                     e.control, loads, mesh);
+}
+
+std::string project_test_table(const io::Node& test, const LabTestResult& r, const ExperimentSpec& e) {
+  return project_test_table(LabTestSpec::from_config(test), r, e);
 }
 
 std::vector<fs::path> list_images(const fs::path& folder) {
@@ -692,9 +464,9 @@ double frame_force_noise(const std::vector<lab::ForceStep>& steps, const std::ve
   return std::max(spread, resolution / std::sqrt(12.0));
 }
 
-LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const ExperimentSpec& e,
+LabTestResult tracks_lab_test(const LabTestSpec& t, const LabPhysicalSpec& physical, const ExperimentSpec& e,
                               const fs::path& tdir, nlohmann::ordered_json& sync_json) {
-  const std::string name = t.string("name");
+  const std::string& name = t.name;
   const TracksTest tt = tracks_test(t, physical, e.full());
   LabTestResult r;
   r.loads = fe_loads(tt.steps, e, tt.step_frames);
@@ -722,7 +494,7 @@ LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const
   r.points = static_cast<int>(tt.field.point_ids.size());
   r.outside = tt.field.outside, r.incomplete = tt.field.incomplete;
   // A full model without clamps knows no frame at rest (its grip is its boundaries'): no estimate.
-  r.force_noise_N = e.full() && t.strings("clamps").empty() ? 0.0 : frame_force_noise(tt.steps, all);
+  r.force_noise_N = e.full() && t.clamps.empty() ? 0.0 : frame_force_noise(tt.steps, all);
   if (!e.full() || tt.centred_on_clamps)
     r.width_mm = tt.geometry.width_mm, r.free_length_mm = tt.geometry.free_length_mm;
   sync_json[name] = {{"method", "frame_number"},
@@ -749,12 +521,10 @@ LabTestResult tracks_lab_test(const io::Node& t, const io::Node& physical, const
 
 }  // namespace
 
-LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out, const Log& log) {
-  const ExperimentSpec e = ExperimentSpec::from_config(root.section("experiment"));
-  e.validate();
-  const io::Node& so = root.section("sync");
-  const auto& tests = root.array("test");
-  if (tests.empty()) root.fail("test", "no [[test]] table", "", "one [[test]] per test");
+LabExperimentResult run_lab_experiment(const LabSpec& spec, const fs::path& out, const Log& log) {
+  spec.validate();
+  const ExperimentSpec& e = spec.experiment;
+  const auto& tests = spec.test;
   const lab::FieldKind kind = e.kind();
   LabExperimentResult result;
   json sync_json = json::object();
@@ -762,22 +532,18 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
   const fs::path staged = output.staging();
   const auto t_start = std::chrono::steady_clock::now();
   for (std::size_t ti = 0; ti < tests.size(); ++ti) {
-    const io::Node& t = tests[ti];
-    const std::string name = t.string("name");
+    const LabTestSpec& t = tests[ti];
+    const std::string& name = t.name;
     const fs::path tdir = staged / name;
     fs::create_directories(tdir);
-    lab::SpecimenGeometry geometry{t.real("width_mm"), t.real("free_length_mm"), t.real("tolerance_mm")};
+    lab::SpecimenGeometry geometry{t.width_mm, t.free_length_mm, t.tolerance_mm};
 
-    if (e.full() && t.string("tracks").empty())
-      t.fail("tracks", "model = \"full\" takes point tracks (e.g. `tricot dic`'s specimen.csv, tracks_unit = \"mm\")",
-             "\"\"", "tracks = FILE");
-    if (!t.string("tracks").empty()) {  // point tracks from another tool, the force per frame
-      result.tests.push_back(tracks_lab_test(t, root.section("physical"), e, tdir, sync_json));
+    if (!t.tracks.empty()) {  // point tracks from another tool, the force per frame
+      result.tests.push_back(tracks_lab_test(t, spec.physical, e, tdir, sync_json));
       log.print(fmt::format("{}: {}", name, sync_json[name]["report"].get<std::string>()));
       continue;
     }
-    // The scale and the load-cell log first: a bad one fails before any DIC work.
-    camera_scale(root.section("physical"));
+    // The load-cell log first: a bad one fails before any DIC work.
     const lab::LoadLog load = load_log(t);
     load.validate();
 
@@ -785,70 +551,56 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
     dic::SequenceResult seq;
     std::vector<std::string> names;
     int width = 0, height = 0;
-    if (!t.string("dic").empty()) {
-      const fs::path d = resolve(t, "dic");
+    if (!t.dic.empty()) {
+      const fs::path& d = t.dic;
       seq = read_dic_folder(d, &names);
       const fs::path first = fs::path(names.front()).is_absolute() ? fs::path(names.front()) : d / names.front();
       std::error_code ec;
       if (fs::exists(first, ec)) {
         const image::LoadedImage ref = image::load_image(first);
         width = ref.image.width, height = ref.image.height;
-      } else if (root.section("physical").reals("centre_px").empty()) {
-        t.fail("dic", "the reference image of the DIC folder is missing, so the specimen centre is unknown",
-               first.string(), "[physical] centre_px");
+      } else if (spec.physical.centre_px.empty()) {
+        t.origin.fail("dic", "the reference image of the DIC folder is missing, so the specimen centre is unknown",
+                      first.string(), "[physical] centre_px");
       }
     } else {
-      if (t.string("images").empty())
-        t.fail("images", "a test needs its images or a `tricot dic` folder", "\"\"", "images = FOLDER or dic = FOLDER");
-      const auto files = list_images(resolve(t, "images"));
+      const auto files = list_images(t.images);
       for (const auto& f : files) names.push_back(f.string());
-      DicSpec spec = DicSpec::from_config(root, fs::path(root.file()).parent_path());
-      spec.output.increments = kind == lab::FieldKind::incremental;
-      spec.physical.mm_per_px = 0;
+      DicSpec dic_spec = spec.dic;
+      dic_spec.output.increments = kind == lab::FieldKind::incremental;
+      dic_spec.physical = spec.physical;
+      dic_spec.physical.mm_per_px = 0;  // no specimen.csv: the experiment folder holds the field
       log.print(fmt::format("{}: DIC of {} images", name, names.size()));
-      DicRun run = run_dic(spec, names, tdir / "dic", log);
+      DicRun run = run_dic(dic_spec, names, tdir / "dic", log);
       for (const auto& w : run.warnings) log.print("  " + w);
       seq = std::move(run.result);
       const image::LoadedImage ref = image::load_image(names.front());
       width = ref.image.width, height = ref.image.height;
     }
-    const dic::PhysicalFrame frame = camera_frame(root.section("physical"), width, height);
+    const dic::PhysicalFrame frame = spec.physical.frame(width, height);
 
     // Images: times and the grip motion the field shows.
     lab::ImageTimes images;
     images.names = names;
     images.time = image_times(t, names);
     if (images.time.size() != seq.frames.size())
-      t.fail("images", "the DIC holds another number of frames than the images", std::to_string(seq.frames.size()),
-             std::to_string(images.time.size()));
+      t.origin.fail("images", "the DIC holds another number of frames than the images",
+                    std::to_string(seq.frames.size()), std::to_string(images.time.size()));
     const lab::QuarterField cumulative = lab::fold_sequence(seq, frame, geometry, lab::FieldKind::cumulative);
     if (cumulative.point_ids.empty())
-      t.fail("width_mm", "no DIC point lies inside the specimen and is measured in every image: " + cumulative.report);
+      t.origin.fail("width_mm",
+                    "no DIC point lies inside the specimen and is measured in every image: " + cumulative.report);
     images.grip = {0.0};  // image 0 is the unloaded reference; the field's steps are images 1..n−1
     for (double g : lab::grip_from_field(cumulative, geometry)) images.grip.push_back(g);
 
-    lab::SyncOptions sync_options;
-    if (t.given("clock_offset_s")) sync_options.clock_offset_s = t.real("clock_offset_s");
-    if (t.given("tare_N")) sync_options.tare_N = t.real("tare_N");
-    sync_options.max_offset_s = so.real("max_offset_s");
-    sync_options.exposure_s = so.real("exposure_s");
-    sync_options.onset_fraction = so.real("onset_fraction");
-    sync_options.force_degree = static_cast<int>(so.integer("force_degree"));
-    sync_options.crosshead_degree = static_cast<int>(so.integer("crosshead_degree"));
-    sync_options.tare_margin_s = so.real("tare_margin_s");
+    const lab::SyncOptions sync_options = spec.sync.options(t);
     // A rig test's set, hold, pull: the steps are the pull's images only.
-    const int setting = static_cast<int>(t.integer("setting_images")),
-              hold = static_cast<int>(t.integer("hold_images"));
+    const int setting = t.setting_images, hold = t.hold_images;
     const std::size_t first_pull = std::size_t(1 + setting + hold);  // the image of the pull's first step
     if (first_pull + 1 >= images.time.size())
-      t.fail(setting > 0 ? "setting_images" : "hold_images", "leaves fewer than two images of the pull",
-             fmt::format("{} setting + {} hold of {} images", setting, hold, images.time.size()),
-             fmt::format("at most {}", images.time.size() >= 3 ? images.time.size() - 3 : 0));
-    if (first_pull > 1 && kind == lab::FieldKind::incremental)
-      t.fail("setting_images",
-             "an incremental field of a test with setting images is not supported (its first step "
-             "would count from the held setting, the model's from the reference)",
-             std::to_string(setting + hold), "field_kind = \"cumulative\"");
+      t.origin.fail(setting > 0 ? "setting_images" : "hold_images", "leaves fewer than two images of the pull",
+                    fmt::format("{} setting + {} hold of {} images", setting, hold, images.time.size()),
+                    fmt::format("at most {}", images.time.size() >= 3 ? images.time.size() - 3 : 0));
     const lab::SyncResult sync = first_pull > 1
                                      ? synchronise_set_hold_pull(load, images, std::size_t(setting), sync_options, t)
                                      : lab::synchronise(load, images, sync_options);
@@ -924,11 +676,15 @@ LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out
   }
   io::write_atomic(staged / "sync.json", sync_json.dump(2) + "\n");
   if (e.plot) plot_sync(staged, result.tests, log);
-  io::write_atomic(staged / "project.toml", project_skeleton(root, e, result.tests, out));
+  io::write_atomic(staged / "project.toml", project_skeleton(spec, result.tests, out));
   output.publish();
   log.print(fmt::format("wrote {}: {} test(s), sync.json, {}project.toml", out.string(), result.tests.size(),
                         e.plot ? "sync.png, " : ""));
   return result;
+}
+
+LabExperimentResult run_lab_experiment(const io::Node& root, const fs::path& out, const Log& log) {
+  return run_lab_experiment(LabSpec::from_config(root), out, log);
 }
 
 }  // namespace tricot::project

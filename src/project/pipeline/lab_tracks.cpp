@@ -22,12 +22,6 @@ namespace {
 
 std::string num(double v) { return fmt::format("{:.9g}", v); }
 
-fs::path resolve(const io::Node& n, const std::string& k) {
-  const fs::path p = n.string(k);
-  if (p.empty() || p.is_absolute()) return p;
-  return fs::path(n.file()).parent_path() / p;
-}
-
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
@@ -49,9 +43,9 @@ std::string unit_of(const std::string& header) {
 }
 
 // Every column's unit must agree with the others and with tracks_unit: one line at the header.
-std::string check_units(const io::LogTable& t, const std::vector<std::size_t>& columns, const io::Node& test,
+std::string check_units(const io::LogTable& t, const std::vector<std::size_t>& columns, const LabTestSpec& test,
                         const char* key) {
-  const std::string given = test.string("tracks_unit");
+  const std::string& given = test.tracks_unit;
   std::string seen, seen_column;
   for (std::size_t c : columns) {
     const std::string u = unit_of(t.columns[c]);
@@ -63,11 +57,13 @@ std::string check_units(const io::LogTable& t, const std::vector<std::size_t>& c
                        t.columns[c], "every position column in one unit");
     seen = u, seen_column = t.columns[c];
   }
-  if (!seen.empty() && test.given("tracks_unit") && seen != given)
+  if (!seen.empty() && test.tracks_unit_given && seen != given) {
+    const Location at = test.origin.where("tracks_unit");
     throw InputError({t.file, header_line(t), key},
                      fmt::format("column '{}' is in {}, but tracks_unit = \"{}\" ({})", seen_column, seen, given,
-                                 test.where("tracks_unit").file + ":" + std::to_string(test.where("tracks_unit").line)),
+                                 at.file + ":" + std::to_string(at.line)),
                      seen, given);
+  }
   return seen.empty() ? given : seen;
 }
 
@@ -77,10 +73,10 @@ long frame_of(double v, const io::LogTable& t, std::size_t row, const std::strin
   return static_cast<long>(v);
 }
 
-PointTracks read_long(const io::Node& test, const fs::path& file) {
+PointTracks read_long(const LabTestSpec& test, const fs::path& file) {
   const io::LogTable t = io::read_log(file);
-  const std::string fc = test.string("frame_column"), pc = test.string("point_column");
-  const std::string xc = test.string("x_column"), yc = test.string("y_column");
+  const std::string &fc = test.frame_column, &pc = test.point_column;
+  const std::string &xc = test.x_column, &yc = test.y_column;
   PointTracks r;
   r.file = file.string();
   r.unit = check_units(t, {t.column(xc), t.column(yc)}, test, "x_column");
@@ -129,9 +125,9 @@ PointTracks read_long(const io::Node& test, const fs::path& file) {
   return r;
 }
 
-PointTracks read_wide(const io::Node& test, const fs::path& file) {
+PointTracks read_wide(const LabTestSpec& test, const fs::path& file) {
   const io::LogTable t = io::read_log(file);
-  const std::string fc = test.string("frame_column");
+  const std::string& fc = test.frame_column;
   const std::size_t frame_col = t.column(fc);
   PointTracks r;
   r.file = file.string();
@@ -187,10 +183,10 @@ PointTracks read_wide(const io::Node& test, const fs::path& file) {
 }
 
 // DICe: one DICe_solution_NNNN.txt per frame.
-PointTracks read_dice(const io::Node& test, const fs::path& folder) {
+PointTracks read_dice(const LabTestSpec& test, const fs::path& folder) {
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
-    throw FileError(test.where("tracks"), "tracks_format = \"dice\" needs the folder of DICe's results",
+    throw FileError(test.origin.where("tracks"), "tracks_format = \"dice\" needs the folder of DICe's results",
                     folder.string());
   std::vector<std::pair<long, fs::path>> files;
   for (const auto& e : fs::directory_iterator(folder, ec)) {
@@ -203,14 +199,12 @@ PointTracks read_dice(const io::Node& test, const fs::path& folder) {
   }
   std::sort(files.begin(), files.end());
   if (files.size() < 2)
-    throw FileError(test.where("tracks"),
+    throw FileError(test.origin.where("tracks"),
                     fmt::format("{} DICe_solution_NNNN.txt files: a sequence needs at least 2", files.size()),
                     folder.string());
   PointTracks r;
   r.file = folder.string();
-  r.unit = "px";
-  if (test.given("tracks_unit") && test.string("tracks_unit") != "px")
-    test.fail("tracks_unit", "DICe's solutions are in px", "\"" + test.string("tracks_unit") + "\"", "px");
+  r.unit = "px";  // LabSpec::validate() refuses another tracks_unit
   std::map<long, std::size_t> point_index;
   for (const auto& [frame, file] : files) {
     const io::LogTable t = io::read_log(file);
@@ -243,26 +237,26 @@ std::size_t PointTracks::find(const std::string& point) const {
   return static_cast<std::size_t>(std::find(points.begin(), points.end(), point) - points.begin());
 }
 
-PointTracks read_point_tracks(const io::Node& test) {
-  const fs::path file = resolve(test, "tracks");
-  const std::string format = test.string("tracks_format");
-  if (format == "dice") return read_dice(test, file);
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) throw FileError(test.where("tracks"), "track file not found", file.string());
-  return format == "wide" ? read_wide(test, file) : read_long(test, file);
-}
-
-FrameForces read_frame_forces(const io::Node& test) {
-  const fs::path file = resolve(test, "frame_forces");
+PointTracks read_point_tracks(const LabTestSpec& test) {
+  const fs::path& file = test.tracks;
+  if (test.tracks_format == "dice") return read_dice(test, file);
   std::error_code ec;
   if (!fs::is_regular_file(file, ec))
-    throw FileError(test.where("frame_forces"), "force file not found", file.string());
+    throw FileError(test.origin.where("tracks"), "track file not found", file.string());
+  return test.tracks_format == "wide" ? read_wide(test, file) : read_long(test, file);
+}
+
+FrameForces read_frame_forces(const LabTestSpec& test) {
+  const fs::path& file = test.frame_forces;
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec))
+    throw FileError(test.origin.where("frame_forces"), "force file not found", file.string());
   const io::LogTable t = io::read_log(file);
-  const std::string fc = test.string("frame_column");
+  const std::string& fc = test.frame_column;
   FrameForces f;
   f.file = file.string();
   const auto frame = t.numbers(fc);
-  f.force_N = t.numbers(test.string("force_column"));
+  f.force_N = t.numbers(test.force_column);
   for (std::size_t i = 0; i < t.rows(); ++i) {
     f.frames.push_back(frame_of(frame[i], t, i, fc));
     f.lines.push_back(t.lines[i]);
@@ -274,10 +268,7 @@ FrameForces read_frame_forces(const io::Node& test) {
   return f;
 }
 
-TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full) {
-  if (test.string("frame_forces").empty())
-    test.fail("frame_forces", "a test of point tracks needs its per-frame force", "\"\"",
-              "a CSV with a frame and a force column");
+TracksTest tracks_test(const LabTestSpec& test, const LabPhysicalSpec& physical, bool full) {
   const PointTracks tracks = read_point_tracks(test);
   const FrameForces forces = read_frame_forces(test);
 
@@ -287,13 +278,13 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
     if (in_tracks && in_forces && tracks.frames[k] == forces.frames[k]) continue;
     if (in_forces && (!in_tracks || forces.frames[k] < tracks.frames[k]))
       throw InputError(
-          {forces.file, forces.lines[k], test.string("frame_column")},
+          {forces.file, forces.lines[k], test.frame_column},
           fmt::format("frame {} is not in the tracks ({}): the force file's frames do not match the tracks'",
                       forces.frames[k], tracks.file),
           std::to_string(forces.frames[k]), in_tracks ? "frame " + std::to_string(tracks.frames[k]) : "no more frames");
     throw InputError(
         {forces.file, in_forces ? forces.lines[k] : (forces.lines.empty() ? 0 : forces.lines.back() + 1),
-         test.string("frame_column")},
+         test.frame_column},
         fmt::format("no force for the tracks' frame {} ({}{}): the force file's frames do not match the tracks'",
                     tracks.frames[k], tracks.file, tracks.lines[k] > 0 ? ":" + std::to_string(tracks.lines[k]) : ""),
         in_forces ? "frame " + std::to_string(forces.frames[k]) : "no more rows",
@@ -304,47 +295,45 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
   // The scale: the test's own, else the lab file's camera; tracks in mm need none.
   if (tracks.unit == "mm") {
     out.mm_per_px = 1;
-  } else if (test.real("mm_per_px") > 0) {
-    out.mm_per_px = test.real("mm_per_px");
-  } else if (physical.real("mm_per_px") > 0) {
-    out.mm_per_px = physical.real("mm_per_px");
+  } else if (test.mm_per_px > 0) {
+    out.mm_per_px = test.mm_per_px;
+  } else if (physical.mm_per_px > 0) {
+    out.mm_per_px = physical.mm_per_px;
   } else {
-    test.fail("mm_per_px", "tracks in px need the test's scale (or [physical] mm_per_px)", "0", "mm_per_px > 0");
+    test.origin.fail("mm_per_px", "tracks in px need the test's scale (or [physical] mm_per_px)", "0", "mm_per_px > 0");
   }
   dic::PhysicalFrame frame;
   frame.mm_per_px = out.mm_per_px;
-  frame.angle_deg = physical.real("angle_deg");
-  frame.y_up = physical.boolean("y_up");
+  frame.angle_deg = physical.angle_deg;
+  frame.y_up = physical.y_up;
   // A full specimen's tracks in mm are points of the mesh frame as they stand.
   const bool mesh_frame = full && tracks.unit == "mm";
   if (mesh_frame) frame.angle_deg = 0, frame.y_up = false;
 
   // The clamps: the pull's two ends.
-  const io::Strings& clamps = test.strings("clamps");
-  if (!clamps.empty() && clamps.size() != 2)
-    test.fail("clamps", "two clamp markers: the fixed one and the pulled one", fmt::format("{} names", clamps.size()),
-              "[A, B]");
+  const io::Strings& clamps = test.clamps;
   std::size_t ca = tracks.points.size(), cb = ca;
   if (!clamps.empty()) {
     ca = tracks.find(clamps[0]), cb = tracks.find(clamps[1]);
     for (std::size_t i = 0; i < 2; ++i)
       if ((i == 0 ? ca : cb) == tracks.points.size())
-        test.fail("clamps", fmt::format("'{}' is not a tracked point of {}", clamps[i], tracks.file), clamps[i],
-                  fmt::format("one of {}", fmt::join(tracks.points, ", ")));
+        test.origin.fail("clamps", fmt::format("'{}' is not a tracked point of {}", clamps[i], tracks.file), clamps[i],
+                         fmt::format("one of {}", fmt::join(tracks.points, ", ")));
     for (std::size_t k = 0; k < tracks.frames.size(); ++k)
       if (!tracks.x[k][ca].allFinite() || !tracks.x[k][cb].allFinite())
-        test.fail("clamps", fmt::format("a clamp marker is lost in frame {}", tracks.frames[k]), "",
-                  "both clamps in every frame");
+        test.origin.fail("clamps", fmt::format("a clamp marker is lost in frame {}", tracks.frames[k]), "",
+                         "both clamps in every frame");
   }
   const std::vector<Vec2>& x0 = tracks.x.front();
   const Vec2 centre = !clamps.empty() ? Vec2(0.5 * (x0[ca] + x0[cb])) : Vec2::Zero();
   if (mesh_frame) {
     frame.centre_px = Vec2::Zero();
   } else if (clamps.empty()) {
-    const io::Reals& c = physical.reals("centre_px");
+    const io::Reals& c = physical.centre_px;
     if (c.size() != 2)
-      physical.fail("centre_px", "point tracks without clamps need the specimen centre (or give the test's clamps)",
-                    std::to_string(c.size()) + " numbers", "[x, y]");
+      physical.origin.fail("centre_px",
+                           "point tracks without clamps need the specimen centre (or give the test's clamps)",
+                           std::to_string(c.size()) + " numbers", "[x, y]");
     frame.centre_px = {c[0], c[1]};
   } else {
     frame.centre_px = centre;
@@ -360,8 +349,8 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
       change = std::max(change, std::abs(distance[k] - distance[0]));
     }
     if (!(distance[0] > 0))
-      test.fail("clamps", "the two clamp markers lie on one line across the pull",
-                fmt::format("{}", fmt::join(clamps, ", ")), "one at each end of the specimen");
+      test.origin.fail("clamps", "the two clamp markers lie on one line across the pull",
+                       fmt::format("{}", fmt::join(clamps, ", ")), "one at each end of the specimen");
     if (change < 0.01 * distance[0]) {
       // Name the marker that moves least.
       double move_a = 0, move_b = 0;
@@ -369,7 +358,7 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
         move_a = std::max(move_a, frame.vector(tracks.x[k][ca] - x0[ca]).norm()),
         move_b = std::max(move_b, frame.vector(tracks.x[k][cb] - x0[cb]).norm());
       const std::string& still = move_a < move_b ? clamps[0] : clamps[1];
-      test.fail(
+      test.origin.fail(
           "clamps",
           fmt::format("clamp marker '{}' does not move against the other: their distance changes by {} mm at most "
                       "over {} frames ({} of {} mm)",
@@ -379,10 +368,9 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
   }
 
   // The geometry: the free length is the clamps' distance unless given.
-  out.geometry.width_mm = test.real("width_mm");
-  out.geometry.free_length_mm =
-      !clamps.empty() && !test.given("free_length_mm") ? distance[0] : test.real("free_length_mm");
-  out.geometry.tolerance_mm = test.real("tolerance_mm");
+  out.geometry.width_mm = test.width_mm;
+  out.geometry.free_length_mm = !clamps.empty() && !test.free_length_mm_given ? distance[0] : test.free_length_mm;
+  out.geometry.tolerance_mm = test.tolerance_mm;
 
   // A full model's frame is the clamps' midpoint unless the tracks are in the mesh frame already.
   out.centred_on_clamps = full && !clamps.empty() && !mesh_frame;
@@ -394,23 +382,23 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
     for (std::size_t k = 0; k < rigid.size(); ++k) rigid[k] = 0.5 * (tracks.x[k][ca] + tracks.x[k][cb]) - centre;
 
   // The steps: every frame_stride-th frame after the reference, and the last.
-  const std::size_t stride = static_cast<std::size_t>(test.integer("frame_stride"));
+  const auto stride = static_cast<std::size_t>(test.frame_stride);
   std::vector<std::size_t> step_index;
   for (std::size_t k = stride; k < tracks.frames.size(); k += stride) step_index.push_back(k);
   if (step_index.empty() || step_index.back() != tracks.frames.size() - 1)
     if (tracks.frames.size() > 1) step_index.push_back(tracks.frames.size() - 1);
   if (step_index.empty())
-    test.fail("tracks", "one frame only: a test needs a reference and at least one step", tracks.file);
+    test.origin.fail("tracks", "one frame only: a test needs a reference and at least one step", tracks.file);
   out.reference_frame = tracks.frames.front();
 
   // The field points: `points`, or every point but the clamps.
   std::vector<std::size_t> field_points;
-  if (!test.strings("points").empty()) {
-    for (const std::string& p : test.strings("points")) {
+  if (!test.points.empty()) {
+    for (const std::string& p : test.points) {
       const std::size_t i = tracks.find(p);
       if (i == tracks.points.size())
-        test.fail("points", fmt::format("'{}' is not a tracked point of {}", p, tracks.file), p,
-                  fmt::format("one of {}", fmt::join(tracks.points, ", ")));
+        test.origin.fail("points", fmt::format("'{}' is not a tracked point of {}", p, tracks.file), p,
+                         fmt::format("one of {}", fmt::join(tracks.points, ", ")));
       field_points.push_back(i);
     }
   } else {
@@ -447,7 +435,7 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
   const auto steps = static_cast<Eigen::Index>(step_index.size());
   const auto n = static_cast<Eigen::Index>(q.point_ids.size());
   q.u.resize(steps, n), q.v.resize(steps, n), q.sigma_u.resize(steps, n), q.sigma_v.resize(steps, n);
-  const double sigma_mm = test.real("sigma_tracks") * (tracks.unit == "mm" ? 1.0 : out.mm_per_px);
+  const double sigma_mm = test.sigma_tracks * (tracks.unit == "mm" ? 1.0 : out.mm_per_px);
   for (Eigen::Index s = 0; s < steps; ++s) {
     const std::size_t k = step_index[std::size_t(s)];
     for (Eigen::Index a = 0; a < n; ++a) {
@@ -465,8 +453,8 @@ TracksTest tracks_test(const io::Node& test, const io::Node& physical, bool full
                         q.incomplete);
 
   // The steps' loads and forces.
-  const double tare = test.given("tare_N") ? test.real("tare_N") : 0.0;
-  const double fps = test.real("fps");
+  const double tare = test.tare_N.value_or(0.0);
+  const double fps = test.fps;
   for (std::size_t s = 0; s < step_index.size(); ++s) {
     const std::size_t k = step_index[s];
     lab::ForceStep f;
