@@ -30,7 +30,7 @@ TEST(Demo, ItsFilesAreValidForTheirVerbs) {
   EXPECT_EQ(e.array("test").front().string("control"), "force");
   DemoProject p;
   p.field = 0;
-  p.jacobian = "finite_difference";
+  p.jacobian = ident::JacobianMode::finite_difference;
   p.epsilon = 1e-4;
   const io::Node r = io::parse_config(identify_schema(), demo_project_toml(p), "project.toml");
   EXPECT_EQ(r.section("data").real("field"), 0.0);

@@ -24,7 +24,7 @@ struct DemoProject {
   double edge_displacement = 1;                               ///< [data] weights: Table 1's choices
   double field = 1;
   std::string experiment_dir = "experiment";
-  std::string jacobian = "exact";
+  ident::JacobianMode jacobian = ident::JacobianMode::exact;
   bool sigma_from_truth = false;
   double epsilon = 1e-12;
 };

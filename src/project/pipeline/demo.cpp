@@ -119,9 +119,9 @@ IdentificationSpec demo_project_spec(const DemoProject& p) {
   }
   s.data.edge_displacement = p.edge_displacement;
   s.data.field = p.field;
-  s.identify.epsilon = p.epsilon;
-  s.identify.delta = 1e-5;
-  s.identify.jacobian = p.jacobian;
+  s.identify.lm.epsilon = p.epsilon;
+  s.identify.lm.delta = 1e-5;
+  s.identify.lm.jacobian = p.jacobian;
   return s;
 }
 
@@ -180,8 +180,8 @@ jacobian = {}
       words(s.law.mooney_rivlin.terms), io::to_toml(s.law.mooney_rivlin.values), word(t.name), word(t.kind),
       word(t.control), io::to_toml(*t.grip_holds_x), io::to_toml(t.load_max), t.steps, word(s.experiment.dir),
       word(s.experiment.field_kind), io::to_toml(s.experiment.sigma_from_truth), parameters,
-      io::to_toml(s.data.edge_displacement), io::to_toml(s.data.field), real(s.identify.epsilon),
-      real(s.identify.delta), word(s.identify.jacobian));
+      io::to_toml(s.data.edge_displacement), io::to_toml(s.data.field), real(s.identify.lm.epsilon),
+      real(s.identify.lm.delta), word(ident::to_string(s.identify.lm.jacobian)));
 }
 
 namespace {
@@ -391,7 +391,7 @@ void studies(const fs::path& out, const Run& both, const Log& log, const DemoReq
   p.start = {0.5 * T[0], 0.5 * T[1], 2 * T[2], 2 * T[3]};
   runs.push_back(identify_case(out, "start-mixed", "both data, start = targets × (0.5, 0.5, 2, 2)", p, log, args));
   p.start = {0.5 * T[0], 0.5 * T[1], 0.5 * T[2], 0.5 * T[3]};
-  p.jacobian = "finite_difference";
+  p.jacobian = ident::JacobianMode::finite_difference;
   runs.push_back(
       identify_case(out, "fd", "both data, forward finite-difference Jacobian (the paper's way)", p, log, args));
 
@@ -401,7 +401,7 @@ void studies(const fs::path& out, const Run& both, const Log& log, const DemoReq
   log.print("-- experiment-noise: the same experiment with 0.5 % noise");
   synthesize(io::parse_config(synth_schema(), text, (out / "experiment-noise.toml").string()), out / "experiment-noise",
              log);
-  p.jacobian = "exact";
+  p.jacobian = ident::JacobianMode::exact;
   p.experiment_dir = "../experiment-noise";
   p.sigma_from_truth = true;
   runs.push_back(identify_case(out, "noise", "both data, 0.5 % noise, σ from truth.json", p, log, args));
