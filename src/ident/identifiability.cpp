@@ -40,9 +40,10 @@ Eigen::VectorXd inverse_diagonal(const Eigen::SelfAdjointEigenSolver<Eigen::Matr
 }  // namespace
 
 void IdentifiabilityOptions::validate() const {
-  if (!(pinned_relative_error > 0) || !std::isfinite(pinned_relative_error))
+  if (!(pinned_relative_error > 0))  // the open end, first so that the message says so
     throw InputError(Location{"", 0, "identifiability.pinned_relative_error"}, "out of range",
                      format_number(pinned_relative_error), "> 0");
+  check_ranges(*this);
   if (!(sigma2 > 0) || !std::isfinite(sigma2))
     throw InputError(Location{"", 0, "identifiability.sigma2"}, "out of range", format_number(sigma2), "> 0");
 }

@@ -76,21 +76,18 @@ void check(bool ok, const char* field, double got, const std::string& expected) 
 }  // namespace
 
 void IdentifyOptions::validate() const {
-  check(epsilon >= 0 && std::isfinite(epsilon), "epsilon", epsilon, ">= 0");
+  // First the keys whose range is open at an end, so that the message says so.
   check(delta > 0 && delta < 1, "delta", delta, "(0, 1)");
   check(function_tolerance >= 0 && function_tolerance < 1, "function_tolerance", function_tolerance, "[0, 1)");
-  check(gradient_tolerance >= 0 && std::isfinite(gradient_tolerance), "gradient_tolerance", gradient_tolerance, ">= 0");
-  check(max_iterations >= 1 && max_iterations <= 100000, "max_iterations", max_iterations, "1 to 100000");
   check(stability_eta > 0 && stability_eta < 1, "stability_eta", stability_eta, "(0, 1)");
-  check(max_restarts >= 0 && max_restarts <= 1000, "max_restarts", max_restarts, "0 to 1000");
-  check(line_search_trials >= 1 && line_search_trials <= 100, "line_search_trials", line_search_trials, "1 to 100");
+  check(fd_step > 0 && fd_step <= 0.1, "fd_step", fd_step, "(0, 0.1]");
   check(initial_trust_region_radius > 0 && initial_trust_region_radius <= 1e16, "initial_trust_region_radius",
         initial_trust_region_radius, "(0, 1e16]");
   check(barrier_growth >= 0 && barrier_growth < 1, "barrier_growth", barrier_growth, "[0, 1)");
+  check_ranges(*this);
   if (start && resume_from)
     throw InputError(Location{"", 0, "identify.start"}, "a start point and a checkpoint to resume from", "one of them",
                      "both");
-  jacobian_options().validate();
 }
 
 using namespace detail;

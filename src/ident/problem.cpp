@@ -47,13 +47,6 @@ void validate(const std::vector<Parameter>& parameters) {
 const char* to_string(JacobianMode m) { return m == JacobianMode::exact ? "exact" : "finite_difference"; }
 const char* to_string(Difference d) { return d == Difference::forward ? "forward" : "central"; }
 
-void JacobianOptions::validate() const {
-  if (!(step > 0 && step <= 0.1))
-    throw InputError(Location{"", 0, "identify.fd_step"}, "out of range", format_number(step), "(0, 0.1]");
-  if (threads < 0 || threads > 1024)
-    throw InputError(Location{"", 0, "identify.threads"}, "out of range", std::to_string(threads), "0 to 1024");
-}
-
 Evaluation evaluate(const Problem& problem, const Eigen::VectorXd& J, bool jacobian, const JacobianOptions& options,
                     const Evaluation* base) {
   if (options.mode == JacobianMode::exact || !jacobian) {

@@ -27,14 +27,15 @@ TEST(IdentifyTable, TheSchemasDefaultsAreTheEnginesDefaults) {
   EXPECT_EQ(read.jacobian, engine.jacobian);
   EXPECT_EQ(read.initial_trust_region_radius, engine.initial_trust_region_radius);
   EXPECT_EQ(read.line_search_trials, engine.line_search_trials);
-  EXPECT_EQ(IdentifyTable::from_config(root.section("identify")).warm_start, ident::ObjectiveOptions{}.warm_start);
+  EXPECT_EQ(IdentifyTable::from_config(root.section("identify")).objective.warm_start,
+            ident::ObjectiveOptions{}.warm_start);
   const io::Node warm = io::parse_config(identify_schema(), "[identify]\nwarm_start = true\n", "project.toml");
-  EXPECT_TRUE(IdentifyTable::from_config(warm.section("identify")).warm_start);
+  EXPECT_TRUE(IdentifyTable::from_config(warm.section("identify")).objective.warm_start);
 }
 
 TEST(IdentifyTable, AnEnginesErrorNamesTheConfigKey) {
   IdentifyTable t;
-  t.fd_step = 0.5;
+  t.lm.fd_step = 0.5;
   EXPECT_EQ(message_of(t), "identify.fd_step: out of range (got 0.5, expected (0, 0.1])");
 }
 
@@ -80,8 +81,29 @@ TEST(IdentificationSpec, ABadValueBuiltInCodeIsNamedByItsDottedKey) {
   EXPECT_EQ(message_of(s),
             "eq9.practical_wale: not a strain interval (got 2 values, expected [min, max] with min <= max)");
   s = small_project();
-  s.identify.delta = 1;
+  s.identify.lm.delta = 1;
   EXPECT_EQ(message_of(s), "identify.delta: out of range (got 1, expected (0, 1))");
+}
+
+TEST(IdentificationSpec, TheEnginesCheckTheirDeclaredRangesAndAFileNamesTheLine) {
+  IdentificationSpec s = small_project();
+  s.identify.lm.max_iterations = 0;
+  EXPECT_EQ(message_of(s), "identify.max_iterations: out of range (got 0, expected 1 to 100000)");
+  s = small_project();
+  s.identifiability.pinned_relative_error = 2e6;
+  EXPECT_EQ(message_of(s),
+            "identifiability.pinned_relative_error: out of range (got 2000000.0, expected 0 to 1000000)");
+  const std::string head = "[[test]]\nname = \"t\"\n[[parameter]]\nname = \"C10\"\n";
+  const io::Node zero =
+      io::parse_config(identify_schema(), head + "[identifiability]\npinned_relative_error = 0.0\n", "project.toml");
+  EXPECT_EQ(message_of(read_identification_spec(zero)),
+            "project.toml:6: identifiability.pinned_relative_error: out of range (got 0, expected > 0)");
+  const io::Node barrier = io::parse_config(
+      identify_schema(), head + "[stability]\nenabled = true\nweight = 1.0\ntaut_stress = 0.0\n", "project.toml");
+  ASSERT_TRUE(read_identification_spec(barrier).stability.has_value());
+  EXPECT_EQ(read_identification_spec(barrier).stability->weight, 1.0);
+  EXPECT_EQ(message_of(read_identification_spec(barrier)),
+            "project.toml:8: stability.taut_stress: out of range (got 0, expected > 0)");
 }
 
 TEST(IdentificationSpec, ProjectsThatIdentifyNothingOrTwiceAreRejected) {

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "tricot/core/options.hpp"
+
 namespace tricot::ident {
 
 struct IdentifiabilityOptions {
@@ -18,7 +20,15 @@ struct IdentifiabilityOptions {
   /// σ̂² of the residuals (docs/theory.md §8: 2f/(N − n), or 1 when the scales are measurement σ), > 0.
   double sigma2 = 1;
 
-  void validate() const;  ///< InputError naming `identifiability.<field>`
+  /// The config key of [identifiability] these options hold (core/options.hpp); sigma2 is the run's.
+  static auto keys() {
+    using O = IdentifiabilityOptions;
+    return std::tuple{option(&O::pinned_relative_error, "identifiability.pinned_relative_error",
+                             "A coefficient is pinned down when its relative standard error is below this, > 0.", 0,
+                             1e6)};
+  }
+  /// InputError naming `identifiability.<field>`: the range keys() declares, its open end at 0, sigma2.
+  void validate() const;
 };
 
 struct IdentifiabilityReport {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "tricot/core/options.hpp"
 #include "tricot/core/progress.hpp"
 #include "tricot/ident/covariance.hpp"
 #include "tricot/ident/problem.hpp"
@@ -145,7 +146,57 @@ struct IdentifyOptions {
   /// model's answer (identify_by_levels). Not with resume_from, whose point it would replace.
   std::optional<Eigen::VectorXd> start;
 
-  /// Throws InputError naming `identify.<field>`.
+  /// The config keys of [identify] these options hold (core/options.hpp).
+  static auto keys() {
+    using O = IdentifyOptions;
+    return std::tuple{
+        option(&O::epsilon, "identify.epsilon", "Eq. (2): stop when f < epsilon; 0 = off. Paper: 1e-12.", 0, 1),
+        option(&O::delta, "identify.delta",
+               "Eq. (3): stop when an accepted step changes no coefficient by more than delta (relative),\n"
+               "in (0, 1). Paper: 1e-5.",
+               0, 1),
+        option(&O::function_tolerance, "identify.function_tolerance",
+               "Stop when a step changes f by less than this fraction of f; 0 = off.", 0, 1),
+        option(&O::gradient_tolerance, "identify.gradient_tolerance",
+               "Stop when the gradient's max-norm (LM units) is below this; 0 = off.", 0, 1e12),
+        option(&O::max_iterations, "identify.max_iterations",
+               "LM iterations in all (accepted and rejected, stability restarts included).", 1, 100000),
+        option(&O::stability_test, "identify.stability_test",
+               "The paper's stability test: after convergence, f with each coefficient scaled by (1 ± eta);\n"
+               "LM restarts from a lower one."),
+        option(&O::stability_eta, "identify.stability_eta", "η of the stability test, in (0, 1).", 0, 1),
+        option(&O::max_restarts, "identify.max_restarts",
+               "Stability restarts before giving up (termination `unstable`).", 0, 1000),
+        option(&O::jacobian, "identify.jacobian",
+               "exact: from the FE sensitivities (docs/theory.md §7). finite_difference: one perturbed FE run per\n"
+               "coefficient (two when central), in parallel threads (the paper's way).",
+               {{JacobianMode::exact, "exact"}, {JacobianMode::finite_difference, "finite_difference"}}),
+        option(&O::difference, "identify.difference", "finite_difference only: forward or central.",
+               {{Difference::forward, "forward"}, {Difference::central, "central"}}),
+        option(&O::fd_step, "identify.fd_step", "finite_difference only: step h_k = fd_step · scale_k, in (0, 0.1].", 0,
+               0.1),
+        option(&O::threads, "identify.threads",
+               "Threads for tests and finite-difference columns; 0 = all cores; more than the cores run as many as "
+               "the cores.",
+               0, 1024),
+        option(&O::initial_trust_region_radius, "identify.initial_trust_region_radius",
+               "LM's first trust-region radius (1/μ₀, LM units), > 0.", 0, 1e16),
+        option(&O::line_search_trials, "identify.line_search_trials",
+               "With bounds: the most trial points of the projected line search along each LM step (each one\n"
+               "FE evaluation).",
+               1, 100),
+        option(&O::active_set, "identify.active_set",
+               "With bounds: hold a coefficient on its bound when an LM step was projected onto it and f\n"
+               "decreases out of the box there, release it where f decreases into the box (the log names\n"
+               "each). false: Ceres's projected steps alone, which can stall on a bound. See docs/validation.md."),
+        option(&O::barrier_growth, "identify.barrier_growth",
+               "With [stability]: the most the barrier's part of f may grow along one LM step, as a fraction of\n"
+               "f at the accepted point; each step is cut along its direction where it would grow more (the\n"
+               "barrier needs no FE). 0 = off. See docs/validation.md §5.",
+               0, 1)};
+  }
+  /// Throws InputError naming `identify.<field>`: the ranges keys() declares, and the open ends that
+  /// a declared (closed) range cannot say.
   void validate() const;
   JacobianOptions jacobian_options() const { return {jacobian, difference, fd_step, threads}; }
 };

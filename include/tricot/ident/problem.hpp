@@ -88,6 +88,8 @@ enum class Difference { forward, central };
 const char* to_string(JacobianMode m);  ///< "exact", "finite_difference"
 const char* to_string(Difference d);    ///< "forward", "central"
 
+/// How evaluate() computes ∂r/∂J: IdentifyOptions's jacobian, difference, fd_step and threads, which
+/// it declares and checks (IdentifyOptions::jacobian_options()).
 struct JacobianOptions {
   JacobianMode mode = JacobianMode::exact;
   Difference difference = Difference::forward;
@@ -95,9 +97,6 @@ struct JacobianOptions {
   double step = 1e-6;
   /// Threads for the finite-difference columns, 0–1024; 0 = OpenMP's default.
   int threads = 0;
-
-  /// Throws InputError naming `identify.<field>`.
-  void validate() const;
 };
 
 /// r(J) and, when `jacobian`, ∂r/∂J by `options.mode`. Finite differences evaluate the columns in

@@ -14,6 +14,7 @@
 #include <array>
 #include <vector>
 
+#include "tricot/core/options.hpp"
 #include "tricot/core/types.hpp"
 #include "tricot/ident/objective.hpp"
 
@@ -46,7 +47,25 @@ struct StabilityBarrierOptions {
   /// relaxes, docs/theory/fabric.md §8).
   double taut_stress = 1e-3;
 
-  /// Throws InputError naming `stability.<field>`.
+  /// The config keys of [stability] these options hold (core/options.hpp); the grid's are no keys.
+  static auto keys() {
+    using O = StabilityBarrierOptions;
+    return std::tuple{
+        option(&O::det_margin, "stability.det_margin", "(N/mm)², > 0.", 0, 1e6),
+        option(&O::slope_margin, "stability.slope_margin", "N/mm, > 0.", 0, 1e6),
+        option(&O::weight, "stability.weight", "w ≥ 0 of each barrier row.", 0, 1e6),
+        option(&O::acoustic_margin, "stability.acoustic_margin",
+               "N/mm, ≥ 0: also penalise, where the law is taut, a smallest acoustic eigenvalue below it (strong\n"
+               "ellipticity of the plane-stress law, which the strain-space rows miss; docs/theory/fabric.md §3.2).\n"
+               "0 = off.",
+               0, 1e6),
+        option(&O::taut_stress, "stability.taut_stress",
+               "N/mm, > 0: the ellipticity rows weigh a point fully once its smaller principal stress reaches it,\n"
+               "not at all at zero or below (a wrinkled or slack point).",
+               0, 1e6)};
+  }
+  /// Throws InputError naming `stability.<field>`: the grid, the ranges keys() declares and the
+  /// open ends that a declared (closed) range cannot say.
   void validate() const;
 };
 

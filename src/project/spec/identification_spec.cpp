@@ -132,71 +132,27 @@ SectionSpec design_section() {
 }
 
 SectionSpec identify_section() {
-  const ident::IdentifyOptions o;
+  const IdentifyTable t;
   SectionSpec s{"identify",
                 "Levenberg–Marquardt and its stopping criteria (docs/theory.md §3, paper eqs. 2 and 3).",
                 false,
                 {},
                 {}};
-  s.keys = {
-      key("epsilon", o.epsilon, "Eq. (2): stop when f < epsilon; 0 = off. Paper: 1e-12.", 0, 1),
-      key("delta", o.delta,
-          "Eq. (3): stop when an accepted step changes no coefficient by more than delta (relative),\n"
-          "in (0, 1). Paper: 1e-5.",
-          0, 1),
-      key("function_tolerance", o.function_tolerance,
-          "Stop when a step changes f by less than this fraction of f; 0 = off.", 0, 1),
-      key("gradient_tolerance", o.gradient_tolerance,
-          "Stop when the gradient's max-norm (LM units) is below this; 0 = off.", 0, 1e12),
-      key("max_iterations", std::int64_t{o.max_iterations},
-          "LM iterations in all (accepted and rejected, stability restarts included).", 1, 100000),
-      key("stability_test", o.stability_test,
-          "The paper's stability test: after convergence, f with each coefficient scaled by (1 ± eta);\n"
-          "LM restarts from a lower one."),
-      key("stability_eta", o.stability_eta, "η of the stability test, in (0, 1).", 0, 1),
-      key("max_restarts", std::int64_t{o.max_restarts}, "Stability restarts before giving up (termination `unstable`).",
-          0, 1000),
-      key("jacobian", std::string("exact"),
-          "exact: from the FE sensitivities (docs/theory.md §7). finite_difference: one perturbed FE run per\n"
-          "coefficient (two when central), in parallel threads (the paper's way).",
-          -kInf, kInf, {"exact", "finite_difference"}),
-      key("difference", std::string("forward"), "finite_difference only: forward or central.", -kInf, kInf,
-          {"forward", "central"}),
-      key("fd_step", o.fd_step, "finite_difference only: step h_k = fd_step · scale_k, in (0, 0.1].", 0, 0.1),
-      key("threads", std::int64_t{o.threads},
-          "Threads for tests and finite-difference columns; 0 = all cores; more than the cores run as many as the "
-          "cores.",
-          0, 1024),
-      key("initial_trust_region_radius", o.initial_trust_region_radius,
-          "LM's first trust-region radius (1/μ₀, LM units), > 0.", 0, 1e16),
-      key("line_search_trials", std::int64_t{o.line_search_trials},
-          "With bounds: the most trial points of the projected line search along each LM step (each one\n"
-          "FE evaluation).",
-          1, 100),
-      key("active_set", o.active_set,
-          "With bounds: hold a coefficient on its bound when an LM step was projected onto it and f\n"
-          "decreases out of the box there, release it where f decreases into the box (the log names\n"
-          "each). false: Ceres's projected steps alone, which can stall on a bound. See docs/validation.md."),
-      key("barrier_growth", o.barrier_growth,
-          "With [stability]: the most the barrier's part of f may grow along one LM step, as a fraction of\n"
-          "f at the accepted point; each step is cut along its direction where it would grow more (the\n"
-          "barrier needs no FE). 0 = off. See docs/validation.md §5.",
-          0, 1),
-      key("warm_start", ident::ObjectiveOptions{}.warm_start,
-          "Start each step's Newton from the step before, moved by the last evaluation with a Jacobian's\n"
-          "increment (its states moved by their sensitivities), instead of along the load path: on large\n"
-          "meshes an evaluation near the last costs about 40 % less (the paper-scale fixture, 24 874 dofs:\n"
-          "7.5 s against 12.3 s). The values then\n"
-          "agree with a cold evaluation's to the FE tolerance, not bit for bit. See docs/validation.md."),
-      key("coarse_mesh", io::Reals{},
-          "[nx, ny]: identify by mesh levels. LM (with the stability test) first runs on every test meshed\n"
-          "with nx × ny elements ([mesh]'s other keys; a test's own nx, ny give way), then the project's\n"
-          "meshes are solved through that coarse model corrected to them at each point (space mapping:\n"
-          "one fine evaluation a step). For large meshes: the paper's 24 874-dof identification takes\n"
-          "45–48 s with [12, 10] against 323 s on the fine mesh alone. Not with --resume. [] = off.",
-          1, 10000),
-  };
+  add_keys(s, t.lm);
+  add_keys(s, t.objective);
+  add_keys(s, t);
   return s;
+}
+
+// Runs an engine's check of its options: the error names the config key, `origin` places it there.
+template <class F>
+void check_at(const Origin& origin, F&& check) {
+  try {
+    check();
+  } catch (const InputError& e) {
+    if (!origin.owns(e)) throw;
+    origin.rethrow(e);
+  }
 }
 
 std::vector<ident::Parameter> build_parameters(const IdentificationSpec& spec, const fem::Law& law) {
@@ -279,6 +235,8 @@ Model check_model(const IdentificationSpec& spec) {
   }
   m.parameters = build_parameters(spec, *m.law);
   m.options = spec.identify.options();
+  check_at(spec.identifiability_origin, [&] { spec.identifiability.validate(); });
+  if (spec.stability) check_at(spec.stability_origin, [&] { spec.stability->validate(); });
   if (const io::Reals& c = spec.identify.coarse_mesh; !c.empty()) {  // identify by mesh levels
     const Origin& at = spec.identify.origin;
     check_key(at, identify_section(), "coarse_mesh", c);
@@ -324,57 +282,16 @@ Model check_model(const IdentificationSpec& spec) {
 
 IdentifyTable IdentifyTable::from_config(const io::Node& s) {
   IdentifyTable t;
+  read_keys(s, t.lm);
+  read_keys(s, t.objective);
+  read_keys(s, t);
   t.origin = Origin(s);
-  t.epsilon = s.real("epsilon");
-  t.delta = s.real("delta");
-  t.function_tolerance = s.real("function_tolerance");
-  t.gradient_tolerance = s.real("gradient_tolerance");
-  t.max_iterations = static_cast<int>(s.integer("max_iterations"));
-  t.stability_test = s.boolean("stability_test");
-  t.stability_eta = s.real("stability_eta");
-  t.max_restarts = static_cast<int>(s.integer("max_restarts"));
-  t.jacobian = s.string("jacobian");
-  t.difference = s.string("difference");
-  t.fd_step = s.real("fd_step");
-  t.threads = static_cast<int>(s.integer("threads"));
-  t.initial_trust_region_radius = s.real("initial_trust_region_radius");
-  t.line_search_trials = static_cast<int>(s.integer("line_search_trials"));
-  t.active_set = s.boolean("active_set");
-  t.barrier_growth = s.real("barrier_growth");
-  t.warm_start = s.boolean("warm_start");
-  t.coarse_mesh = s.reals("coarse_mesh");
   return t;
 }
 
 ident::IdentifyOptions IdentifyTable::options() const {
-  ident::IdentifyOptions o;
-  o.epsilon = epsilon;
-  o.delta = delta;
-  o.function_tolerance = function_tolerance;
-  o.gradient_tolerance = gradient_tolerance;
-  o.max_iterations = max_iterations;
-  o.stability_test = stability_test;
-  o.stability_eta = stability_eta;
-  o.max_restarts = max_restarts;
-  if (jacobian != "exact" && jacobian != "finite_difference")
-    origin.fail("jacobian", "unknown Jacobian", "\"" + jacobian + "\"", "exact or finite_difference");
-  o.jacobian = jacobian == "exact" ? ident::JacobianMode::exact : ident::JacobianMode::finite_difference;
-  if (difference != "forward" && difference != "central")
-    origin.fail("difference", "unknown difference", "\"" + difference + "\"", "forward or central");
-  o.difference = difference == "central" ? ident::Difference::central : ident::Difference::forward;
-  o.fd_step = fd_step;
-  o.threads = threads;
-  o.initial_trust_region_radius = initial_trust_region_radius;
-  o.line_search_trials = line_search_trials;
-  o.active_set = active_set;
-  o.barrier_growth = barrier_growth;
-  try {
-    o.validate();
-  } catch (const InputError& e) {
-    if (!origin.owns(e)) throw;
-    origin.rethrow(e);  // ident names the keys of [identify]
-  }
-  return o;
+  check_at(origin, [&] { lm.validate(); });
+  return lm;
 }
 
 SectionSpec eq9_section() {
@@ -405,7 +322,6 @@ SectionSpec eq9_section() {
 }
 
 SectionSpec identifiability_section() {
-  const ident::IdentifiabilityOptions o;
   SectionSpec s{
       "identifiability",
       "result.json's \"identifiability\" (docs/theory.md §8, beyond the paper): relative standard errors, the\n"
@@ -413,13 +329,11 @@ SectionSpec identifiability_section() {
       false,
       {},
       {}};
-  s.keys = {key("pinned_relative_error", o.pinned_relative_error,
-                "A coefficient is pinned down when its relative standard error is below this, > 0.", 0, 1e6)};
+  add_keys(s, ident::IdentifiabilityOptions{});
   return s;
 }
 
 SectionSpec stability_section() {
-  const ident::StabilityBarrierOptions o;
   SectionSpec s{
       "stability",
       "A material-stability barrier for a response surface (docs/theory/fabric.md §3.2): rows that\n"
@@ -429,21 +343,11 @@ SectionSpec stability_section() {
       false,
       {},
       {}};
+  // enabled is no option of the barrier: it says whether there is one (IdentificationSpec::stability).
   s.keys = {key("enabled", true,
                 "Append the barrier to the objective. On by default for a response surface (issue 29: real data\n"
-                "need it); another law takes it only when asked, which is an error."),
-            key("det_margin", o.det_margin, "(N/mm)², > 0.", 0, 1e6),
-            key("slope_margin", o.slope_margin, "N/mm, > 0.", 0, 1e6),
-            key("weight", o.weight, "w ≥ 0 of each barrier row.", 0, 1e6),
-            key("acoustic_margin", o.acoustic_margin,
-                "N/mm, ≥ 0: also penalise, where the law is taut, a smallest acoustic eigenvalue below it (strong\n"
-                "ellipticity of the plane-stress law, which the strain-space rows miss; docs/theory/fabric.md §3.2).\n"
-                "0 = off.",
-                0, 1e6),
-            key("taut_stress", o.taut_stress,
-                "N/mm, > 0: the ellipticity rows weigh a point fully once its smaller principal stress reaches it,\n"
-                "not at all at zero or below (a wrinkled or slack point).",
-                0, 1e6)};
+                "need it); another law takes it only when asked, which is an error.")};
+  add_keys(s, ident::StabilityBarrierOptions{});
   return s;
 }
 
@@ -674,18 +578,13 @@ IdentificationSpec read_identification_spec(const io::Node& root) {
   s.data = DataSpec::from_config(root.section("data"));
   s.identify = IdentifyTable::from_config(root.section("identify"));
   s.eq9 = Eq9Spec::from_config(root.section("eq9"));
-  s.identifiability.pinned_relative_error = root.section("identifiability").real("pinned_relative_error");
-  s.identifiability.origin = Origin(root.section("identifiability"));
-  const io::Node& st = root.section("stability");
-  if (st.boolean("enabled") && (st.given("enabled") || s.law.type == "response_surface")) {
-    ident::StabilityBarrierOptions b;
-    b.det_margin = root.section("stability").real("det_margin");
-    b.slope_margin = root.section("stability").real("slope_margin");
-    b.weight = root.section("stability").real("weight");
-    b.acoustic_margin = root.section("stability").real("acoustic_margin");
-    b.taut_stress = root.section("stability").real("taut_stress");
-    s.stability = b;
-  }
+  const Node& id = root.section("identifiability");
+  read_keys(id, s.identifiability);
+  s.identifiability_origin = Origin(id);
+  const Node& st = root.section("stability");
+  if (st.boolean("enabled") && (st.given("enabled") || s.law.type == "response_surface"))
+    read_keys(st, s.stability.emplace());
+  s.stability_origin = Origin(st);
   if (const Node& d = root.section("design"); d.given("transverse_strains")) {
     DesignSpec ds;
     ds.transverse_strains = d.reals("transverse_strains");
@@ -789,7 +688,7 @@ Project build_project(const IdentificationSpec& given, const fs::path& base) {
     }
     P.restriction = std::move(r.tests);
   }
-  ident::ObjectiveOptions oo;
+  ident::ObjectiveOptions oo = spec.identify.objective;
   oo.weights.edge_displacement = dn.edge_displacement;
   oo.weights.edge_force = dn.edge_force;
   oo.weights.field = dn.field;
@@ -797,7 +696,6 @@ Project build_project(const IdentificationSpec& given, const fs::path& base) {
   oo.weights.fixed = dn.weighting == "fixed";
   oo.solver = P.solver;
   oo.threads = P.options.threads;
-  oo.warm_start = spec.identify.warm_start;
   // With bounds LM's line search makes trials whose Jacobian it never uses: sensitivities afterwards.
   oo.sensitivities_after = std::any_of(m.parameters.begin(), m.parameters.end(), [](const ident::Parameter& p) {
     return std::isfinite(p.lower) || std::isfinite(p.upper);
@@ -813,17 +711,14 @@ Project build_project(const IdentificationSpec& given, const fs::path& base) {
     if (k == "data") throw InputError(dn.origin.where(""), problem_of(e));
     throw InputError({spec.file.string(), 0, k}, std::string(e.what()).substr(k.empty() ? 0 : k.size() + 2));
   }
-  P.identifiability.pinned_relative_error = spec.identifiability.pinned_relative_error;
-  if (!(P.identifiability.pinned_relative_error > 0))
-    spec.identifiability.origin.fail("pinned_relative_error", "must be positive",
-                                     fmt::format("{}", P.identifiability.pinned_relative_error), "> 0");
+  P.identifiability = spec.identifiability;
   check_eq9(spec.eq9, P);
   if (spec.stability) {
     try {
       P.stability = std::make_unique<ident::StabilizedObjective>(*P.objective, *spec.stability);
       if (P.coarse_objective)
         P.coarse_stability = std::make_unique<ident::StabilizedObjective>(*P.coarse_objective, *spec.stability);
-    } catch (const InputError& e) {
+    } catch (const InputError& e) {  // law.type: the options were checked with the spec
       throw InputError({spec.file.string(), 0, e.where().key}, problem_of(e));
     }
   }
