@@ -31,7 +31,7 @@ io::SectionSpec identify_schema();
 /// take them, each declared once by the options that hold it (core/options.hpp): ident::IdentifyOptions's,
 /// and ident::ObjectiveOptions's warm_start; coarse_mesh is the verb's.
 struct IdentifyTable {
-  ident::IdentifyOptions lm;
+  ident::IdentifyOptions lm;  ///< as ident::identify takes them (options() checks them)
   /// warm_start; build_project completes the objective's options ([data], [solver], lm.threads).
   ident::ObjectiveOptions objective;
   /// [nx, ny]: identify by mesh levels, every test first on nx × ny elements (ident::identify_by_levels);
