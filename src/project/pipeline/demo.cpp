@@ -101,7 +101,7 @@ inset = 1.0
 
 IdentificationSpec demo_project_spec(const DemoProject& p) {
   IdentificationSpec s;
-  s.mesh.width = 50, s.mesh.height = 200, s.mesh.element = "Q8", s.mesh.nx = 10, s.mesh.ny = 34;
+  s.mesh.width = 50, s.mesh.height = 200, s.mesh.type = fem::ElementType::Q8, s.mesh.nx = 10, s.mesh.ny = 34;
   s.law.type = "mooney_rivlin";
   s.law.mooney_rivlin.terms = io::Strings(kNames.begin(), kNames.end());
   s.law.mooney_rivlin.values = io::Reals(p.start.begin(), p.start.end());
@@ -176,7 +176,7 @@ epsilon = {}         # the paper's ε (eq. 2)
 delta = {}            # the paper's δ (eq. 3)
 jacobian = {}
 )",
-      io::to_toml(m.width), io::to_toml(m.height), word(m.element), m.nx, m.ny, word(s.law.type),
+      io::to_toml(m.width), io::to_toml(m.height), word(fem::to_string(m.type)), m.nx, m.ny, word(s.law.type),
       words(s.law.mooney_rivlin.terms), io::to_toml(s.law.mooney_rivlin.values), word(t.name), word(t.kind),
       word(t.control), io::to_toml(*t.grip_holds_x), io::to_toml(t.load_max), t.steps, word(s.experiment.dir),
       word(s.experiment.field_kind), io::to_toml(s.experiment.sigma_from_truth), parameters,
