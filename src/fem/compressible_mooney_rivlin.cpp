@@ -85,9 +85,9 @@ int var(int M, int J) { return M == J ? 2 * M : 1; }  // C_MJ → index in v
 CompressibleMooneyRivlin::CompressibleMooneyRivlin(std::vector<MooneyRivlinTerm> terms, double kappa,
                                                    Kinematics kinematics)
     : terms_(std::move(terms)), kappa_(kappa), kinematics_(kinematics) {
-  MooneyRivlin check(terms_);  // the terms' own checks (material.terms, material.values)
+  MooneyRivlin check(terms_);  // the terms' own checks (law.mooney_rivlin.terms, .values)
   if (!(kappa > 0) || !std::isfinite(kappa))
-    throw InputError(Location{"", 0, "material.kappa"}, "out of range", std::to_string(kappa), "> 0 N/mm");
+    throw InputError(Location{"", 0, "law.mooney_rivlin.kappa"}, "out of range", std::to_string(kappa), "> 0 N/mm");
 }
 
 std::vector<std::string> CompressibleMooneyRivlin::coefficient_names() const {
@@ -105,7 +105,7 @@ Eigen::VectorXd CompressibleMooneyRivlin::coefficients() const {
 
 void CompressibleMooneyRivlin::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != static_cast<Eigen::Index>(terms_.size()) + 1)
-    throw InputError(Location{"", 0, "material"}, "wrong number of Mooney–Rivlin coefficients",
+    throw InputError(Location{"", 0, "law.mooney_rivlin"}, "wrong number of Mooney–Rivlin coefficients",
                      std::to_string(c.size()), std::to_string(terms_.size() + 1));
   std::vector<MooneyRivlinTerm> t = terms_;
   for (size_t k = 0; k < t.size(); ++k) t[k].C = c(static_cast<Eigen::Index>(k));

@@ -13,16 +13,21 @@ namespace tricot::fem {
 namespace {
 
 void check(double D11, double D22, double D12, double D66) {
-  const std::array<std::pair<const char*, double>, 4> c = {
-      {{"material.D11", D11}, {"material.D22", D22}, {"material.D12", D12}, {"material.D66", D66}}};
+  const std::array<std::pair<const char*, double>, 4> c = {{{"law.corotational.D11", D11},
+                                                            {"law.corotational.D22", D22},
+                                                            {"law.corotational.D12", D12},
+                                                            {"law.corotational.D66", D66}}};
   for (const auto& [key, v] : c)
     if (!std::isfinite(v))
       throw InputError(Location{"", 0, key}, "not a finite number", std::to_string(v), "finite N/mm");
-  if (!(D11 > 0)) throw InputError(Location{"", 0, "material.D11"}, "out of range", std::to_string(D11), "> 0 N/mm");
-  if (!(D22 > 0)) throw InputError(Location{"", 0, "material.D22"}, "out of range", std::to_string(D22), "> 0 N/mm");
-  if (!(D66 > 0)) throw InputError(Location{"", 0, "material.D66"}, "out of range", std::to_string(D66), "> 0 N/mm");
+  if (!(D11 > 0))
+    throw InputError(Location{"", 0, "law.corotational.D11"}, "out of range", std::to_string(D11), "> 0 N/mm");
+  if (!(D22 > 0))
+    throw InputError(Location{"", 0, "law.corotational.D22"}, "out of range", std::to_string(D22), "> 0 N/mm");
+  if (!(D66 > 0))
+    throw InputError(Location{"", 0, "law.corotational.D66"}, "out of range", std::to_string(D66), "> 0 N/mm");
   if (!(D11 * D22 > D12 * D12))
-    throw InputError(Location{"", 0, "material.D12"}, "stiffness is not positive definite", std::to_string(D12),
+    throw InputError(Location{"", 0, "law.corotational.D12"}, "stiffness is not positive definite", std::to_string(D12),
                      "D12² < D11·D22");
 }
 
@@ -47,17 +52,17 @@ CorotationalOrthotropic::CorotationalOrthotropic(double D11, double D22, double 
 
 CorotationalOrthotropic CorotationalOrthotropic::isotropic(double G, double K) {
   if (!(G > 0) || !std::isfinite(G))
-    throw InputError(Location{"", 0, "material.G"}, "out of range", std::to_string(G), "> 0 N/mm");
+    throw InputError(Location{"", 0, "law.corotational.G"}, "out of range", std::to_string(G), "> 0 N/mm");
   if (!(K > 0) || !std::isfinite(K))
-    throw InputError(Location{"", 0, "material.K"}, "out of range", std::to_string(K), "> 0 N/mm");
+    throw InputError(Location{"", 0, "law.corotational.K"}, "out of range", std::to_string(K), "> 0 N/mm");
   return {K + G, K + G, K - G, G};
 }
 
 CorotationalOrthotropic CorotationalOrthotropic::isotropic_plane_stress(double E, double nu) {
   if (!(E > 0) || !std::isfinite(E))
-    throw InputError(Location{"", 0, "material.E"}, "out of range", std::to_string(E), "> 0 N/mm");
+    throw InputError(Location{"", 0, "law.corotational.E"}, "out of range", std::to_string(E), "> 0 N/mm");
   if (!(nu > -1 && nu < 1))
-    throw InputError(Location{"", 0, "material.nu"}, "out of range", std::to_string(nu), "-1 < nu < 1");
+    throw InputError(Location{"", 0, "law.corotational.nu"}, "out of range", std::to_string(nu), "-1 < nu < 1");
   const double Dp = E / (1 - nu * nu);
   return {Dp, Dp, nu * Dp, E / (2 * (1 + nu))};
 }
@@ -66,8 +71,8 @@ Eigen::VectorXd CorotationalOrthotropic::coefficients() const { return Eigen::Ve
 
 void CorotationalOrthotropic::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != 4)
-    throw InputError(Location{"", 0, "material"}, "wrong number of corotational coefficients", std::to_string(c.size()),
-                     "4 (D11, D22, D12, D66)");
+    throw InputError(Location{"", 0, "law.corotational"}, "wrong number of corotational coefficients",
+                     std::to_string(c.size()), "4 (D11, D22, D12, D66)");
   check(c(0), c(1), c(2), c(3));
   D11_ = c(0);
   D22_ = c(1);

@@ -123,10 +123,10 @@ void MeshOptions::validate() const {
   };
   if (!(width > 0) || !std::isfinite(width)) bad("mesh.width", std::to_string(width), "> 0 mm");
   if (!(height > 0) || !std::isfinite(height)) bad("mesh.height", std::to_string(height), "> 0 mm");
-  if (nx < 1 || nx > 2000) bad("mesh.nx", std::to_string(nx), "1 to 2000");
-  if (ny < 1 || ny > 2000) bad("mesh.ny", std::to_string(ny), "1 to 2000");
-  if (!(grading > 0) || !std::isfinite(grading)) bad("mesh.grading", std::to_string(grading), "> 0");
-  if (!(grading_x > 0) || !std::isfinite(grading_x)) bad("mesh.grading_x", std::to_string(grading_x), "> 0");
+  check_ranges(*this);
+  // The declared ranges include their ends: a grading of 0 makes no mesh.
+  if (!(grading > 0)) bad("mesh.grading", std::to_string(grading), "> 0");
+  if (!(grading_x > 0)) bad("mesh.grading_x", std::to_string(grading_x), "> 0");
 }
 
 namespace {

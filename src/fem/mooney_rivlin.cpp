@@ -66,15 +66,16 @@ MooneyRivlin::MooneyRivlin(std::vector<MooneyRivlinTerm> terms) : terms_(std::mo
     const auto& t = terms_[k];
     const std::string name = term_name(t);
     if (t.i < 0 || t.i > 9 || t.j < 0 || t.j > 9 || (t.i == 0 && t.j == 0))
-      throw InputError(Location{"", 0, "material.terms"},
+      throw InputError(Location{"", 0, "law.mooney_rivlin.terms"},
                        "bad Mooney–Rivlin exponents of term " + std::to_string(k + 1),
                        "(" + std::to_string(t.i) + ", " + std::to_string(t.j) + ")", "0–9 each, not both 0");
     if (!std::isfinite(t.C))
-      throw InputError(Location{"", 0, "material.values"}, name + " is not a finite number", std::to_string(t.C),
-                       "a finite N/mm");
+      throw InputError(Location{"", 0, "law.mooney_rivlin.values"}, name + " is not a finite number",
+                       std::to_string(t.C), "a finite N/mm");
     for (std::size_t m = 0; m < k; ++m)
       if (terms_[m].i == t.i && terms_[m].j == t.j)
-        throw InputError(Location{"", 0, "material.terms"}, "coefficient given twice", name, "each C<i><j> once");
+        throw InputError(Location{"", 0, "law.mooney_rivlin.terms"}, "coefficient given twice", name,
+                         "each C<i><j> once");
   }
 }
 
@@ -92,7 +93,7 @@ Eigen::VectorXd MooneyRivlin::coefficients() const {
 
 void MooneyRivlin::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != static_cast<Eigen::Index>(terms_.size()))
-    throw InputError(Location{"", 0, "material"}, "wrong number of Mooney–Rivlin coefficients",
+    throw InputError(Location{"", 0, "law.mooney_rivlin"}, "wrong number of Mooney–Rivlin coefficients",
                      std::to_string(c.size()), std::to_string(terms_.size()));
   for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k].C = c(k);
 }

@@ -12,9 +12,9 @@ namespace {
 
 void check(double mu, double lambda) {
   if (!(mu > 0) || !std::isfinite(mu))
-    throw InputError(Location{"", 0, "material.mu"}, "out of range", std::to_string(mu), "> 0 N/mm");
+    throw InputError(Location{"", 0, "law.neo_hookean.mu"}, "out of range", std::to_string(mu), "> 0 N/mm");
   if (!(lambda >= 0) || !std::isfinite(lambda))
-    throw InputError(Location{"", 0, "material.lambda"}, "out of range", std::to_string(lambda), ">= 0 N/mm");
+    throw InputError(Location{"", 0, "law.neo_hookean.lambda"}, "out of range", std::to_string(lambda), ">= 0 N/mm");
 }
 
 }  // namespace
@@ -41,8 +41,8 @@ Eigen::VectorXd NeoHookean::coefficients() const {
 
 void NeoHookean::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != 2)
-    throw InputError(Location{"", 0, "material"}, "wrong number of neo-Hookean coefficients", std::to_string(c.size()),
-                     "2");
+    throw InputError(Location{"", 0, "law.neo_hookean"}, "wrong number of neo-Hookean coefficients",
+                     std::to_string(c.size()), "2");
   if (!young_poisson_) {
     check(c(0), c(1));
     mu_ = c(0);
@@ -50,9 +50,9 @@ void NeoHookean::set_coefficients(const Eigen::VectorXd& c) {
     return;
   }
   if (!(c(0) > 0) || !std::isfinite(c(0)))
-    throw InputError(Location{"", 0, "material.E"}, "out of range", std::to_string(c(0)), "> 0 N/mm");
+    throw InputError(Location{"", 0, "law.neo_hookean.E"}, "out of range", std::to_string(c(0)), "> 0 N/mm");
   if (!(c(1) > -1 && c(1) < 0.5))
-    throw InputError(Location{"", 0, "material.nu"}, "out of range", std::to_string(c(1)), "in (-1, 0.5)");
+    throw InputError(Location{"", 0, "law.neo_hookean.nu"}, "out of range", std::to_string(c(1)), "in (-1, 0.5)");
   E_ = c(0), nu_ = c(1);
   mu_ = E_ / (2 * (1 + nu_));
   lambda_ = E_ * nu_ / ((1 + nu_) * (1 - 2 * nu_));

@@ -24,7 +24,8 @@ Locking locking(double eps, double k, double e0, double s) {
 
 void require(bool ok, const char* key, double v, const char* range) {
   if (!ok || !std::isfinite(v))
-    throw InputError(Location{"", 0, std::string("material.") + key}, "out of range", std::to_string(v), range);
+    throw InputError(Location{"", 0, std::string("law.reference_fabric.") + key}, "out of range", std::to_string(v),
+                     range);
 }
 
 }  // namespace
@@ -62,7 +63,7 @@ Eigen::VectorXd ReferenceFabric::coefficients() const {
 
 void ReferenceFabric::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != kCoefficients)
-    throw InputError(Location{"", 0, "material.coefficients"}, "wrong number of reference-fabric coefficients",
+    throw InputError(Location{"", 0, "law.reference_fabric"}, "wrong number of reference-fabric coefficients",
                      std::to_string(c.size()), std::to_string(kCoefficients));
   ReferenceFabricParameters p = p_;
   p.k_C = c(0), p.k_CL = c(1), p.eps_CL = c(2), p.s_CL = c(3);

@@ -46,7 +46,7 @@ Eigen::VectorXd RegionLaws::coefficients() const {
 
 void RegionLaws::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != count_)
-    throw InputError(Location{"", 0, "material"}, "wrong number of coefficients for the region laws",
+    throw InputError(Location{"", 0, "law"}, "wrong number of coefficients for the region laws",
                      std::to_string(c.size()), std::to_string(count_));
   for (size_t r = 0; r < laws_.size(); ++r)
     laws_[r]->set_coefficients(c.segment(offset_[r], laws_[r]->coefficients().size()));

@@ -87,10 +87,10 @@ void check_monomials(const std::vector<Monomial>& list, const char* force) {
     const Monomial& m = list[i];
     const std::string got = std::string(force) + " monomial (" + std::to_string(m.p) + ", " + std::to_string(m.q) + ")";
     if (m.p < 0 || m.q < 0 || m.p + m.q == 0)
-      throw InputError(Location{"", 0, std::string("material.") + force}, "bad exponents", got,
+      throw InputError(Location{"", 0, std::string("law.response_surface.") + force}, "bad exponents", got,
                        "p >= 0, q >= 0, p + q >= 1");
     if (std::find(list.begin(), list.begin() + i, m) != list.begin() + i)
-      throw InputError(Location{"", 0, std::string("material.") + force}, "repeated monomial", got,
+      throw InputError(Location{"", 0, std::string("law.response_surface.") + force}, "repeated monomial", got,
                        "each (p, q) once per force");
   }
 }
@@ -110,7 +110,8 @@ ResponseSurface::ResponseSurface(std::vector<Monomial> course, std::vector<Monom
   check_monomials(course_, "course");
   check_monomials(wale_, "wale");
   if (!(G_s > 0) || !std::isfinite(G_s))
-    throw InputError(Location{"", 0, "material.shear_stiffness"}, "out of range", std::to_string(G_s), "> 0 N/mm");
+    throw InputError(Location{"", 0, "law.response_surface.shear_stiffness"}, "out of range", std::to_string(G_s),
+                     "> 0 N/mm");
   c_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(course_.size() + wale_.size()));
   for (const auto* list : {&course_, &wale_})
     for (const Monomial& m : *list) max_p_ = std::max(max_p_, m.p), max_q_ = std::max(max_q_, m.q);
@@ -125,7 +126,7 @@ ResponseSurface::ResponseSurface(std::vector<Monomial> course, std::vector<Monom
 ResponseSurface ResponseSurface::separable(int nC, int mC, int nW, int mW, double G_s) {
   if (nC < 0 || mC < 0 || nW < 0 || mW < 0)
     throw InputError(
-        Location{"", 0, "material.orders"}, "negative polynomial order",
+        Location{"", 0, "law.response_surface.orders"}, "negative polynomial order",
         std::to_string(nC) + ", " + std::to_string(mC) + ", " + std::to_string(nW) + ", " + std::to_string(mW), ">= 0");
   std::vector<Monomial> course, wale;
   std::vector<std::string> names;
@@ -139,15 +140,17 @@ ResponseSurface ResponseSurface::separable(int nC, int mC, int nW, int mW, doubl
 ResponseSurface ResponseSurface::preset(const std::string& name, double G_s) {
   if (name == "paper14") return separable(6, 2, 4, 2, G_s);
   if (name == "paper24") return separable(6, 6, 6, 6, G_s);
-  throw InputError(Location{"", 0, "material.preset"}, "unknown response-surface preset", name, "paper14, paper24");
+  throw InputError(Location{"", 0, "law.response_surface.preset"}, "unknown response-surface preset", name,
+                   "paper14, paper24");
 }
 
 void ResponseSurface::set_coefficients(const Eigen::VectorXd& c) {
   if (c.size() != c_.size())
-    throw InputError(Location{"", 0, "material.coefficients"}, "wrong number of response-surface coefficients",
-                     std::to_string(c.size()), std::to_string(c_.size()));
+    throw InputError(Location{"", 0, "law.response_surface.coefficients"},
+                     "wrong number of response-surface coefficients", std::to_string(c.size()),
+                     std::to_string(c_.size()));
   if (!c.allFinite())
-    throw InputError(Location{"", 0, "material.coefficients"}, "not a finite number", "", "finite N/mm");
+    throw InputError(Location{"", 0, "law.response_surface.coefficients"}, "not a finite number", "", "finite N/mm");
   c_ = c;
 }
 

@@ -16,13 +16,9 @@
 namespace tricot::fem {
 
 void SolveOptions::validate() const {
-  auto bad = [](const char* key, const std::string& got, const std::string& expected) {
-    throw InputError(Location{"", 0, key}, "out of range", got, expected);
-  };
-  if (!(tolerance > 0) || !std::isfinite(tolerance)) bad("solver.tolerance", std::to_string(tolerance), "> 0");
-  if (max_iterations < 1 || max_iterations > 200)
-    bad("solver.max_iterations", std::to_string(max_iterations), "1 to 200");
-  if (max_cutbacks < 0 || max_cutbacks > 30) bad("solver.max_cutbacks", std::to_string(max_cutbacks), "0 to 30");
+  check_ranges(*this);
+  if (!(tolerance > 0))  // the declared range includes its ends: Newton needs a tolerance above 0
+    throw InputError(Location{"", 0, "solver.tolerance"}, "out of range", std::to_string(tolerance), "> 0");
 }
 
 namespace {

@@ -132,9 +132,10 @@ double wrap_angle(double a) {
 }  // namespace
 
 void WrinklingOptions::validate() const {
-  check(residual_stiffness >= 0 && residual_stiffness < 0.5, "residual_stiffness", residual_stiffness, "[0, 0.5)");
+  check_ranges(*this);
+  // The declared range includes its ends; η's excludes 0.5.
+  check(residual_stiffness < 0.5, "residual_stiffness", residual_stiffness, "[0, 0.5)");
   check(tolerance > 0 && tolerance <= 1e-6, "wrinkle_tolerance", tolerance, "(0, 1e-6]");
-  check(smoothing >= 0 && smoothing <= 0.1, "wrinkle_smoothing", smoothing, "[0, 0.1]");
   check(max_iterations >= 1 && max_iterations <= 200, "wrinkle_max_iterations", max_iterations, "1 to 200");
 }
 

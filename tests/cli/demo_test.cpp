@@ -114,7 +114,7 @@ TEST(Demo, ItsProjectFileReadsBackAsTheSpecItRuns) {
       read_identification_spec(io::parse_config(identify_schema(), demo_project_toml(p), "project.toml"));
   EXPECT_EQ(code.mesh.width, file.mesh.width);
   EXPECT_EQ(code.mesh.height, file.mesh.height);
-  EXPECT_EQ(code.mesh.element, file.mesh.element);
+  EXPECT_EQ(code.mesh.type, file.mesh.type);
   EXPECT_EQ(code.mesh.nx, file.mesh.nx);
   EXPECT_EQ(code.mesh.ny, file.mesh.ny);
   EXPECT_EQ(code.mesh.grading, file.mesh.grading);

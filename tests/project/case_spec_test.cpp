@@ -246,8 +246,37 @@ TEST(CaseSpec, WrinklingWrapsTheLawInATensionFieldMembrane) {
   EXPECT_NE(dynamic_cast<const fem::ReferenceFabric*>(&w->inner()), nullptr);
   LawSpec code;
   code.wrinkling = true;
-  code.residual_stiffness = 0.5;
+  code.wrinkling_options.residual_stiffness = 0.5;
   EXPECT_EQ(message_of([&] { code.law(); }), "law.residual_stiffness: out of range (got 0.5, expected [0, 0.5))");
+}
+
+// A law names its keys relative to its law table (`law.neo_hookean.mu`, `law.residual_stiffness`): a
+// [[law.region]]'s error is placed at the region's own table and line.
+TEST(CaseSpec, ARegionLawsErrorIsPlacedAtItsOwnTable) {
+  auto message = [](const std::string& region, const std::string& mu) {
+    const std::string text =
+        "[law]\ntype = \"neo_hookean\"\n[[law.region]]\nname = \"lesion\"\ntype = \"neo_hookean\"\n" + region +
+        "[law.region.neo_hookean]\nmu = " + mu + "\n";
+    const CaseSpec spec = CaseSpec::from_config(io::parse_config(case_schema(), text, "case.toml"));
+    return message_of([&] { spec.law.law({"lesion"}); });
+  };
+  EXPECT_EQ(message("", "0.0"),
+            "case.toml:7: law.region[0].neo_hookean.mu: out of range (got 0.000000, expected > 0 N/mm)");
+  EXPECT_EQ(message("wrinkling = true\nresidual_stiffness = 0.5\n", "0.2"),
+            "case.toml:7: law.region[0].residual_stiffness: out of range (got 0.5, expected [0, 0.5))");
+}
+
+// A [test.mesh] value replaces [mesh]'s; fem's check of the test's mesh is placed at the table that
+// gave the value.
+TEST(CaseSpec, AMeshErrorIsPlacedAtTheTableThatGaveTheValue) {
+  const char* text = "[mesh]\ngrading = 0.0\n[[test]]\nname = \"a\"\n[test.mesh]\nnx = 4\n";
+  CaseSpec spec = CaseSpec::from_config(io::parse_config(case_schema(), text, "case.toml"));
+  EXPECT_EQ(message_of([&] { spec.models(); }).rfind("case.toml:2: mesh.grading: ", 0), 0u)
+      << message_of([&] { spec.models(); });
+  spec.mesh.grading = 1;
+  spec.test[0].mesh.grading = -1;  // set in code: the file's range would refuse it
+  EXPECT_EQ(message_of([&] { spec.models(); }).rfind("case.toml:5: test[0].mesh.grading: ", 0), 0u)
+      << message_of([&] { spec.models(); });
 }
 
 // [mesh] whole = true: a custom test on the generator gets the whole width × height rectangle centred

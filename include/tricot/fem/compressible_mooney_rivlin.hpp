@@ -17,8 +17,8 @@ namespace tricot::fem {
 
 class CompressibleMooneyRivlin : public Law {
  public:
-  /// Throws InputError as MooneyRivlin for the terms (keys `material.terms`, `material.values`) and
-  /// unless κ > 0, finite (key `material.kappa`).
+  /// Throws InputError as MooneyRivlin for the terms (keys `law.mooney_rivlin.terms`, `.values`) and
+  /// unless κ > 0, finite (key `law.mooney_rivlin.kappa`).
   CompressibleMooneyRivlin(std::vector<MooneyRivlinTerm> terms, double kappa,
                            Kinematics kinematics = Kinematics::plane_stress);
 

@@ -20,7 +20,7 @@ namespace tricot::fem {
 class CorotationalOrthotropic : public Law {
  public:
   /// In-plane reduced stiffness in the material frame [N/mm]. Throws InputError (key
-  /// `material.D11` …) unless all are finite, D11 > 0, D22 > 0, D66 > 0 and D11 D22 > D12²
+  /// `law.corotational.D11` …) unless all are finite, D11 > 0, D22 > 0, D66 > 0 and D11 D22 > D12²
   /// (𝔻 positive definite).
   CorotationalOrthotropic(double D11, double D22, double D12, double D66);
   /// Isotropic membrane: τ̂ = K tr(Ĥ) I + 2G dev(Ĥ), i.e. D11 = D22 = K + G, D12 = K − G, D66 = G.

@@ -45,6 +45,12 @@ struct LawRequest {
 
 /// A constitutive law in plane stress. Implementations are immutable once built except through
 /// set_coefficients(); evaluate() is const and thread-safe.
+///
+/// A constructor or set_coefficients() throws InputError for a bad coefficient, naming it by its key
+/// in the config's law table: `law.<table>.<key>` (`law.neo_hookean.mu`, `law.mooney_rivlin.values`),
+/// `law.<table>` for the list as a whole. That is the key itself for [law]. A law cannot know whether
+/// it was read from [law] or from a [[law.region]] (`law.region[N]`, with the same sub-tables), so
+/// `law.` stands for its law table, which places the key (project::LawSpec).
 class Law {
  public:
   virtual ~Law() = default;

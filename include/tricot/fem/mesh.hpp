@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "tricot/core/options.hpp"
 #include "tricot/core/types.hpp"
 
 namespace tricot::fem {
@@ -72,13 +73,34 @@ struct MeshOptions {
   int nx = 10;         ///< elements along x, 1–2000
   int ny = 10;         ///< elements along y, 1–2000
   ElementType type = ElementType::Q8;
-  /// Ratio of the first (y = 0) to the last (y = height) element height, > 0. 1 = uniform;
-  /// < 1 refines toward the grip, where the clamp makes the field steep.
+  /// Ratio of the first (y = 0) to the last (y = height) element height, > 0 and at most 1e3.
+  /// 1 = uniform; < 1 refines toward the grip, where the clamp makes the field steep.
   double grading = 1;
-  /// Ratio of the first (x = 0) to the last (x = width) element width, > 0. 1 = uniform; < 1 refines
-  /// toward the side edge (the guide's end and the free edge of the rig, docs/theory.md §6).
+  /// Ratio of the first (x = 0) to the last (x = width) element width, > 0 and at most 1e3.
+  /// 1 = uniform; < 1 refines toward the side edge (the guide's end and the free edge of the rig,
+  /// docs/theory.md §6).
   double grading_x = 1;
 
+  /// The config keys of [mesh] these options hold (core/options.hpp). width and height are the
+  /// quarter's: [mesh] gives the full specimen's (project::MeshSpec).
+  static auto keys() {
+    using O = MeshOptions;
+    return std::tuple{
+        option(&O::type, "mesh.element",
+               "Element type: Q8 serendipity (the paper's), Q4 bilinear, T3 linear or T6 quadratic triangles (the\n"
+               "generator splits each cell; a meshed geometry takes T3/T6, or Q4/Q8 by recombining).",
+               {{ElementType::Q4, "Q4"}, {ElementType::Q8, "Q8"}, {ElementType::T3, "T3"}, {ElementType::T6, "T6"}}),
+        option(&O::nx, "mesh.nx", "Elements across the quarter's width.", 1, 2000),
+        option(&O::ny, "mesh.ny", "Elements along the quarter's height.", 1, 2000),
+        option(&O::grading, "mesh.grading",
+               "First (y = 0) over last (at the grip) element height, > 0; 1 = uniform, < 1 refines toward\n"
+               "the grip where the clamp makes the field steep.",
+               0, 1e3),
+        option(&O::grading_x, "mesh.grading_x",
+               "First (x = 0) over last (at the side edge) element width, > 0; 1 = uniform, < 1 refines toward\n"
+               "the side edge (the rig's guide).",
+               0, 1e3)};
+  }
   /// Throws InputError naming `mesh.<field>` when out of range.
   void validate() const;
 };

@@ -39,9 +39,9 @@ double mooney_rivlin_nominal_stress(const std::vector<MooneyRivlinTerm>& terms, 
 
 class MooneyRivlin : public Law {
  public:
-  /// Throws InputError for i or j < 0 or > 9, i = j = 0 or a repeated (i, j) (key `material.terms`),
-  /// or a non-finite C (key `material.values`): the keys of `[law.mooney_rivlin]`. An empty list is
-  /// allowed (a law with no stiffness).
+  /// Throws InputError for i or j < 0 or > 9, i = j = 0 or a repeated (i, j) (key
+  /// `law.mooney_rivlin.terms`), or a non-finite C (key `law.mooney_rivlin.values`): the keys of
+  /// `[law.mooney_rivlin]`. An empty list is allowed (a law with no stiffness).
   explicit MooneyRivlin(std::vector<MooneyRivlinTerm> terms);
 
   std::string name() const override { return "mooney_rivlin"; }

@@ -21,10 +21,10 @@ struct YoungPoisson {
 
 class NeoHookean : public Law {
  public:
-  /// Throws InputError (key `material.mu` / `material.lambda`) unless μ > 0 and λ ≥ 0, finite.
+  /// Throws InputError (key `law.neo_hookean.mu` / `.lambda`) unless μ > 0 and λ ≥ 0, finite.
   NeoHookean(double mu, double lambda, Kinematics kinematics = Kinematics::plane_stress);
   /// The same law with (E, ν) as its coefficients (names "E", "nu"; ∂P/∂(E, ν) by the chain rule, so
-  /// it is not linear in them). Throws InputError (key `material.E` / `material.nu`) unless E > 0 and
+  /// it is not linear in them). Throws InputError (key `law.neo_hookean.E` / `.nu`) unless E > 0 and
   /// −1 < ν < 0.5.
   NeoHookean(YoungPoisson e, Kinematics kinematics = Kinematics::plane_stress);
 

@@ -44,7 +44,8 @@ struct ReferenceFabricParameters {
   double s_J = 0.05;    ///< jamming width [-], > 0
   double G_s = 0.05;    ///< fixed in-plane shear stiffness [N/mm], > 0; not a coefficient
 
-  /// Throws InputError (key `material.<field>`) for a value out of the ranges above or not finite.
+  /// Throws InputError (key `law.reference_fabric.<field>`) for a value out of the ranges above or not
+  /// finite.
   void validate() const;
 };
 

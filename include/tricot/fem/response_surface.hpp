@@ -56,22 +56,22 @@ class ResponseSurface : public Law {
 
   /// General form; coefficients named "C_p_q" then "W_p_q", all 0 unless `c` (same order) is given.
   /// Throws InputError for a monomial with p < 0, q < 0 or p + q = 0 or a repeated monomial in one
-  /// force (key `material.course` / `material.wale`), G_s ≤ 0 or not finite (`material.shear_stiffness`),
-  /// or a `c` of the wrong size or with non-finite values (`material.coefficients`): the keys of
-  /// `[law.response_surface]`.
+  /// force (key `law.response_surface.course` / `.wale`), G_s ≤ 0 or not finite
+  /// (`law.response_surface.shear_stiffness`), or a `c` of the wrong size or with non-finite values
+  /// (`law.response_surface.coefficients`): the keys of `[law.response_surface]`.
   ResponseSurface(std::vector<Monomial> course, std::vector<Monomial> wale, double G_s = kDefaultShearStiffness,
                   const Eigen::VectorXd& c = {});
   /// The separable form of docs/theory.md §5 with orders (nC, mC, nW, mW) ≥ 0, coefficients a, b, c, d = 0.
   static ResponseSurface separable(int nC, int mC, int nW, int mW, double G_s = kDefaultShearStiffness);
   /// "paper14" = separable(6, 2, 4, 2), "paper24" = separable(6, 6, 6, 6). InputError (key
-  /// `material.preset`) for another name.
+  /// `law.response_surface.preset`) for another name.
   static ResponseSurface preset(const std::string& name, double G_s = kDefaultShearStiffness);
   static std::vector<std::string> preset_names() { return {"paper14", "paper24"}; }
 
   std::string name() const override { return "response_surface"; }
   std::vector<std::string> coefficient_names() const override { return names_; }
   Eigen::VectorXd coefficients() const override { return c_; }
-  /// InputError (key `material.coefficients`) for a wrong size or a non-finite value.
+  /// InputError (key `law.response_surface.coefficients`) for a wrong size or a non-finite value.
   void set_coefficients(const Eigen::VectorXd& c) override;
   bool linear_in_coefficients() const override { return true; }
   /// det F ≤ 0 gives NaN outputs (the solver reports an invalid state).

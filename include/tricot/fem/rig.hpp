@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "tricot/core/options.hpp"
 #include "tricot/fem/model.hpp"
 
 namespace tricot::fem {
@@ -52,6 +53,26 @@ struct RigOptions {
   /// the clips) when true; false = the clips keep the initial width (u_x = 0).
   bool clips_follow_guide = true;
 
+  /// The config keys of [rig] (core/options.hpp); the other options are the test's, from its [[test]]
+  /// and [mesh]. No key declares a range: validate()'s bounds are open or span keys, and its messages
+  /// name the test.
+  static auto keys() {
+    using O = RigOptions;
+    return std::tuple{
+        option(&O::guide_gap, "rig.guide_gap",
+               "The guide ends this fraction of the quarter's height short of the clips, [0, 0.5)."),
+        option(&O::guide_taper, "rig.guide_taper",
+               "The guide's ties fade to zero over this fraction of the quarter's height, [0, 1 - guide_gap)."),
+        option(&O::tie_stiffness, "rig.tie_stiffness", "Fabric-to-guide ties, N/mm per mm of edge, > 0."),
+        option(&O::clip_tie_stiffness, "rig.clip_tie_stiffness", "Clip ties holding u_x, N/mm per mm of grip, > 0."),
+        option(&O::clip_taper, "rig.clip_taper",
+               "The clip ties fade to zero toward the side over this fraction of the quarter's width, [0, 1)."),
+        option(&O::clips_follow_guide, "rig.clips_follow_guide",
+               "The clips spread with the guide setting (guides mounted on the clips); false = clips keep the "
+               "width."),
+        option(&O::setting_steps, "rig.setting_steps",
+               "Increments that set the transverse dimension before the pull, 1–1000.")};
+  }
   /// InputError naming the case file's key: `test.side`, `test.transverse_strain`, `test.pull_strain`,
   /// `test.steps`; `mesh.nx`, `mesh.ny`, `mesh.grading` (grading_y), `mesh.grading_x`; `rig.<field>`.
   void validate() const;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "tricot/core/options.hpp"
 #include "tricot/core/progress.hpp"
 #include "tricot/fem/law.hpp"
 #include "tricot/fem/model.hpp"
@@ -65,6 +66,16 @@ struct SolveOptions {
   /// The law's coefficients now minus those of warm_start's run (all of them, in the law's order).
   Eigen::VectorXd warm_start_dc;
 
+  /// The config keys of [solver] (core/options.hpp); the other members are set in code.
+  static auto keys() {
+    using O = SolveOptions;
+    return std::tuple{
+        option(&O::tolerance, "solver.tolerance",
+               "Newton stops when the free residual ≤ tolerance × the reaction force, > 0.", 0, 1),
+        option(&O::max_iterations, "solver.max_iterations", "Newton iterations per (sub)step.", 1, 200),
+        option(&O::line_search, "solver.line_search", "Backtracking line search on the residual norm."),
+        option(&O::max_cutbacks, "solver.max_cutbacks", "Halvings of a failed step before giving up.", 0, 30)};
+  }
   /// Throws InputError naming `solver.<field>` when out of range.
   void validate() const;
 };

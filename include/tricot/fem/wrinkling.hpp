@@ -45,6 +45,7 @@
 #include <string>
 #include <vector>
 
+#include "tricot/core/options.hpp"
 #include "tricot/fem/law.hpp"
 
 namespace tricot::fem {
@@ -65,7 +66,25 @@ struct WrinklingOptions {
   double tolerance = 1e-13;
   /// Newton iterations on (s, φ), 1–200. Default 50.
   int max_iterations = 50;
-  /// Throws InputError (key `law.<field>`) for a value out of range.
+
+  /// The config keys of [law] these options hold (core/options.hpp; tolerance and max_iterations are
+  /// set in code). `law.` is the law's table: [law], or a [[law.region]] of its own.
+  static auto keys() {
+    using O = WrinklingOptions;
+    return std::tuple{
+        option(&O::residual_stiffness, "law.residual_stiffness",
+               "With wrinkling: the fraction η of the law kept in every state, so that wrinkled and slack\n"
+               "points keep a small stiffness across the wrinkles (P = (1 − η) P_relaxed + η P_law), in\n"
+               "[0, 0.5).",
+               0, 0.5),
+        option(&O::smoothing, "law.wrinkle_smoothing",
+               "With wrinkling: the width w (in wrinkle strain) of the smoothed taut/wrinkled switch, a C¹\n"
+               "ramp that keeps the FE tangent continuous where a region sits on the switch; 0 = sharp.\n"
+               "In [0, 0.1].",
+               0, 0.1)};
+  }
+  /// Throws InputError (key `law.<field>`, or `law.wrinkle_<field>` for tolerance and max_iterations)
+  /// for a value out of range.
   void validate() const;
 };
 

@@ -52,27 +52,48 @@ TestKind test_kind(const io::Node& test);
 
 // ---------------------------------------------------------------------------------------------------
 // Typed specs: one struct per table, its fields the table's TOML keys, read from a validated io::Node
-// (from_config) or built in code. Ranges are the engines': each spec's one check builds the engine's
-// value and calls its validate(), whose key (`mesh.nx`, `test.loads`, `rig.guide_gap`, `solver.tolerance`,
-// `material.k_C`) names the table and the key, so the error is placed at the table's Origin. Checks that
-// span keys and that no engine makes are made here, once.
+// (from_config) or built in code. An engine's keys are declared by its options (core/options.hpp:
+// fem::MeshOptions, fem::SolveOptions, fem::RigOptions, fem::WrinklingOptions), which a spec holds as
+// the engine takes them; the schema is generated from them. Ranges are the engines': each spec's one
+// check builds the engine's value and calls its validate(), whose key (`mesh.nx`, `test.loads`,
+// `rig.guide_gap`, `solver.tolerance`, `law.reference_fabric.k_C`) names the table and the key, so the
+// error is placed at the table's Origin. Checks that span keys and that no engine makes are made here, once.
 
-/// `[mesh]` (full specimen sizes, mm; the quarter model is half of each), or a Gmsh mesh of any
-/// specimen (`file` or `geometry`, for tests of kind = "custom").
-struct MeshSpec {
+/// `[mesh]`: the generator's options as the engine takes them (nx, ny, element, grading, grading_x:
+/// fem::MeshOptions::keys()) with the full specimen's sizes (mm; the quarter model is half of each), or
+/// a Gmsh mesh of any specimen (`file` or `geometry`, for tests of kind = "custom").
+struct MeshSpec : fem::MeshOptions {
+  /// The full specimen's width and height. They hide fem::MeshOptions::width and height, the
+  /// quarter's, which the mesh of each test sets to half of these (TestSpec::mesh_options).
   double width = 110;
   double height = 110;
-  std::string element = "Q8";  ///< Q4, Q8, T3 or T6
-  int nx = 10;
-  int ny = 10;
-  double grading = 1;    ///< first (y = 0) over last element height, > 0
-  double grading_x = 1;  ///< first (x = 0) over last element width, > 0
   std::string file;      ///< a Gmsh .msh file (relative to the config file's folder), or ""
   std::string geometry;  ///< a Gmsh .geo file meshed at run time with `size` and `element`, or ""
   double size = 0;       ///< largest element size of a meshed geometry, mm; 0 = the .geo's sizes
   bool whole = false;    ///< custom tests on the generator: the whole rectangle centred on the origin
   std::string folder;    ///< the config file's folder, for relative paths
   Origin origin{"mesh"};
+
+  /// The keys of [mesh] besides the generator's (core/options.hpp).
+  static auto keys() {
+    using O = MeshSpec;
+    return std::tuple{
+        option(&O::width, "mesh.width", "Full specimen width across the load (x), mm, > 0.", 0, 1e5),
+        option(&O::height, "mesh.height", "Full free length of the specimen between the grips (y), mm, > 0.", 0, 1e5),
+        option(&O::file, "mesh.file",
+               "A Gmsh mesh file (.msh, formats 2.2 and 4.1, ASCII or binary), relative to this file's folder;\n"
+               "kind = \"custom\" tests only. Its element type (T3, T6, Q4 or Q8) replaces `element`."),
+        option(&O::geometry, "mesh.geometry",
+               "A Gmsh geometry (.geo), relative to this file's folder, meshed at run time with `size` and\n"
+               "`element`; kind = \"custom\" tests only."),
+        option(&O::size, "mesh.size", "Largest element size of a meshed `geometry`, mm; 0 = the sizes the .geo sets.",
+               0, 1e5),
+        option(&O::whole, "mesh.whole",
+               "kind = \"custom\" tests on the generator's mesh: the whole width × height rectangle centred on\n"
+               "the origin (nx × ny elements, edges named as the quarter's), instead of the quarter [0, width/2] ×\n"
+               "[0, height/2]. A full specimen whose clamps are driven by their measured motion (tricot "
+               "experiment's\nmodel = \"full\").")};
+  }
 
   static MeshSpec from_config(const io::Node& mesh);
   /// True when the mesh comes from a Gmsh file or geometry.
@@ -94,6 +115,19 @@ struct TestMeshSpec {
   double grading = 0;
   double grading_x = 0;
   Origin origin{"test.mesh"};
+
+  /// The keys of [test.mesh] (core/options.hpp): [mesh]'s, where 0 or "" keeps [mesh]'s value.
+  static auto keys() {
+    using O = TestMeshSpec;
+    return std::tuple{
+        option(&O::width, "test.mesh.width", "Full specimen width, mm; 0 = as in [mesh].", 0, 1e5),
+        option(&O::height, "test.mesh.height", "Full free length between the grips, mm; 0 = as in [mesh].", 0, 1e5),
+        option(&O::element, "test.mesh.element", "Q4, Q8, T3 or T6; \"\" = as in [mesh]."),
+        option(&O::nx, "test.mesh.nx", "Elements across the quarter's width; 0 = as in [mesh].", 0, 2000),
+        option(&O::ny, "test.mesh.ny", "Elements along the quarter's height; 0 = as in [mesh].", 0, 2000),
+        option(&O::grading, "test.mesh.grading", "First over last element height; 0 = as in [mesh].", 0, 1e3),
+        option(&O::grading_x, "test.mesh.grading_x", "First over last element width; 0 = as in [mesh].", 0, 1e3)};
+  }
 
   static TestMeshSpec from_config(const io::Node& mesh);
   /// The mesh of the test: `mesh` with this table's keys in place, validated (fem::MeshOptions).
@@ -149,12 +183,9 @@ struct LawSpec {
   ReferenceFabricSpec reference_fabric;
   /// `wrinkling`: wrap the law in a tension-field membrane (fem::WrinklingLaw: taut, wrinkled, slack).
   bool wrinkling = false;
-  /// `residual_stiffness`: fem::WrinklingOptions::residual_stiffness, the fraction η of the law kept
-  /// in every state (only with `wrinkling`).
-  double residual_stiffness = fem::WrinklingOptions{}.residual_stiffness;
-  /// `wrinkle_smoothing`: fem::WrinklingOptions::smoothing, the width of the smoothed taut/wrinkled
-  /// switch (only with `wrinkling`).
-  double wrinkle_smoothing = fem::WrinklingOptions{}.smoothing;
+  /// `residual_stiffness` and `wrinkle_smoothing` (fem::WrinklingOptions::keys()): the membrane's
+  /// options, only with `wrinkling`.
+  fem::WrinklingOptions wrinkling_options;
   /// `[[law.region]]`: the laws of named regions (Gmsh physical surfaces), each a whole law table
   /// with its `name`; the regions none names keep this law (fem::RegionLaws).
   std::vector<LawSpec> region;
@@ -163,7 +194,7 @@ struct LawSpec {
 
   static LawSpec from_config(const io::Node& law);
   /// The law of `type`: the law's constructor is the one check of its coefficients; its error
-  /// (`material.<name>`) is placed at the sub-table's key. Throws InputError.
+  /// (`law.<sub-table>.<key>`, fem/law.hpp) is placed at the sub-table's key. Throws InputError.
   /// Wrapped in fem::WrinklingLaw when `wrinkling`. With [[law.region]] tables, a fem::RegionLaws over
   /// the mesh's regions `mesh_regions` (Mesh::region_names), each name checked against them.
   std::unique_ptr<fem::Law> law(const std::vector<std::string>& mesh_regions = {}) const;
@@ -171,29 +202,24 @@ struct LawSpec {
   std::unique_ptr<fem::Law> inner_law() const;
   /// The law of `type`, wrapped when `wrinkling`: this table's own law, without its regions.
   std::unique_ptr<fem::Law> region_law() const;
+  /// From the handler of `e`: rethrows a law's error (`law.<key>` or `law.<sub-table>.<key>`, named
+  /// relative to its law table: fem/law.hpp) at that key of this table or of its sub-table; any other
+  /// error unchanged.
+  [[noreturn]] void rethrow(const InputError& e) const;
 };
 
-/// `[solver]` (fem::SolveOptions).
-struct SolverSpec {
-  double tolerance = fem::SolveOptions{}.tolerance;
-  int max_iterations = fem::SolveOptions{}.max_iterations;
-  bool line_search = fem::SolveOptions{}.line_search;
-  int max_cutbacks = fem::SolveOptions{}.max_cutbacks;
+/// `[solver]`: fem::SolveOptions as the engine takes them (its keys: SolveOptions::keys()).
+struct SolverSpec : fem::SolveOptions {
   Origin origin{"solver"};
 
   static SolverSpec from_config(const io::Node& solver);
   fem::SolveOptions options() const;  ///< validated
 };
 
-/// `[rig]`: the fixture of kind = "rig" tests (fem::RigOptions; fractions of the quarter).
-struct RigSpec {
-  double guide_gap = fem::RigOptions{}.guide_gap;
-  double guide_taper = fem::RigOptions{}.guide_taper;
-  double tie_stiffness = fem::RigOptions{}.tie_stiffness;
-  double clip_tie_stiffness = fem::RigOptions{}.clip_tie_stiffness;
-  double clip_taper = fem::RigOptions{}.clip_taper;
-  bool clips_follow_guide = fem::RigOptions{}.clips_follow_guide;
-  int setting_steps = fem::RigOptions{}.setting_steps;
+/// `[rig]`: the fixture of kind = "rig" tests, fem::RigOptions as the engine takes them (its keys:
+/// RigOptions::keys(); fractions of the quarter). The options that are not [rig]'s are each test's
+/// (TestSpec::model sets them).
+struct RigSpec : fem::RigOptions {
   Origin origin{"rig"};
 
   static RigSpec from_config(const io::Node& rig);

@@ -29,14 +29,14 @@ namespace {
 
 std::string num(double x) { return io::to_toml(x); }
 
-// fem names a bad value `<table>.<key>` without a file (`mesh.nx`, `test.loads`, `rig.guide_gap`,
-// `material.k_C`): rethrow it at that key of the Origin of the table it names. An error already placed
-// in a file is rethrown unchanged.
+// fem names a bad value `<table>.<key>` without a file (`mesh.nx`, `test.loads`, `rig.guide_gap`):
+// rethrow it at that key of the Origin of the table it names, which may be another table of the same
+// keys ([test.mesh] for [mesh], a [[test]] for test). An error already placed in a file is rethrown
+// unchanged. (A law's keys are placed by LawSpec::rethrow.)
 struct Tables {
   const Origin* mesh = nullptr;
   const Origin* test = nullptr;
   const Origin* rig = nullptr;
-  const Origin* material = nullptr;
   const Origin* solver = nullptr;
 };
 
@@ -45,12 +45,11 @@ struct Tables {
   const std::string& k = e.where().key;
   const auto dot = k.find('.');
   const std::string table = k.substr(0, dot), key = dot == std::string::npos ? std::string() : k.substr(dot + 1);
-  const Origin* o = table == "mesh"       ? t.mesh
-                    : table == "test"     ? t.test
-                    : table == "rig"      ? t.rig
-                    : table == "material" ? t.material
-                    : table == "solver"   ? t.solver
-                                          : nullptr;
+  const Origin* o = table == "mesh"     ? t.mesh
+                    : table == "test"   ? t.test
+                    : table == "rig"    ? t.rig
+                    : table == "solver" ? t.solver
+                                        : nullptr;
   if (!o) throw e;
   throw InputError(o->where(key), problem_of(e));
 }
@@ -90,36 +89,9 @@ io::SectionSpec mesh_section() {
                 false,
                 {},
                 {}};
-  s.keys = {
-      key("width", 110.0, "Full specimen width across the load (x), mm, > 0.", 0, 1e5),
-      key("height", 110.0, "Full free length of the specimen between the grips (y), mm, > 0.", 0, 1e5),
-      key("element", std::string("Q8"),
-          "Element type: Q8 serendipity (the paper's), Q4 bilinear, T3 linear or T6 quadratic triangles (the\n"
-          "generator splits each cell; a meshed geometry takes T3/T6, or Q4/Q8 by recombining).",
-          -kInf, kInf, {"Q4", "Q8", "T3", "T6"}),
-      key("nx", std::int64_t{10}, "Elements across the quarter's width.", 1, 2000),
-      key("ny", std::int64_t{10}, "Elements along the quarter's height.", 1, 2000),
-      key("grading", 1.0,
-          "First (y = 0) over last (at the grip) element height, > 0; 1 = uniform, < 1 refines toward\n"
-          "the grip where the clamp makes the field steep.",
-          0, 1e3),
-      key("grading_x", 1.0,
-          "First (x = 0) over last (at the side edge) element width, > 0; 1 = uniform, < 1 refines toward\n"
-          "the side edge (the rig's guide).",
-          0, 1e3),
-      key("file", std::string(""),
-          "A Gmsh mesh file (.msh, formats 2.2 and 4.1, ASCII or binary), relative to this file's folder;\n"
-          "kind = \"custom\" tests only. Its element type (T3, T6, Q4 or Q8) replaces `element`."),
-      key("geometry", std::string(""),
-          "A Gmsh geometry (.geo), relative to this file's folder, meshed at run time with `size` and\n"
-          "`element`; kind = \"custom\" tests only."),
-      key("size", 0.0, "Largest element size of a meshed `geometry`, mm; 0 = the sizes the .geo sets.", 0, 1e5),
-      key("whole", false,
-          "kind = \"custom\" tests on the generator's mesh: the whole width × height rectangle centred on\n"
-          "the origin (nx × ny elements, edges named as the quarter's), instead of the quarter [0, width/2] ×\n"
-          "[0, height/2]. A full specimen whose clamps are driven by their measured motion (tricot experiment's\n"
-          "model = \"full\")."),
-  };
+  const MeshSpec d;
+  add_keys(s, d);
+  add_keys(s, static_cast<const fem::MeshOptions&>(d));
   return s;
 }
 
@@ -128,15 +100,7 @@ namespace {
 SectionSpec test_mesh_section() {
   SectionSpec s{
       "mesh", "This test's own mesh: a non-zero (non-empty) value replaces the key of [mesh].", false, {}, {}};
-  s.keys = {
-      key("width", 0.0, "Full specimen width, mm; 0 = as in [mesh].", 0, 1e5),
-      key("height", 0.0, "Full free length between the grips, mm; 0 = as in [mesh].", 0, 1e5),
-      key("element", std::string(""), "Q4, Q8, T3 or T6; \"\" = as in [mesh]."),
-      key("nx", std::int64_t{0}, "Elements across the quarter's width; 0 = as in [mesh].", 0, 2000),
-      key("ny", std::int64_t{0}, "Elements along the quarter's height; 0 = as in [mesh].", 0, 2000),
-      key("grading", 0.0, "First over last element height; 0 = as in [mesh].", 0, 1e3),
-      key("grading_x", 0.0, "First over last element width; 0 = as in [mesh].", 0, 1e3),
-  };
+  add_keys(s, TestMeshSpec{});
   return s;
 }
 
@@ -158,17 +122,8 @@ io::SectionSpec law_section() {
           "Wrap the law in a tension-field membrane (docs/theory/fabric.md §8): where a principal\n"
           "stress would be compressive the membrane wrinkles and carries a uniaxial tension along the\n"
           "wrinkles (angle and wrinkle strain from zero traction across them), or is slack where no\n"
-          "direction is stretched. Taut points keep the law as it is."),
-      key("residual_stiffness", fem::WrinklingOptions{}.residual_stiffness,
-          "With wrinkling: the fraction η of the law kept in every state, so that wrinkled and slack\n"
-          "points keep a small stiffness across the wrinkles (P = (1 − η) P_relaxed + η P_law), in\n"
-          "[0, 0.5).",
-          0, 0.5),
-      key("wrinkle_smoothing", fem::WrinklingOptions{}.smoothing,
-          "With wrinkling: the width w (in wrinkle strain) of the smoothed taut/wrinkled switch, a C¹\n"
-          "ramp that keeps the FE tangent continuous where a region sits on the switch; 0 = sharp.\n"
-          "In [0, 0.1].",
-          0, 0.1)};
+          "direction is stretched. Taut points keep the law as it is.")};
+  add_keys(law, LawSpec{}.wrinkling_options);
 
   SectionSpec mr{"mooney_rivlin",
                  "Mooney–Rivlin, W = Σ C_ij (I1 − 3)^i (I2 − 3)^j (paper eq. 7): incompressible in plane stress; with\n"
@@ -293,13 +248,7 @@ io::SectionSpec law_section() {
 io::SectionSpec solver_section() {
   SectionSpec s{
       "solver", "Newton–Raphson with line search and load-step cutback (docs/theory.md §4–§7).", false, {}, {}};
-  const fem::SolveOptions d;
-  s.keys = {
-      key("tolerance", d.tolerance, "Newton stops when the free residual ≤ tolerance × the reaction force, > 0.", 0, 1),
-      key("max_iterations", std::int64_t{d.max_iterations}, "Newton iterations per (sub)step.", 1, 200),
-      key("line_search", d.line_search, "Backtracking line search on the residual norm."),
-      key("max_cutbacks", std::int64_t{d.max_cutbacks}, "Halvings of a failed step before giving up.", 0, 30),
-  };
+  add_keys(s, fem::SolveOptions{});
   return s;
 }
 
@@ -421,21 +370,7 @@ io::SectionSpec rig_section() {
       false,
       {},
       {}};
-  const fem::RigOptions d;
-  s.keys = {
-      key("guide_gap", d.guide_gap,
-          "The guide ends this fraction of the quarter's height short of the clips, [0, 0.5).", -kInf, kInf),
-      key("guide_taper", d.guide_taper,
-          "The guide's ties fade to zero over this fraction of the quarter's height, [0, 1 - guide_gap).", -kInf, kInf),
-      key("tie_stiffness", d.tie_stiffness, "Fabric-to-guide ties, N/mm per mm of edge, > 0.", -kInf, kInf),
-      key("clip_tie_stiffness", d.clip_tie_stiffness, "Clip ties holding u_x, N/mm per mm of grip, > 0.", -kInf, kInf),
-      key("clip_taper", d.clip_taper,
-          "The clip ties fade to zero toward the side over this fraction of the quarter's width, [0, 1).", -kInf, kInf),
-      key("clips_follow_guide", d.clips_follow_guide,
-          "The clips spread with the guide setting (guides mounted on the clips); false = clips keep the width."),
-      key("setting_steps", std::int64_t{d.setting_steps},
-          "Increments that set the transverse dimension before the pull, 1–1000.", -kInf, kInf),
-  };
+  add_keys(s, fem::RigOptions{});
   return s;
 }
 
@@ -453,25 +388,12 @@ io::SectionSpec case_schema() {
 // ---------------------------------------------------------------------------------------------------
 // Specs from validated tables
 
-namespace {
-// [mesh] and [test.mesh] share their keys; only their defaults differ.
-template <class Spec>
-Spec mesh_from_config(const io::Node& n) {
-  Spec m;
-  m.width = n.real("width"), m.height = n.real("height");
-  m.element = n.string("element");
-  m.nx = static_cast<int>(n.integer("nx")), m.ny = static_cast<int>(n.integer("ny"));
-  m.grading = n.real("grading"), m.grading_x = n.real("grading_x");
-  m.origin = Origin(n);
-  return m;
-}
-}  // namespace
-
 MeshSpec MeshSpec::from_config(const io::Node& n) {
-  MeshSpec m = mesh_from_config<MeshSpec>(n);
-  m.file = n.string("file"), m.geometry = n.string("geometry"), m.size = n.real("size");
-  m.whole = n.boolean("whole");
+  MeshSpec m;
+  read_keys(n, m);
+  read_keys(n, static_cast<fem::MeshOptions&>(m));
   m.folder = n.file().empty() ? std::string() : fs::path(n.file()).parent_path().string();
+  m.origin = Origin(n);
   return m;
 }
 
@@ -489,7 +411,12 @@ BoundarySpec BoundarySpec::from_config(const io::Node& n) {
   return b;
 }
 
-TestMeshSpec TestMeshSpec::from_config(const io::Node& n) { return mesh_from_config<TestMeshSpec>(n); }
+TestMeshSpec TestMeshSpec::from_config(const io::Node& n) {
+  TestMeshSpec m;
+  read_keys(n, m);
+  m.origin = Origin(n);
+  return m;
+}
 
 MooneyRivlinSpec::MooneyRivlinSpec() {
   // Default: the paper's validation set (docs/validation.md §1), a rubber-like S curve.
@@ -506,8 +433,7 @@ LawSpec law_table(const io::Node& law) {
   LawSpec l;
   l.type = law.string("type");
   l.wrinkling = law.boolean("wrinkling");
-  l.residual_stiffness = law.real("residual_stiffness");
-  l.wrinkle_smoothing = law.real("wrinkle_smoothing");
+  read_keys(law, l.wrinkling_options);
   l.origin = Origin(law);
   const Node& mr = law.section("mooney_rivlin");
   l.mooney_rivlin.terms = mr.strings("terms"), l.mooney_rivlin.values = mr.reals("values");
@@ -562,21 +488,14 @@ LawSpec LawSpec::from_config(const io::Node& law) {
 
 SolverSpec SolverSpec::from_config(const io::Node& s) {
   SolverSpec o;
-  o.tolerance = s.real("tolerance");
-  o.max_iterations = static_cast<int>(s.integer("max_iterations"));
-  o.line_search = s.boolean("line_search");
-  o.max_cutbacks = static_cast<int>(s.integer("max_cutbacks"));
+  read_keys(s, static_cast<fem::SolveOptions&>(o));
   o.origin = Origin(s);
   return o;
 }
 
 RigSpec RigSpec::from_config(const io::Node& n) {
   RigSpec r;
-  r.guide_gap = n.real("guide_gap"), r.guide_taper = n.real("guide_taper");
-  r.tie_stiffness = n.real("tie_stiffness"), r.clip_tie_stiffness = n.real("clip_tie_stiffness");
-  r.clip_taper = n.real("clip_taper");
-  r.clips_follow_guide = n.boolean("clips_follow_guide");
-  r.setting_steps = static_cast<int>(n.integer("setting_steps"));
+  read_keys(n, static_cast<fem::RigOptions&>(r));
   r.origin = Origin(n);
   return r;
 }
@@ -626,39 +545,46 @@ CaseSpec CaseSpec::from_config(const io::Node& root) {
 
 namespace {
 
+// Whether [test.mesh] `over` gives the key `name` (a non-zero, non-empty value).
+bool gives(const TestMeshSpec& over, std::string_view name) {
+  bool given = false;
+  for_each_option<TestMeshSpec>([&](const auto& k) {
+    if (k.name() == name) given = over.*k.member != std::remove_cvref_t<decltype(over.*k.member)>{};
+  });
+  return given;
+}
+
 // The mesh of [mesh] with the keys of `over` in place (non-zero, non-empty); each check placed at
 // the table that gave the value.
 fem::MeshOptions mesh_options(const MeshSpec& mesh, const TestMeshSpec* over) {
-  auto real = [&](double MeshSpec::*m, double TestMeshSpec::*t) -> std::pair<double, const Origin*> {
-    if (over && over->*t != 0) return {over->*t, &over->origin};
-    return {mesh.*m, &mesh.origin};
+  // The full sizes, checked with the value the file gave (fem checks the quarter's, half of it).
+  auto half = [&](double MeshSpec::*m, double TestMeshSpec::*t, const char* key) {
+    const bool given = over && over->*t != 0;
+    const double full = given ? over->*t : mesh.*m;
+    if (!(full > 0)) (given ? over->origin : mesh.origin).fail(key, "must be positive", num(full), "> 0");
+    return full / 2;
   };
-  auto integer = [&](int MeshSpec::*m, int TestMeshSpec::*t) { return over && over->*t != 0 ? over->*t : mesh.*m; };
-  const std::pair<const char*, std::pair<double, const Origin*>> positive[] = {
-      {"width", real(&MeshSpec::width, &TestMeshSpec::width)},
-      {"height", real(&MeshSpec::height, &TestMeshSpec::height)},
-      {"grading", real(&MeshSpec::grading, &TestMeshSpec::grading)},
-      {"grading_x", real(&MeshSpec::grading_x, &TestMeshSpec::grading_x)},
-  };
-  for (const auto& [k, value] : positive)
-    if (!(value.first > 0)) value.second->fail(k, "must be positive", num(value.first), "> 0");
-  fem::MeshOptions o;
-  o.width = positive[0].second.first / 2;
-  o.height = positive[1].second.first / 2;
-  o.grading = positive[2].second.first;
-  o.grading_x = positive[3].second.first;
-  o.nx = integer(&MeshSpec::nx, &TestMeshSpec::nx);
-  o.ny = integer(&MeshSpec::ny, &TestMeshSpec::ny);
-  if (over && !over->element.empty() && !fem::element_type(over->element))
-    over->origin.fail("element", "not an element type", "\"" + over->element + "\"", "Q4, Q8, T3, T6 or \"\"");
-  const std::string& type = over && !over->element.empty() ? over->element : mesh.element;
-  if (!fem::element_type(type))
-    mesh.origin.fail("element", "not an element type", "\"" + type + "\"", "Q4, Q8, T3 or T6");
-  o.type = *fem::element_type(type);
+  fem::MeshOptions o = mesh;  // [mesh]'s generator options; the quarter's sizes below
+  o.width = half(&MeshSpec::width, &TestMeshSpec::width, "width");
+  o.height = half(&MeshSpec::height, &TestMeshSpec::height, "height");
+  if (over) {
+    if (!over->element.empty()) {
+      const auto type = fem::element_type(over->element);
+      if (!type)
+        over->origin.fail("element", "not an element type", "\"" + over->element + "\"", "Q4, Q8, T3, T6 or \"\"");
+      o.type = *type;
+    }
+    if (over->nx != 0) o.nx = over->nx;
+    if (over->ny != 0) o.ny = over->ny;
+    if (over->grading != 0) o.grading = over->grading;
+    if (over->grading_x != 0) o.grading_x = over->grading_x;
+  }
   try {
     o.validate();
   } catch (const InputError& e) {
-    rethrow_fem(e, {.mesh = over ? &over->origin : &mesh.origin});
+    const std::string& key = e.where().key;
+    const bool given = over && gives(*over, std::string_view(key).substr(key.find('.') + 1));
+    rethrow_fem(e, {.mesh = given ? &over->origin : &mesh.origin});
   }
   return o;
 }
@@ -755,7 +681,7 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
       origin.fail("guide", "a rig test's guide comes from transverse_strain", io::to_toml(guide), "none");
     if (control != "displacement")
       origin.fail("control", "a rig test pulls under displacement control", "\"" + control + "\"", "displacement");
-    fem::RigOptions o;
+    fem::RigOptions o = rig;  // [rig]'s; the test's own below
     o.name = name;
     o.side = side ? std::get<double>(*side) : case_mesh.width;
     o.pull = pull == "course" ? fem::PullDirection::course : fem::PullDirection::wale;
@@ -764,11 +690,6 @@ fem::TestModel TestSpec::model(const MeshSpec& case_mesh, const RigSpec& rig) co
     o.steps = steps;
     o.nx = mo.nx, o.ny = mo.ny, o.element = mo.type;
     o.grading_y = mo.grading, o.grading_x = mo.grading_x;
-    o.guide_gap = rig.guide_gap, o.guide_taper = rig.guide_taper;
-    o.tie_stiffness = rig.tie_stiffness, o.clip_tie_stiffness = rig.clip_tie_stiffness;
-    o.clip_taper = rig.clip_taper;
-    o.clips_follow_guide = rig.clips_follow_guide;
-    o.setting_steps = rig.setting_steps;
     try {
       fem::TestModel m = fem::make_rig_test(o);  // RigOptions::validate and TestModel::validate: the one check
       if (!loads.empty()) {
@@ -890,7 +811,6 @@ fem::Mesh MeshSpec::gmsh_mesh() const {
   const char* key = file.empty() ? "geometry" : "file";
   try {
     if (!file.empty()) return fem::read_gmsh(resolve(folder, file));
-    const fem::ElementType type = *fem::element_type(element);
     fem::GeometryMeshOptions o;
     o.size = size;
     o.order = type == fem::ElementType::T6 || type == fem::ElementType::Q8 ? 2 : 1;
@@ -1040,25 +960,38 @@ std::unique_ptr<fem::Law> LawSpec::law(const std::vector<std::string>& mesh_regi
 std::unique_ptr<fem::Law> LawSpec::region_law() const {
   std::unique_ptr<fem::Law> inner = inner_law();
   if (!wrinkling) return inner;
-  fem::WrinklingOptions o;
-  o.residual_stiffness = residual_stiffness;
-  o.smoothing = wrinkle_smoothing;
-  if (!(o.residual_stiffness >= 0 && o.residual_stiffness < 0.5))
-    origin.fail("residual_stiffness", "out of range", num(o.residual_stiffness), "[0, 0.5)");
-  if (!(o.smoothing >= 0 && o.smoothing <= 0.1))
-    origin.fail("wrinkle_smoothing", "out of range", num(o.smoothing), "[0, 0.1]");
-  return std::make_unique<fem::WrinklingLaw>(*inner, o);
+  try {
+    return std::make_unique<fem::WrinklingLaw>(*inner, wrinkling_options);  // its options' one check
+  } catch (const InputError& e) {
+    rethrow(e);
+  }
+}
+
+void LawSpec::rethrow(const InputError& e) const {
+  const std::string& k = e.where().key;
+  if (!e.where().file.empty() || k.rfind("law.", 0) != 0) throw;
+  const std::string key = k.substr(4);
+  const auto dot = key.find('.');
+  const std::string table = key.substr(0, dot);
+  const Origin* sub = table == "mooney_rivlin"      ? &mooney_rivlin.origin
+                      : table == "neo_hookean"      ? &neo_hookean.origin
+                      : table == "corotational"     ? &corotational.origin
+                      : table == "response_surface" ? &response_surface.origin
+                      : table == "reference_fabric" ? &reference_fabric.origin
+                                                    : nullptr;
+  if (sub && dot != std::string::npos) throw InputError(sub->where(key.substr(dot + 1)), problem_of(e));
+  throw InputError(origin.where(key), problem_of(e));
 }
 
 std::unique_ptr<fem::Law> LawSpec::inner_law() const {
   // The law's constructor is the one check of its coefficients on their way to the engine. It names a
-  // bad one by its key in the sub-table (`material.values`, `material.mu`, `material.shear_stiffness`,
-  // …), so the error is placed at that key of the sub-table's Origin as it is.
-  auto build = [](const Origin& table, auto&& make) -> std::unique_ptr<fem::Law> {
+  // bad one by its key relative to the law's table (`law.mooney_rivlin.values`, `law.neo_hookean.mu`, …),
+  // so the error is placed at that key of the sub-table's Origin as it is (rethrow).
+  auto build = [this](auto&& make) -> std::unique_ptr<fem::Law> {
     try {
       return make();
     } catch (const InputError& e) {
-      rethrow_fem(e, {.material = &table});
+      rethrow(e);
     }
   };
   if (type == "mooney_rivlin") {
@@ -1078,27 +1011,24 @@ std::unique_ptr<fem::Law> LawSpec::inner_law() const {
     const auto kinematics =
         s.kinematics == "plane_strain" ? fem::Kinematics::plane_strain : fem::Kinematics::plane_stress;
     if (s.kappa > 0)
-      return build(s.origin, [&] {
-        return std::make_unique<fem::CompressibleMooneyRivlin>(std::move(terms), s.kappa, kinematics);
-      });
+      return build(
+          [&] { return std::make_unique<fem::CompressibleMooneyRivlin>(std::move(terms), s.kappa, kinematics); });
     if (kinematics == fem::Kinematics::plane_strain)
       s.origin.fail("kinematics", "an incompressible sheet cannot be held across (C33 = 1 with det C = 1 locks it)",
                     "\"plane_strain\"", "kappa > 0, or plane_stress");
-    return build(s.origin, [&] { return std::make_unique<fem::MooneyRivlin>(std::move(terms)); });
+    return build([&] { return std::make_unique<fem::MooneyRivlin>(std::move(terms)); });
   }
   if (type == "neo_hookean") {
     const NeoHookeanSpec& s = neo_hookean;
     const auto kinematics =
         s.kinematics == "plane_strain" ? fem::Kinematics::plane_strain : fem::Kinematics::plane_stress;
     if (s.E)
-      return build(s.origin, [&] {
-        return std::make_unique<fem::NeoHookean>(fem::YoungPoisson{*s.E, *s.nu}, kinematics);
-      });
-    return build(s.origin, [&] { return std::make_unique<fem::NeoHookean>(s.mu, s.lambda, kinematics); });
+      return build([&] { return std::make_unique<fem::NeoHookean>(fem::YoungPoisson{*s.E, *s.nu}, kinematics); });
+    return build([&] { return std::make_unique<fem::NeoHookean>(s.mu, s.lambda, kinematics); });
   }
   if (type == "corotational") {
     const CorotationalSpec& s = corotational;
-    return build(s.origin, [&] {
+    return build([&] {
       return s.moduli == "isotropic"
                  ? std::make_unique<fem::CorotationalOrthotropic>(fem::CorotationalOrthotropic::isotropic(s.G, s.K))
                  : std::make_unique<fem::CorotationalOrthotropic>(s.D11, s.D22, s.D12, s.D66);
@@ -1106,7 +1036,7 @@ std::unique_ptr<fem::Law> LawSpec::inner_law() const {
   }
   if (type == "response_surface") {
     const ResponseSurfaceSpec& s = response_surface;
-    return build(s.origin, [&] {
+    return build([&] {
       fem::ResponseSurface rs = s.preset == "general"
                                     ? fem::ResponseSurface(monomials(s.origin, s.course, "course"),
                                                            monomials(s.origin, s.wale, "wale"), s.shear_stiffness)
@@ -1122,7 +1052,7 @@ std::unique_ptr<fem::Law> LawSpec::inner_law() const {
     });
   }
   if (type == "reference_fabric") {
-    return build(reference_fabric.origin, [&] {
+    return build([&] {
       return std::make_unique<fem::ReferenceFabric>(
           static_cast<const fem::ReferenceFabricParameters&>(reference_fabric));
     });
@@ -1132,18 +1062,12 @@ std::unique_ptr<fem::Law> LawSpec::inner_law() const {
 }
 
 fem::SolveOptions SolverSpec::options() const {
-  fem::SolveOptions o;
-  o.tolerance = tolerance;
-  if (!(o.tolerance > 0)) origin.fail("tolerance", "must be positive", num(o.tolerance), "> 0");
-  o.max_iterations = max_iterations;
-  o.line_search = line_search;
-  o.max_cutbacks = max_cutbacks;
   try {
-    o.validate();
+    validate();
   } catch (const InputError& e) {
     rethrow_fem(e, {.solver = &origin});
   }
-  return o;
+  return *this;
 }
 
 void CaseSpec::check_tests() const {
