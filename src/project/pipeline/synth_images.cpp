@@ -44,12 +44,7 @@ io::SectionSpec synth_images_section() {
   return s;
 }
 
-SynthImagesSpec SynthImagesSpec::from_config(const io::Node& s) {
-  SynthImagesSpec m;
-  read_keys(s, m);
-  m.origin = Origin(s);
-  return m;
-}
+SynthImagesSpec SynthImagesSpec::from_config(const io::Node& s) { return read_table<SynthImagesSpec>(s); }
 
 void SynthImagesSpec::validate() const {
   try {

@@ -30,12 +30,7 @@ io::SectionSpec synth_lab_section() {
   return s;
 }
 
-SynthLabSpec SynthLabSpec::from_config(const io::Node& lab) {
-  SynthLabSpec s;
-  read_keys(lab, s);
-  s.origin = Origin(lab);
-  return s;
-}
+SynthLabSpec SynthLabSpec::from_config(const io::Node& lab) { return read_table<SynthLabSpec>(lab); }
 
 int write_lab_record(const SynthLabSpec& lab, const fem::SimulationResult& sim, const fs::path& test_dir,
                      std::uint64_t seed, const Log& log) {

@@ -51,6 +51,10 @@ void add_keys(SectionSpec& table, const O& defaults) {
   for_each_option<O>([&](const auto& k) { table.keys.push_back(key_of(k, defaults.*k.member)); });
 }
 
+/// A verb's spec struct S (its keys(), an `origin`) read from its validated table.
+template <class S>
+S read_table(const Node& table);
+
 /// Sets each key that O declares from the validated `table` (read with a schema made by add_keys).
 template <class O>
 void read_keys(const Node& table, O& o) {
@@ -74,6 +78,14 @@ void read_keys(const Node& table, O& o) {
       v = static_cast<T>(table.integer(name));
     }
   });
+}
+
+template <class S>
+S read_table(const Node& table) {
+  S s;
+  read_keys(table, s);
+  s.origin = Origin(table);
+  return s;
 }
 
 }  // namespace tricot::project
